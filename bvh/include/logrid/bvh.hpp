@@ -1,0 +1,92 @@
+// Bounding-box hierarchies for logrid: built over objects (one box each, e.g. the trees
+// of a forest) or over triangles (e.g. a city, LOG §5: subdivided until a box holds at
+// most 1500 triangles), refitted when objects move. The result, FlatHierarchy, is a
+// logrid::Hierarchy the culler walks directly.
+//
+// Building splits the primitives' centroids at the median of the longest axis of their
+// bounds (an object-median split): O(n log n), no per-primitive boxes kept for
+// triangles, and deterministic. Node boxes are computed bottom-up from the primitives.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "logrid/hierarchy.hpp"
+#include "logrid/types.hpp"
+
+namespace logrid::bvh {
+
+struct BuildArgs {
+  std::uint32_t max_leaf_size = 1;  // primitives per leaf at most (objects or triangles)
+  std::uint32_t max_children = 2;   // children per inner node: 2, 4 or 8 (splits applied
+                                    // recursively within a node)
+  std::uint32_t threads = 0;        // worker threads for large builds (0: hardware)
+};
+
+// Returns an empty string if the arguments are usable, else a message naming the field.
+std::string validateBuildArgs(const BuildArgs& args);
+
+// A hierarchy stored as arrays. Children of a node are contiguous, and every child has
+// a larger index than its parent, so refitting walks the nodes backwards.
+class FlatHierarchy : public Hierarchy {
+ public:
+  struct Node {
+    Aabb box;
+    std::uint32_t first_child = 0;
+    std::uint32_t child_count = 0;
+    std::uint32_t first_object = 0;  // into objects()
+    std::uint32_t object_count = 0;
+  };
+
+  NodeId root() const override { return nodes_.empty() ? kNoNode : 0; }
+  Aabb bounds(NodeId node) const override { return nodes_[node].box; }
+  std::uint32_t childCount(NodeId node) const override { return nodes_[node].child_count; }
+  NodeId child(NodeId node, std::uint32_t i) const override {
+    return nodes_[node].first_child + i;
+  }
+  std::uint32_t objectCount(NodeId node) const override { return nodes_[node].object_count; }
+  ObjectId object(NodeId node, std::uint32_t i) const override {
+    return objects_[nodes_[node].first_object + i];
+  }
+
+  const std::vector<Node>& nodes() const { return nodes_; }
+  const std::vector<ObjectId>& objects() const { return objects_; }
+  std::size_t memoryBytes() const;
+  std::uint32_t depth() const;
+
+  // Recomputes every box after objects moved: a leaf's box becomes the union of its
+  // objects' boxes (object_boxes indexed by ObjectId), an inner node's the union of its
+  // children's. The topology stays; quality degrades if objects move far (rebuild then).
+  // Throws logrid::Error if an object id is out of range of object_boxes.
+  void refit(const std::vector<Aabb>& object_boxes);
+
+  // Construction (used by the builders; also for tests and adapters).
+  std::vector<Node>& mutableNodes() { return nodes_; }
+  std::vector<ObjectId>& mutableObjects() { return objects_; }
+
+ private:
+  std::vector<Node> nodes_;
+  std::vector<ObjectId> objects_;
+};
+
+// One leaf per at most max_leaf_size objects; object i has box boxes[i]. Boxes must be
+// valid (finite, min <= max): throws logrid::Error naming the first bad one.
+FlatHierarchy buildOverBoxes(const std::vector<Aabb>& boxes, const BuildArgs& args = {});
+
+// The result of building over triangles: the hierarchy, whose leaves each hold one
+// object (the leaf's chunk of triangles, ObjectId = chunk index), and the triangles
+// reordered so that chunk c is triangles [chunk_first[c], chunk_first[c + 1]).
+struct TriangleHierarchy {
+  FlatHierarchy hierarchy;
+  std::vector<std::uint32_t> triangle_order;  // new position -> original triangle index
+  std::vector<std::uint32_t> chunk_first;     // chunks + 1 entries
+};
+
+// positions: xyz per vertex; indices: three per triangle. Throws logrid::Error for an
+// index out of range or a non-finite position (naming the first one).
+TriangleHierarchy buildOverTriangles(const std::vector<float>& positions,
+                                     const std::vector<std::uint32_t>& indices,
+                                     BuildArgs args = {1500, 2, 0});
+
+}  // namespace logrid::bvh

@@ -1,0 +1,324 @@
+#include "logrid/bvh.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <future>
+#include <limits>
+#include <sstream>
+#include <thread>
+
+#include "logrid/error.hpp"
+
+namespace logrid::bvh {
+
+std::string validateBuildArgs(const BuildArgs& args) {
+  std::ostringstream out;
+  if (args.max_leaf_size < 1) {
+    out << "bvh: max_leaf_size " << args.max_leaf_size << " is invalid; use 1 or more";
+  } else if (args.max_children != 2 && args.max_children != 4 && args.max_children != 8) {
+    out << "bvh: max_children " << args.max_children << " is invalid; use 2, 4 or 8";
+  } else if (args.threads > 1024) {
+    out << "bvh: threads " << args.threads << " is out of range";
+  }
+  return out.str();
+}
+
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+Aabb emptyBox() { return {{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}}; }
+
+void grow(Aabb& a, const Aabb& b) {
+  a.min.x = std::min(a.min.x, b.min.x), a.min.y = std::min(a.min.y, b.min.y);
+  a.min.z = std::min(a.min.z, b.min.z), a.max.x = std::max(a.max.x, b.max.x);
+  a.max.y = std::max(a.max.y, b.max.y), a.max.z = std::max(a.max.z, b.max.z);
+}
+
+void grow(Aabb& a, const float* p) {
+  a.min.x = std::min(a.min.x, p[0]), a.min.y = std::min(a.min.y, p[1]);
+  a.min.z = std::min(a.min.z, p[2]), a.max.x = std::max(a.max.x, p[0]);
+  a.max.y = std::max(a.max.y, p[1]), a.max.z = std::max(a.max.z, p[2]);
+}
+
+// Phase 1: partition `order` in place by recursive object-median splits. The shape of
+// the split tree depends only on the counts (left half = count / 2), so the layout phase
+// can recompute it without recording anything.
+class Partitioner {
+ public:
+  Partitioner(const std::vector<float>& centroids, std::vector<std::uint32_t>& order,
+              std::uint32_t leaf_size, unsigned parallel_depth)
+      : centroids_(centroids), order_(order), leaf_(leaf_size), parallel_depth_(parallel_depth) {}
+
+  void run(std::size_t begin, std::size_t end, unsigned depth) {
+    if (end - begin <= leaf_) return;
+    float lo[3] = {kInf, kInf, kInf}, hi[3] = {-kInf, -kInf, -kInf};
+    for (std::size_t i = begin; i < end; ++i) {
+      const float* c = &centroids_[std::size_t(order_[i]) * 3];
+      for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], c[a]), hi[a] = std::max(hi[a], c[a]);
+    }
+    int axis = 0;
+    for (int a = 1; a < 3; ++a) {
+      if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
+    }
+    const std::size_t mid = begin + (end - begin) / 2;
+    const float* cs = centroids_.data();
+    // Ties broken by index: deterministic whatever the standard library's nth_element.
+    std::nth_element(order_.begin() + std::ptrdiff_t(begin), order_.begin() + std::ptrdiff_t(mid),
+                     order_.begin() + std::ptrdiff_t(end),
+                     [cs, axis](std::uint32_t a, std::uint32_t b) {
+                       const float ka = cs[std::size_t(a) * 3 + std::size_t(axis)];
+                       const float kb = cs[std::size_t(b) * 3 + std::size_t(axis)];
+                       return ka < kb || (ka == kb && a < b);
+                     });
+    if (depth < parallel_depth_ && end - begin > 100000) {
+      auto left = std::async(std::launch::async, [&] { run(begin, mid, depth + 1); });
+      run(mid, end, depth + 1);
+      left.get();
+    } else {
+      run(begin, mid, depth + 1);
+      run(mid, end, depth + 1);
+    }
+  }
+
+ private:
+  const std::vector<float>& centroids_;
+  std::vector<std::uint32_t>& order_;
+  std::uint32_t leaf_;
+  unsigned parallel_depth_;
+};
+
+struct Range {
+  std::size_t begin;
+  std::size_t end;
+};
+
+// The children of a node over `r`: the binary split tree below it, collapsed
+// log2(max_children) levels deep (a child is a binary leaf or at that depth).
+void childRanges(Range r, std::uint32_t leaf, std::uint32_t max_children, std::vector<Range>& out) {
+  out.clear();
+  out.push_back(r);
+  for (std::uint32_t k = 1; k < max_children; k *= 2) {
+    std::vector<Range> next;
+    for (Range c : out) {
+      if (c.end - c.begin <= leaf) {
+        next.push_back(c);
+      } else {
+        const std::size_t mid = c.begin + (c.end - c.begin) / 2;
+        next.push_back({c.begin, mid});
+        next.push_back({mid, c.end});
+      }
+    }
+    out.swap(next);
+  }
+}
+
+// Phase 2: lays out nodes breadth first (children contiguous, after their parent) and
+// records each leaf's primitive range.
+struct Layout {
+  std::vector<FlatHierarchy::Node> nodes;
+  std::vector<Range> leaf_ranges;  // indexed by node; empty range for inner nodes
+};
+
+Layout layOut(std::size_t count, std::uint32_t leaf, std::uint32_t max_children) {
+  Layout l;
+  if (count == 0) return l;
+  l.nodes.push_back({});
+  l.leaf_ranges.push_back({0, count});
+  std::vector<Range> children;
+  for (std::size_t n = 0; n < l.nodes.size(); ++n) {
+    const Range r = l.leaf_ranges[n];
+    if (r.end - r.begin <= leaf) continue;  // a leaf keeps its range
+    childRanges(r, leaf, max_children, children);
+    l.nodes[n].first_child = static_cast<std::uint32_t>(l.nodes.size());
+    l.nodes[n].child_count = static_cast<std::uint32_t>(children.size());
+    l.leaf_ranges[n] = {0, 0};
+    for (Range c : children) {
+      l.nodes.push_back({});
+      l.leaf_ranges.push_back(c);
+    }
+  }
+  return l;
+}
+
+unsigned parallelDepth(const BuildArgs& args) {
+  unsigned threads = args.threads ? args.threads : std::max(1u, std::thread::hardware_concurrency());
+  unsigned depth = 0;
+  while ((1u << depth) < threads) ++depth;
+  return depth;
+}
+
+// Phase 3: boxes bottom-up; children have larger indices than parents.
+template <typename LeafBox>
+void computeBoxes(std::vector<FlatHierarchy::Node>& nodes, LeafBox leafBox) {
+  for (std::size_t n = nodes.size(); n-- > 0;) {
+    FlatHierarchy::Node& node = nodes[n];
+    Aabb box = emptyBox();
+    if (node.child_count == 0) {
+      box = leafBox(n);
+    } else {
+      for (std::uint32_t c = 0; c < node.child_count; ++c) grow(box, nodes[node.first_child + c].box);
+    }
+    node.box = box;
+  }
+}
+
+void throwBad(const std::string& what) { throw Error(ErrorCode::BadInput, what); }
+
+}  // namespace
+
+std::size_t FlatHierarchy::memoryBytes() const {
+  return nodes_.capacity() * sizeof(Node) + objects_.capacity() * sizeof(ObjectId);
+}
+
+std::uint32_t FlatHierarchy::depth() const {
+  if (nodes_.empty()) return 0;
+  std::vector<std::uint32_t> level(nodes_.size(), 1);
+  std::uint32_t deepest = 1;
+  for (std::size_t n = 0; n < nodes_.size(); ++n) {
+    for (std::uint32_t c = 0; c < nodes_[n].child_count; ++c) {
+      level[nodes_[n].first_child + c] = level[n] + 1;
+    }
+    deepest = std::max(deepest, level[n]);
+  }
+  return deepest;
+}
+
+void FlatHierarchy::refit(const std::vector<Aabb>& object_boxes) {
+  for (ObjectId id : objects_) {
+    if (id >= object_boxes.size()) {
+      std::ostringstream out;
+      out << "FlatHierarchy::refit: object " << id << " has no box (" << object_boxes.size()
+          << " boxes given)";
+      throw Error(ErrorCode::InvalidArgument, out.str());
+    }
+  }
+  computeBoxes(nodes_, [&](std::size_t n) {
+    Aabb box = emptyBox();
+    for (std::uint32_t i = 0; i < nodes_[n].object_count; ++i) {
+      grow(box, object_boxes[objects_[nodes_[n].first_object + i]]);
+    }
+    return box;
+  });
+}
+
+FlatHierarchy buildOverBoxes(const std::vector<Aabb>& boxes, const BuildArgs& args) {
+  const std::string problem = validateBuildArgs(args);
+  if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
+  if (boxes.size() >= std::numeric_limits<std::uint32_t>::max()) {
+    throwBad("bvh: too many objects (at most 2^32 - 2)");
+  }
+  std::vector<float> centroids(boxes.size() * 3);
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    const Aabb& b = boxes[i];
+    const bool finite = std::isfinite(b.min.x) && std::isfinite(b.min.y) &&
+                        std::isfinite(b.min.z) && std::isfinite(b.max.x) &&
+                        std::isfinite(b.max.y) && std::isfinite(b.max.z);
+    if (!finite || b.min.x > b.max.x || b.min.y > b.max.y || b.min.z > b.max.z) {
+      std::ostringstream out;
+      out << "bvh: object " << i << " has an invalid box (min " << b.min.x << " " << b.min.y
+          << " " << b.min.z << ", max " << b.max.x << " " << b.max.y << " " << b.max.z
+          << "); boxes must be finite with min <= max";
+      throwBad(out.str());
+    }
+    centroids[i * 3 + 0] = 0.5f * b.min.x + 0.5f * b.max.x;
+    centroids[i * 3 + 1] = 0.5f * b.min.y + 0.5f * b.max.y;
+    centroids[i * 3 + 2] = 0.5f * b.min.z + 0.5f * b.max.z;
+  }
+  std::vector<std::uint32_t> order(boxes.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<std::uint32_t>(i);
+  Partitioner(centroids, order, args.max_leaf_size, parallelDepth(args)).run(0, order.size(), 0);
+
+  Layout layout = layOut(boxes.size(), args.max_leaf_size, args.max_children);
+  FlatHierarchy h;
+  auto& nodes = h.mutableNodes();
+  auto& objects = h.mutableObjects();
+  nodes = std::move(layout.nodes);
+  objects.reserve(boxes.size());
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    const Range r = layout.leaf_ranges[n];
+    if (nodes[n].child_count != 0) continue;
+    nodes[n].first_object = static_cast<std::uint32_t>(objects.size());
+    nodes[n].object_count = static_cast<std::uint32_t>(r.end - r.begin);
+    objects.insert(objects.end(), order.begin() + std::ptrdiff_t(r.begin),
+                   order.begin() + std::ptrdiff_t(r.end));
+  }
+  h.refit(boxes);
+  return h;
+}
+
+TriangleHierarchy buildOverTriangles(const std::vector<float>& positions,
+                                     const std::vector<std::uint32_t>& indices, BuildArgs args) {
+  const std::string problem = validateBuildArgs(args);
+  if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
+  if (positions.size() % 3 != 0 || indices.size() % 3 != 0) {
+    throwBad("bvh: positions and indices must come in threes (xyz, and three per triangle)");
+  }
+  const std::size_t vertices = positions.size() / 3, triangles = indices.size() / 3;
+  if (triangles >= std::numeric_limits<std::uint32_t>::max()) {
+    throwBad("bvh: too many triangles (at most 2^32 - 2)");
+  }
+  for (std::size_t v = 0; v < positions.size(); ++v) {
+    if (!std::isfinite(positions[v])) {
+      std::ostringstream out;
+      out << "bvh: vertex " << v / 3 << " has a non-finite coordinate (" << positions[v] << ")";
+      throwBad(out.str());
+    }
+  }
+  std::vector<float> centroids(triangles * 3);
+  for (std::size_t t = 0; t < triangles; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      if (indices[t * 3 + std::size_t(k)] >= vertices) {
+        std::ostringstream out;
+        out << "bvh: triangle " << t << " uses vertex " << indices[t * 3 + std::size_t(k)]
+            << " but there are only " << vertices << " vertices";
+        throwBad(out.str());
+      }
+    }
+    const float* a = &positions[std::size_t(indices[t * 3 + 0]) * 3];
+    const float* b = &positions[std::size_t(indices[t * 3 + 1]) * 3];
+    const float* c = &positions[std::size_t(indices[t * 3 + 2]) * 3];
+    for (int k = 0; k < 3; ++k) centroids[t * 3 + std::size_t(k)] = (a[k] + b[k] + c[k]) / 3.0f;
+  }
+  std::vector<std::uint32_t> order(triangles);
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<std::uint32_t>(i);
+  Partitioner(centroids, order, args.max_leaf_size, parallelDepth(args)).run(0, order.size(), 0);
+  centroids = {};
+
+  Layout layout = layOut(triangles, args.max_leaf_size, args.max_children);
+  TriangleHierarchy out;
+  auto& nodes = out.hierarchy.mutableNodes();
+  nodes = std::move(layout.nodes);
+  // Chunks numbered in triangle order, so chunk c covers [chunk_first[c], chunk_first[c+1]).
+  std::vector<std::uint32_t> leaves;
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    if (nodes[n].child_count == 0) leaves.push_back(static_cast<std::uint32_t>(n));
+  }
+  std::sort(leaves.begin(), leaves.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return layout.leaf_ranges[a].begin < layout.leaf_ranges[b].begin;
+  });
+  auto& objects = out.hierarchy.mutableObjects();
+  objects.resize(leaves.size());
+  out.chunk_first.reserve(leaves.size() + 1);
+  for (std::size_t c = 0; c < leaves.size(); ++c) {
+    FlatHierarchy::Node& leaf = nodes[leaves[c]];
+    objects[c] = static_cast<ObjectId>(c);
+    leaf.first_object = static_cast<std::uint32_t>(c);
+    leaf.object_count = 1;
+    out.chunk_first.push_back(static_cast<std::uint32_t>(layout.leaf_ranges[leaves[c]].begin));
+  }
+  out.chunk_first.push_back(static_cast<std::uint32_t>(triangles));
+  computeBoxes(nodes, [&](std::size_t n) {
+    Aabb box = emptyBox();
+    const Range r = layout.leaf_ranges[n];
+    for (std::size_t i = r.begin; i < r.end; ++i) {
+      const std::size_t t = order[i];
+      for (int k = 0; k < 3; ++k) grow(box, &positions[std::size_t(indices[t * 3 + std::size_t(k)]) * 3]);
+    }
+    return box;
+  });
+  out.triangle_order = std::move(order);
+  return out;
+}
+
+}  // namespace logrid::bvh

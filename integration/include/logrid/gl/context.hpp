@@ -1,0 +1,68 @@
+// A headless OpenGL 4.5 core context through EGL, without a window.
+//
+// Platforms:
+//   Surfaceless  EGL_MESA_platform_surfaceless: Mesa (llvmpipe without a GPU, or a Mesa
+//                GPU driver). The default on machines without an NVIDIA device.
+//   Device       EGL_EXT_platform_device: a GPU picked from eglQueryDevicesEXT, skipping
+//                Mesa's software device. The default where such a device exists.
+// The context renders into framebuffer objects (framebuffer.hpp); it has no surface.
+//
+// Every failure throws logrid::Error with what failed and what to install or change.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace logrid::gl {
+
+enum class Platform : std::uint8_t { Auto, Surfaceless, Device };
+
+const char* toString(Platform platform);
+std::optional<Platform> parsePlatform(const std::string& name);  // auto|surfaceless|device
+
+struct ContextDesc {
+  Platform platform = Platform::Auto;
+  int device_index = -1;  // Device platform: index into eglQueryDevicesEXT (-1: first GPU)
+#ifdef NDEBUG
+  bool debug = false;  // debug context with synchronous debug output
+#else
+  bool debug = true;
+#endif
+};
+
+struct ContextInfo {
+  Platform platform = Platform::Auto;  // the platform actually used
+  std::string device;                  // EGL device extensions, or "default display"
+  std::string vendor;                  // GL_VENDOR
+  std::string renderer;                // GL_RENDERER
+  std::string version;                 // GL_VERSION
+  bool debug = false;
+  bool software = false;  // llvmpipe / softpipe / swrast
+};
+
+class Context {
+ public:
+  // Creates the context and makes it current on the calling thread.
+  explicit Context(const ContextDesc& desc = {});
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  const ContextInfo& info() const;
+  void makeCurrent();
+
+  // Throws logrid::Error naming `where` if GL reported an error (glGetError, and in
+  // debug contexts any error-type debug message) since the last check.
+  void check(const char* where) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// The same check for code that does not hold the Context (uses the current one).
+void checkGlErrors(const char* where);
+
+}  // namespace logrid::gl

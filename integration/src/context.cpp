@@ -1,0 +1,287 @@
+#include "logrid/gl/context.hpp"
+
+#include <dlfcn.h>
+#include <epoxy/egl.h>
+#include <epoxy/gl.h>
+
+#include <cstdio>
+#include <cstring>
+#include <mutex>
+#include <sstream>
+#include <vector>
+
+#include "logrid/error.hpp"
+
+namespace logrid::gl {
+
+const char* toString(Platform p) {
+  switch (p) {
+    case Platform::Auto: return "auto";
+    case Platform::Surfaceless: return "surfaceless";
+    case Platform::Device: return "device";
+  }
+  return "?";
+}
+
+std::optional<Platform> parsePlatform(const std::string& name) {
+  for (Platform p : {Platform::Auto, Platform::Surfaceless, Platform::Device}) {
+    if (name == toString(p)) return p;
+  }
+  return std::nullopt;
+}
+
+namespace {
+
+// Errors reported through the debug callback since the last check.
+std::mutex g_debug_mutex;
+std::string g_debug_errors;
+
+void GLAPIENTRY debugCallback(GLenum, GLenum type, GLuint, GLenum severity, GLsizei,
+                              const GLchar* message, const void*) {
+  if (type == GL_DEBUG_TYPE_ERROR || severity == GL_DEBUG_SEVERITY_HIGH) {
+    std::lock_guard<std::mutex> lock(g_debug_mutex);
+    if (g_debug_errors.size() < 4096) {
+      g_debug_errors += message;
+      g_debug_errors += "; ";
+    }
+  }
+}
+
+std::string eglErrorName(EGLint e) {
+  switch (e) {
+    case EGL_SUCCESS: return "EGL_SUCCESS";
+    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
+    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
+    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
+    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
+    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
+    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
+    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
+    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
+    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
+    default: {
+      std::ostringstream out;
+      out << "0x" << std::hex << e;
+      return out.str();
+    }
+  }
+}
+
+bool hasExtension(const char* list, const char* name) {
+  if (!list) return false;
+  const std::size_t n = std::strlen(name);
+  for (const char* p = list; (p = std::strstr(p, name)) != nullptr; p += n) {
+    if ((p == list || p[-1] == ' ') && (p[n] == ' ' || p[n] == '\0')) return true;
+  }
+  return false;
+}
+
+[[noreturn]] void fail(ErrorCode code, const std::string& message) { throw Error(code, message); }
+
+// libepoxy aborts the process if libEGL is missing; find out first, and say so.
+void requireLibEgl() {
+  void* handle = dlopen("libEGL.so.1", RTLD_LAZY | RTLD_LOCAL);
+  if (!handle) {
+    fail(ErrorCode::Environment,
+         "EGL: libEGL.so.1 could not be loaded. Install an EGL implementation: on Debian "
+         "'apt-get install libegl1 libegl-mesa0 libgl1-mesa-dri' (Mesa, works without a GPU), "
+         "or your GPU vendor's driver.");
+  }
+  dlclose(handle);
+}
+
+struct Device {
+  EGLDeviceEXT handle;
+  std::string extensions;
+  bool software;
+};
+
+std::vector<Device> listDevices() {
+  std::vector<Device> out;
+  EGLint n = 0;
+  if (!eglQueryDevicesEXT(0, nullptr, &n) || n <= 0) return out;
+  std::vector<EGLDeviceEXT> devices(static_cast<std::size_t>(n));
+  if (!eglQueryDevicesEXT(n, devices.data(), &n)) return out;
+  for (EGLint i = 0; i < n; ++i) {
+    const char* ext = eglQueryDeviceStringEXT(devices[std::size_t(i)], EGL_EXTENSIONS);
+    Device d{devices[std::size_t(i)], ext ? ext : "", false};
+    d.software = hasExtension(ext, "EGL_MESA_device_software");
+    out.push_back(d);
+  }
+  return out;
+}
+
+}  // namespace
+
+struct Context::Impl {
+  EGLDisplay display = EGL_NO_DISPLAY;
+  EGLContext context = EGL_NO_CONTEXT;
+  ContextInfo info;
+};
+
+Context::Context(const ContextDesc& desc) : impl_(std::make_unique<Impl>()) {
+  requireLibEgl();
+  const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+  if (!client) {
+    fail(ErrorCode::Environment,
+         "EGL: the EGL library reports no client extensions (EGL 1.5 or "
+         "EGL_EXT_client_extensions is required). Install Mesa's EGL (libegl-mesa0) or a "
+         "current GPU driver.");
+  }
+  const bool has_surfaceless = hasExtension(client, "EGL_MESA_platform_surfaceless");
+  const bool has_device = hasExtension(client, "EGL_EXT_platform_device") &&
+                          hasExtension(client, "EGL_EXT_device_enumeration") &&
+                          hasExtension(client, "EGL_EXT_device_query");
+  std::vector<Device> devices = has_device ? listDevices() : std::vector<Device>{};
+
+  Platform platform = desc.platform;
+  const Device* chosen = nullptr;
+  if (platform != Platform::Surfaceless) {
+    if (desc.device_index >= 0) {
+      if (std::size_t(desc.device_index) >= devices.size()) {
+        std::ostringstream out;
+        out << "EGL: device index " << desc.device_index << " requested but " << devices.size()
+            << " EGL device(s) found; use an index below that, or the "
+               "surfaceless platform";
+        fail(ErrorCode::InvalidArgument, out.str());
+      }
+      chosen = &devices[std::size_t(desc.device_index)];
+    } else {
+      for (const Device& d : devices) {
+        if (!d.software) {
+          chosen = &d;
+          break;
+        }
+      }
+    }
+  }
+  if (platform == Platform::Auto) platform = chosen ? Platform::Device : Platform::Surfaceless;
+  if (platform == Platform::Device && !chosen) {
+    fail(ErrorCode::Environment,
+         has_device ? "EGL: platform 'device' requested but no hardware EGL device was found "
+                      "(only Mesa's software device). Install the GPU driver (e.g. the NVIDIA "
+                      "driver with its EGL library) or use platform 'surfaceless'."
+                    : "EGL: platform 'device' requested but EGL_EXT_platform_device is not "
+                      "available. Install a driver that provides it (NVIDIA, or Mesa >= 20) or "
+                      "use platform 'surfaceless'.");
+  }
+  if (platform == Platform::Surfaceless && !has_surfaceless) {
+    fail(ErrorCode::Environment,
+         "EGL: EGL_MESA_platform_surfaceless is not available. Install Mesa's EGL "
+         "('apt-get install libegl-mesa0 libgl1-mesa-dri') or use platform 'device' on a GPU.");
+  }
+
+  Impl& s = *impl_;
+  s.display =
+      platform == Platform::Device
+          ? eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, chosen->handle, nullptr)
+          : eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+  EGLint major = 0, minor = 0;
+  if (s.display == EGL_NO_DISPLAY || !eglInitialize(s.display, &major, &minor)) {
+    fail(ErrorCode::Environment,
+         std::string("EGL: could not open a display on platform '") + toString(platform) + "' (" +
+             eglErrorName(eglGetError()) +
+             "). Check that the driver is installed (Mesa: libegl-mesa0 libgl1-mesa-dri) and "
+             "that /dev/dri is accessible when using a GPU; EGL_LOG_LEVEL=debug shows details.");
+  }
+  if (!eglBindAPI(EGL_OPENGL_API)) {
+    fail(ErrorCode::Unsupported,
+         "EGL: the display does not support desktop OpenGL (eglBindAPI "
+         "failed: " +
+             eglErrorName(eglGetError()) + ")");
+  }
+
+  const char* display_ext = eglQueryString(s.display, EGL_EXTENSIONS);
+  EGLConfig config = EGL_NO_CONFIG_KHR;
+  if (!hasExtension(display_ext, "EGL_KHR_no_config_context")) {
+    const EGLint attribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE,
+                              EGL_OPENGL_BIT, EGL_NONE};
+    EGLint n = 0;
+    if (!eglChooseConfig(s.display, attribs, &config, 1, &n) || n < 1) {
+      fail(ErrorCode::Unsupported, "EGL: no config supports desktop OpenGL on this display");
+    }
+  }
+  const EGLint context_attribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                    4,
+                                    EGL_CONTEXT_MINOR_VERSION,
+                                    5,
+                                    EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                    EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                    EGL_CONTEXT_OPENGL_DEBUG,
+                                    desc.debug ? EGL_TRUE : EGL_FALSE,
+                                    EGL_NONE};
+  s.context = eglCreateContext(s.display, config, EGL_NO_CONTEXT, context_attribs);
+  if (s.context == EGL_NO_CONTEXT) {
+    fail(ErrorCode::Unsupported,
+         std::string("EGL: could not create an OpenGL 4.5 core context (") +
+             eglErrorName(eglGetError()) +
+             "). logrid needs OpenGL 4.5: Mesa >= 20 (llvmpipe works without a GPU) or a "
+             "current vendor driver. Do not set GALLIUM_DRIVER=softpipe.");
+  }
+  makeCurrent();
+
+  s.info.platform = platform;
+  s.info.device = chosen ? chosen->extensions : "default display";
+  auto str = [](GLenum e) {
+    const auto* v = reinterpret_cast<const char*>(glGetString(e));
+    return std::string(v ? v : "");
+  };
+  s.info.vendor = str(GL_VENDOR);
+  s.info.renderer = str(GL_RENDERER);
+  s.info.version = str(GL_VERSION);
+  s.info.software = s.info.renderer.find("llvmpipe") != std::string::npos ||
+                    s.info.renderer.find("softpipe") != std::string::npos ||
+                    s.info.renderer.find("swrast") != std::string::npos;
+  if (epoxy_gl_version() < 45) {
+    fail(ErrorCode::Unsupported, "GL: the context reports version " + s.info.version +
+                                     "; logrid needs OpenGL 4.5 core. Update Mesa or the driver.");
+  }
+  GLint flags = 0;
+  glGetIntegerv(GL_CONTEXT_FLAGS, &flags);
+  s.info.debug = (flags & GL_CONTEXT_FLAG_DEBUG_BIT) != 0;
+  if (s.info.debug) {
+    glEnable(GL_DEBUG_OUTPUT);
+    glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+    glDebugMessageCallback(debugCallback, nullptr);
+  }
+  check("Context");
+}
+
+Context::~Context() {
+  if (impl_->display != EGL_NO_DISPLAY) {
+    eglMakeCurrent(impl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    if (impl_->context != EGL_NO_CONTEXT) eglDestroyContext(impl_->display, impl_->context);
+    eglTerminate(impl_->display);
+  }
+}
+
+const ContextInfo& Context::info() const { return impl_->info; }
+
+void Context::makeCurrent() {
+  if (!eglMakeCurrent(impl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, impl_->context)) {
+    fail(ErrorCode::Runtime, "EGL: eglMakeCurrent failed (" + eglErrorName(eglGetError()) +
+                                 "); the driver may not support surfaceless contexts "
+                                 "(EGL_KHR_surfaceless_context)");
+  }
+}
+
+void Context::check(const char* where) const { checkGlErrors(where); }
+
+void checkGlErrors(const char* where) {
+  std::string problems;
+  for (int i = 0; i < 16; ++i) {
+    const GLenum e = glGetError();
+    if (e == GL_NO_ERROR) break;
+    std::ostringstream out;
+    out << "glGetError 0x" << std::hex << e << "; ";
+    problems += out.str();
+  }
+  {
+    std::lock_guard<std::mutex> lock(g_debug_mutex);
+    problems += g_debug_errors;
+    g_debug_errors.clear();
+  }
+  if (!problems.empty()) fail(ErrorCode::Runtime, std::string(where) + ": GL error: " + problems);
+}
+
+}  // namespace logrid::gl

@@ -1,0 +1,126 @@
+// The lazy occlusion grid (LOG §1, §3, §4): a low-resolution grid of tiles over the
+// depth buffer, each with an occlusion record that is refreshed only when a test needs
+// it and something was drawn over it since.
+//
+// Each tile keeps two depth keys and a flag:
+//   far_key   an upper bound of the keys of the tile's pixels ("zfar" of §4),
+//   near_key  a lower bound of them, valid only while the tile is up to date,
+//   outdated  set when something is drawn over the tile, cleared when it is read.
+// The occlusion-state variant (§3) reads them as states: free (near_key == clear key),
+// full (far_key < clear key), partial otherwise.
+//
+// Within a frame the application only draws with a depth test that keeps the nearer
+// fragment, so a pixel's key never grows. far_key therefore stays an upper bound after
+// later draws, and a tile that was full (or whose zfar was in front of a box) stays so
+// without being read again: an outdated tile is read only when its stale far_key can
+// no longer decide the test. Clearing the depth buffer mid-frame breaks this, so
+// call reset() after any clear.
+//
+// A test asks whether any pixel of a rectangle has a key >= a threshold:
+//   occlusion-state variant:  threshold = the clear key (a pixel is free), valid only
+//                             in the two-list order of traversal.hpp, which draws only
+//                             what lies in front of every box still to be tested;
+//   zfar variant:             threshold = the box's nearest key minus its margin
+//                             (BoxProjection::occlusionThreshold()), valid in any order.
+// The tiles under the rectangle are asked in the order of §3:
+//   1. up-to-date internal tiles (decided from the record),
+//   2. up-to-date border tiles (decided from the record when free or full),
+//   3. the remaining internal tiles: refreshed with a read of the whole tile,
+//   4. the remaining border tiles: a read of their intersection with the rectangle.
+// and the test stops at the first tile where the box may show.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "logrid/depth_source.hpp"
+#include "logrid/types.hpp"
+
+namespace logrid {
+
+enum class GridVariant : std::uint8_t {
+  OcclusionState,  // free / partial / full per tile (§3)
+  Zfar,            // farthest depth per tile (§4)
+};
+
+const char* toString(GridVariant);
+
+struct GridDesc {
+  std::uint32_t width = 0;  // viewport in pixels, >= 1
+  std::uint32_t height = 0;
+  std::uint32_t tile_size = 32;  // tile side in pixels, >= 1 (may exceed the viewport)
+  GridVariant variant = GridVariant::OcclusionState;
+};
+
+// Returns an empty string if the descriptor is usable, else a message naming the field.
+std::string validateGridDesc(const GridDesc& desc);
+
+struct TileRecord {
+  float near_key = 0;
+  float far_key = 0;
+  bool outdated = false;
+};
+
+// Per-test counts (added to, never reset, by test()).
+struct GridTestCounts {
+  std::uint64_t tiles_tested = 0;  // tiles whose record or pixels decided something
+  std::uint64_t tiles_read = 0;    // tiles (or tile intersections) read from the source
+};
+
+class OcclusionGrid {
+ public:
+  // Throws logrid::Error if validateGridDesc() finds a problem.
+  explicit OcclusionGrid(const GridDesc& desc);
+
+  const GridDesc& desc() const { return desc_; }
+  std::uint32_t tilesX() const { return tiles_x_; }
+  std::uint32_t tilesY() const { return tiles_y_; }
+  PixelRect tileRect(std::uint32_t tx, std::uint32_t ty) const;
+  TileRecord tile(std::uint32_t tx, std::uint32_t ty) const;
+
+  // The depth buffer was just cleared to `clear_key`: every tile is free and up to date.
+  void reset(float clear_key);
+
+  // Something was drawn over `rect`: its tiles become outdated. Reads nothing.
+  void markOutdated(const PixelRect& rect);
+
+  // Busy update (the paper's BOG): reads at once every tile under `rect` that is not
+  // full, and leaves them up to date.
+  void refreshNow(const PixelRect& rect, DepthSource& source);
+
+  // Is any pixel of `rect` at or beyond `threshold`? Returns Visible at the first tile
+  // that may show the box, Occluded if none does. `rect` must be non-empty and inside
+  // the viewport. Reads only outdated or undecided tiles, in the order described above.
+  Visibility test(const PixelRect& rect, float threshold, DepthSource& source,
+                  GridTestCounts& counts);
+
+ private:
+  enum class Decision : std::uint8_t { Occluded, Visible, Undecided };
+  Decision decideFromRecord(std::size_t index, bool internal, float threshold) const;
+  void applySummary(std::size_t index, const AreaDepth& area);
+  void applyCount(std::size_t index, std::uint32_t count, std::uint32_t area, float threshold);
+  PixelRect tileRectOf(std::size_t index) const;
+  // Reads the tiles in pending_ (whole tiles if internal, else their intersection with
+  // rect) and returns Visible as soon as one shows pixels at or beyond threshold.
+  Visibility readPending(const PixelRect& rect, float threshold, bool internal, DepthSource& source,
+                         GridTestCounts& counts);
+
+  GridDesc desc_;
+  std::uint32_t tiles_x_ = 0;
+  std::uint32_t tiles_y_ = 0;
+  float clear_key_ = 1.0f;
+  bool exact_records_ = true;  // records hold exact min/max (set per test from the source)
+  std::vector<float> near_;
+  std::vector<float> far_;
+  std::vector<std::uint8_t> outdated_;
+
+  // Scratch reused across tests so that a test never allocates once warmed up.
+  std::vector<std::uint32_t> pending_;
+  std::vector<PixelRect> rects_;
+  std::vector<AreaDepth> areas_;
+  std::vector<AreaQuery> queries_;
+  std::vector<std::uint32_t> counts_;
+};
+
+}  // namespace logrid

@@ -1,0 +1,133 @@
+// Conservative projection of a world-space box to a pixel rectangle and a depth-key
+// range, with the margins that make the answer hold on real rasterisers.
+//
+// What "conservative" means here: for every fragment that any geometry inside the box
+// can produce when a renderer draws it with the camera's matrix,
+//   * the fragment's pixel lies inside `rect`, and
+//   * the fragment's depth key, after the depth buffer has stored it, is at least
+//     `near_key - margin` and at most `far_key + margin`.
+// Everything is computed in double precision and rounded outwards.
+//
+// Why the margins have their values
+// ---------------------------------
+// A renderer does not compute what logrid computes: it transforms vertices in single
+// precision, divides by w, snaps to a sub-pixel grid, interpolates depth across the
+// triangle and converts the result to the depth format. logrid bounds each step:
+//
+//   u = 2^-24, the unit roundoff of float.
+//
+// 1. Depth quantisation (`kQuantisationStep`): a unorm buffer stores round(d * (2^n - 1))
+//    (or a truncation; GL allows either), so a stored value can sit one step on either
+//    side of the fragment depth: one step is 1/65535 for D16 and 1/16777215 for D24.
+//    D32F stores the float fragment depth exactly: no step. Reading a D24 value back as
+//    float rounds once more (u relative), which the relative term below covers.
+// 2. Vertex transform and division (`kRenderErrorUlps`): clip z and w are dot products
+//    of four float terms computed from a float matrix; each has an absolute error of a
+//    few u times the sum of the magnitudes of its terms, S_z and S_w. After the division
+//    by w, the error in NDC depth is about (S_z + |z_ndc| S_w) / w, times u and a small
+//    constant. S_z and S_w are evaluated per box corner with the geometry measured from
+//    Camera::render_origin, so a renderer that draws far from that point gets a
+//    proportionally larger margin, and one that renders camera-relative gets a small one.
+// 3. Interpolation: depth at a pixel centre is interpolated from the vertex depths with
+//    plane equations or barycentrics in float: an absolute error of a few u times the
+//    largest |depth| of the triangle, bounded by the box's largest |key|.
+// 4. Sub-pixel snapping (`subpixel_bits`) and the x/y analogue of (2) widen the pixel
+//    rectangle: a vertex moves by up to half a sub-pixel step (GL requires at least 4
+//    sub-pixel bits, so 1/32 pixel), plus the float error of its window x and y.
+//
+// kRenderErrorUlps = 32 bounds (2) and (3) together: the float matrix (1 u per element),
+// two four-term dot products (4 u each), the division (1 u), the viewport transform
+// (2 u), the interpolation (4 u) and the conversion of the fragment depth (1 u) sum to
+// about 17 u; 32 leaves a factor of two for renderers that multiply model, view and
+// projection separately. The resulting margin is
+//
+//   margin = kQuantisationStep(format) + kRenderErrorUlps * u * (E + max|key|)
+//   E      = max over the box corners of (S_z + |z_ndc| S_w) / w * window scale
+//
+// which is about 1e-6 for 32F standard depth at unit scale and about 1.6e-5 for D16.
+// tests/unit/margin_test.cpp shows that each term is needed.
+#pragma once
+
+#include <cstdint>
+
+#include "logrid/camera.hpp"
+#include "logrid/types.hpp"
+
+namespace logrid {
+
+inline constexpr double kUnitRoundoff = 1.0 / 16777216.0;  // 2^-24
+inline constexpr double kRenderErrorUlps = 32.0;
+
+// One quantisation step of a depth format in window depth (see (1) above).
+inline constexpr double quantisationStep(DepthFormat format) {
+  switch (format) {
+    case DepthFormat::D16: return 1.0 / 65535.0;
+    case DepthFormat::D24: return 1.0 / 16777215.0;
+    case DepthFormat::D32F: return 0.0;
+  }
+  return 1.0 / 65535.0;
+}
+
+// Tuning of the projection. The defaults are the safe ones; shrinking them is what the
+// margin tests do to show each term is necessary.
+struct ProjectionSettings {
+  double render_error_ulps = kRenderErrorUlps;
+  double quantisation_scale = 1.0;  // multiplies quantisationStep(format)
+  int subpixel_bits = 4;            // GL's minimum; llvmpipe and current GPUs have 8
+};
+
+// Why a box's test result is forced rather than decided by the grid.
+enum class ProjectionClass : std::uint8_t {
+  Inside,       // in front of the near plane: the grid decides
+  CrossesNear,  // reaches the near plane or the eye: always visible
+  Outside,      // outside the view frustum, or covering no pixel centre: culled
+  Invalid,      // NaN/infinite/inverted box: always visible, and counted
+};
+
+struct BoxProjection {
+  ProjectionClass cls = ProjectionClass::Invalid;
+  PixelRect rect;      // pixels the box may cover, clipped to the viewport
+  float near_key = 0;  // lower bound of the keys of the box's fragments (rounded down)
+  float far_key = 0;   // upper bound of the keys of the box's fragments (rounded up)
+  float margin = 0;    // depth margin for this box (see above)
+
+  // The key a depth buffer value must reach for the box to show in front of it: a
+  // pixel whose stored key is >= this may let the box's geometry through.
+  float occlusionThreshold() const { return near_key - margin; }
+};
+
+// Projects boxes for one camera. Construction validates the camera (throws
+// logrid::Error with the validation message) and precomputes per-frame constants;
+// project() is then a pure function, safe to call from several threads.
+class Projector {
+ public:
+  explicit Projector(const Camera& camera, const ProjectionSettings& settings = {});
+
+  BoxProjection project(const Aabb& box) const;
+
+  const Camera& camera() const { return camera_; }
+  float clearKey() const { return clear_key_; }
+  float nearKey() const { return near_key_; }
+  PixelRect viewportRect() const {
+    return {0, 0, static_cast<std::int32_t>(camera_.width),
+            static_cast<std::int32_t>(camera_.height)};
+  }
+
+ private:
+  Camera camera_;
+  ProjectionSettings settings_;
+  double render_[16];      // view_projection * translation(render_origin), column-major
+  double render_abs_[16];  // |render_|, element-wise
+  DVec3 origin_;
+  double near_plane_[4];  // clip-space half-spaces: dot(plane, clip) >= 0 is inside
+  double far_plane_[4];
+  double depth_scale_;  // window depth = depth_scale_ * z_ndc + depth_offset_
+  double depth_offset_;
+  double key_sign_;  // +1 standard, -1 reversed
+  double quantisation_;
+  double snap_px_;
+  float clear_key_;
+  float near_key_;
+};
+
+}  // namespace logrid

@@ -1,0 +1,288 @@
+#include "logrid/grid.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "logrid/camera.hpp"
+#include "logrid/error.hpp"
+
+namespace logrid {
+
+const char* toString(GridVariant v) { return v == GridVariant::Zfar ? "zfar" : "occlusion-state"; }
+
+std::string validateGridDesc(const GridDesc& desc) {
+  std::ostringstream out;
+  if (desc.width < 1 || desc.height < 1 || desc.width > kMaxViewportSide ||
+      desc.height > kMaxViewportSide) {
+    out << "grid: viewport " << desc.width << "x" << desc.height
+        << " is out of range; each side must be between 1 and " << kMaxViewportSide;
+  } else if (desc.tile_size < 1) {
+    out << "grid: tile size " << desc.tile_size << " is invalid; use 1 pixel or more";
+  } else if (desc.variant != GridVariant::OcclusionState && desc.variant != GridVariant::Zfar) {
+    out << "grid: unknown variant " << int(desc.variant);
+  }
+  return out.str();
+}
+
+OcclusionGrid::OcclusionGrid(const GridDesc& desc) : desc_(desc) {
+  const std::string problem = validateGridDesc(desc);
+  if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
+  const std::uint64_t ts = desc.tile_size;
+  tiles_x_ = static_cast<std::uint32_t>((desc.width + ts - 1) / ts);
+  tiles_y_ = static_cast<std::uint32_t>((desc.height + ts - 1) / ts);
+  const std::size_t n = std::size_t(tiles_x_) * tiles_y_;
+  near_.assign(n, 1.0f);
+  far_.assign(n, 1.0f);
+  outdated_.assign(n, 0);
+  pending_.reserve(n);
+  rects_.reserve(n);
+  areas_.reserve(n);
+  queries_.reserve(n);
+  counts_.reserve(n);
+}
+
+PixelRect OcclusionGrid::tileRect(std::uint32_t tx, std::uint32_t ty) const {
+  const std::uint64_t ts = desc_.tile_size;
+  PixelRect r;
+  r.x0 = static_cast<std::int32_t>(tx * ts);
+  r.y0 = static_cast<std::int32_t>(ty * ts);
+  r.x1 = static_cast<std::int32_t>(std::min<std::uint64_t>((tx + 1) * ts, desc_.width));
+  r.y1 = static_cast<std::int32_t>(std::min<std::uint64_t>((ty + 1) * ts, desc_.height));
+  return r;
+}
+
+TileRecord OcclusionGrid::tile(std::uint32_t tx, std::uint32_t ty) const {
+  assert(tx < tiles_x_ && ty < tiles_y_ && "OcclusionGrid::tile: tile out of range");
+  const std::size_t i = std::size_t(ty) * tiles_x_ + tx;
+  return {near_[i], far_[i], outdated_[i] != 0};
+}
+
+void OcclusionGrid::reset(float clear_key) {
+  clear_key_ = clear_key;
+  std::fill(near_.begin(), near_.end(), clear_key);
+  std::fill(far_.begin(), far_.end(), clear_key);
+  std::fill(outdated_.begin(), outdated_.end(), std::uint8_t{0});
+}
+
+namespace {
+
+// The tiles a pixel rectangle touches, and the ones it covers completely.
+struct TileSpan {
+  std::uint32_t x0, x1, y0, y1;     // touched, inclusive
+  std::int64_t ix0, ix1, iy0, iy1;  // internal, inclusive; empty when ix0 > ix1 or iy0 > iy1
+
+  bool internal(std::uint32_t tx, std::uint32_t ty) const {
+    return tx >= ix0 && tx <= ix1 && ty >= iy0 && ty <= iy1;
+  }
+};
+
+TileSpan tileSpan(const PixelRect& r, std::uint64_t ts, std::uint32_t width, std::uint32_t height) {
+  TileSpan s;
+  s.x0 = static_cast<std::uint32_t>(std::uint64_t(r.x0) / ts);
+  s.x1 = static_cast<std::uint32_t>(std::uint64_t(r.x1 - 1) / ts);
+  s.y0 = static_cast<std::uint32_t>(std::uint64_t(r.y0) / ts);
+  s.y1 = static_cast<std::uint32_t>(std::uint64_t(r.y1 - 1) / ts);
+  // A tile is internal when its extent, clipped to the viewport, lies inside r.
+  s.ix0 = std::uint64_t(r.x0) == s.x0 * ts ? s.x0 : std::int64_t{s.x0} + 1;
+  s.iy0 = std::uint64_t(r.y0) == s.y0 * ts ? s.y0 : std::int64_t{s.y0} + 1;
+  s.ix1 = std::uint64_t(r.x1) >= std::min<std::uint64_t>((s.x1 + 1) * ts, width)
+              ? std::int64_t{s.x1}
+              : std::int64_t{s.x1} - 1;
+  s.iy1 = std::uint64_t(r.y1) >= std::min<std::uint64_t>((s.y1 + 1) * ts, height)
+              ? std::int64_t{s.y1}
+              : std::int64_t{s.y1} - 1;
+  return s;
+}
+
+PixelRect intersect(const PixelRect& a, const PixelRect& b) {
+  return {std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1), std::min(a.y1, b.y1)};
+}
+
+float below(float key) { return std::nextafter(key, -std::numeric_limits<float>::infinity()); }
+
+}  // namespace
+
+void OcclusionGrid::markOutdated(const PixelRect& rect) {
+  const PixelRect r =
+      intersect(rect, {0, 0, std::int32_t(desc_.width), std::int32_t(desc_.height)});
+  if (r.empty()) return;
+  const TileSpan s = tileSpan(r, desc_.tile_size, desc_.width, desc_.height);
+  for (std::uint32_t ty = s.y0; ty <= s.y1; ++ty) {
+    std::uint8_t* row = outdated_.data() + std::size_t(ty) * tiles_x_;
+    std::fill(row + s.x0, row + s.x1 + 1, std::uint8_t{1});
+  }
+}
+
+OcclusionGrid::Decision OcclusionGrid::decideFromRecord(std::size_t i, bool internal,
+                                                        float threshold) const {
+  // far_key bounds the tile even when outdated (keys only shrink within a frame).
+  if (far_[i] < threshold) return Decision::Occluded;
+  if (outdated_[i]) return Decision::Undecided;
+  if (near_[i] >= threshold) return Decision::Visible;  // every pixel at or beyond
+  // An exact record of an internal tile: its farthest pixel lies inside the box's area.
+  const bool exact = exact_records_ || desc_.variant == GridVariant::OcclusionState;
+  if (internal && exact) return Decision::Visible;
+  return Decision::Undecided;
+}
+
+void OcclusionGrid::applySummary(std::size_t i, const AreaDepth& area) {
+  near_[i] = area.min_key;
+  far_[i] = area.max_key;
+  outdated_[i] = 0;
+}
+
+void OcclusionGrid::applyCount(std::size_t i, std::uint32_t count, std::uint32_t area,
+                               float threshold) {
+  if (desc_.variant == GridVariant::OcclusionState) {
+    // Counted at the clear key, so `count` is the number of free pixels: an exact state.
+    assert(threshold == clear_key_ && "OcclusionGrid: state tests count at the clear key");
+    far_[i] = count > 0 ? clear_key_ : below(clear_key_);
+    near_[i] = count == area ? clear_key_ : -std::numeric_limits<float>::infinity();
+    outdated_[i] = 0;
+  } else if (count == 0) {
+    // Only a bound: every pixel is in front of the threshold.
+    far_[i] = below(threshold);
+    near_[i] = -std::numeric_limits<float>::infinity();
+    outdated_[i] = 0;
+  }
+}
+
+Visibility OcclusionGrid::test(const PixelRect& rect, float threshold, DepthSource& source,
+                               GridTestCounts& counts) {
+  assert(!rect.empty() && rect.x0 >= 0 && rect.y0 >= 0 && rect.x1 <= std::int32_t(desc_.width) &&
+         rect.y1 <= std::int32_t(desc_.height) &&
+         "OcclusionGrid::test: rect must be non-empty and inside the viewport");
+  exact_records_ = source.traits().reads_pixels;
+  const TileSpan s = tileSpan(rect, desc_.tile_size, desc_.width, desc_.height);
+
+  // Steps 1 and 2 (§3): records of up-to-date tiles, internal ones first.
+  for (int internal_pass = 1; internal_pass >= 0; --internal_pass) {
+    for (std::uint32_t ty = s.y0; ty <= s.y1; ++ty) {
+      for (std::uint32_t tx = s.x0; tx <= s.x1; ++tx) {
+        const bool internal = s.internal(tx, ty);
+        if (internal != bool(internal_pass)) continue;
+        const std::size_t i = std::size_t(ty) * tiles_x_ + tx;
+        if (outdated_[i]) continue;
+        const Decision d = decideFromRecord(i, internal, threshold);
+        if (d == Decision::Undecided) continue;
+        ++counts.tiles_tested;
+        if (d == Decision::Visible) return Visibility::Visible;
+      }
+    }
+  }
+
+  // Steps 3 and 4: the tiles the records could not decide: internal ones refreshed
+  // over the whole tile, border ones read over their intersection with the rectangle.
+  for (int internal_pass = 1; internal_pass >= 0; --internal_pass) {
+    pending_.clear();
+    for (std::uint32_t ty = s.y0; ty <= s.y1; ++ty) {
+      for (std::uint32_t tx = s.x0; tx <= s.x1; ++tx) {
+        const bool internal = s.internal(tx, ty);
+        if (internal != bool(internal_pass)) continue;
+        const std::size_t i = std::size_t(ty) * tiles_x_ + tx;
+        if (!outdated_[i] && decideFromRecord(i, internal, threshold) != Decision::Undecided) {
+          continue;  // decided in steps 1 and 2
+        }
+        if (far_[i] < threshold) {
+          ++counts.tiles_tested;  // outdated, but its stale zfar is still in front
+          continue;
+        }
+        pending_.push_back(static_cast<std::uint32_t>(i));
+      }
+    }
+    if (!pending_.empty() &&
+        readPending(rect, threshold, internal_pass != 0, source, counts) == Visibility::Visible) {
+      return Visibility::Visible;
+    }
+  }
+  return Visibility::Occluded;
+}
+
+PixelRect OcclusionGrid::tileRectOf(std::size_t index) const {
+  return tileRect(static_cast<std::uint32_t>(index % tiles_x_),
+                  static_cast<std::uint32_t>(index / tiles_x_));
+}
+
+Visibility OcclusionGrid::readPending(const PixelRect& rect, float threshold, bool internal,
+                                      DepthSource& source, GridTestCounts& counts) {
+  const DepthSourceTraits traits = source.traits();
+  // A synchronous source answers one tile at a time so the test can stop at the first
+  // visible one (§3); a batching source gets every read at once.
+  const std::size_t step = traits.batched ? pending_.size() : 1;
+  for (std::size_t first = 0; first < pending_.size(); first += step) {
+    const std::size_t n = std::min(step, pending_.size() - first);
+    const std::uint32_t* tiles = pending_.data() + first;
+    counts.tiles_tested += n;
+    counts.tiles_read += n;
+    bool visible = false;
+    if (internal && traits.reads_pixels) {
+      rects_.clear();
+      for (std::size_t k = 0; k < n; ++k) rects_.push_back(tileRectOf(tiles[k]));
+      areas_.resize(n);
+      source.summarize(rects_.data(), n, areas_.data());
+      for (std::size_t k = 0; k < n; ++k) {
+        applySummary(tiles[k], areas_[k]);
+        visible |= areas_[k].max_key >= threshold;
+      }
+    } else {
+      queries_.clear();
+      for (std::size_t k = 0; k < n; ++k) {
+        const PixelRect tile = tileRectOf(tiles[k]);
+        queries_.push_back({internal ? tile : intersect(tile, rect), threshold});
+      }
+      counts_.resize(n);
+      source.countAtOrBeyond(queries_.data(), n, counts_.data());
+      for (std::size_t k = 0; k < n; ++k) {
+        if (internal) {
+          applyCount(tiles[k], counts_[k], std::uint32_t(queries_[k].rect.area()), threshold);
+        }
+        visible |= counts_[k] > 0;
+      }
+    }
+    if (visible) return Visibility::Visible;
+  }
+  return Visibility::Occluded;
+}
+
+void OcclusionGrid::refreshNow(const PixelRect& rect, DepthSource& source) {
+  const PixelRect r =
+      intersect(rect, {0, 0, std::int32_t(desc_.width), std::int32_t(desc_.height)});
+  if (r.empty()) return;
+  const TileSpan s = tileSpan(r, desc_.tile_size, desc_.width, desc_.height);
+  pending_.clear();
+  for (std::uint32_t ty = s.y0; ty <= s.y1; ++ty) {
+    for (std::uint32_t tx = s.x0; tx <= s.x1; ++tx) {
+      const std::size_t i = std::size_t(ty) * tiles_x_ + tx;
+      if (far_[i] < clear_key_) continue;  // full tiles stay full (LOG §5, BOG)
+      pending_.push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+  if (pending_.empty()) return;
+  const std::size_t n = pending_.size();
+  if (source.traits().reads_pixels) {
+    rects_.clear();
+    for (std::uint32_t i : pending_) rects_.push_back(tileRectOf(i));
+    areas_.resize(n);
+    source.summarize(rects_.data(), n, areas_.data());
+    for (std::size_t k = 0; k < n; ++k) applySummary(pending_[k], areas_[k]);
+  } else {
+    queries_.clear();
+    for (std::uint32_t i : pending_) queries_.push_back({tileRectOf(i), clear_key_});
+    counts_.resize(n);
+    source.countAtOrBeyond(queries_.data(), n, counts_.data());
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::uint32_t area = std::uint32_t(queries_[k].rect.area());
+      if (desc_.variant == GridVariant::OcclusionState) {
+        applyCount(pending_[k], counts_[k], area, clear_key_);
+      } else {
+        // A free-pixel count bounds zfar only when nothing is free.
+        if (counts_[k] == 0) applyCount(pending_[k], 0, area, clear_key_);
+      }
+    }
+  }
+}
+
+}  // namespace logrid

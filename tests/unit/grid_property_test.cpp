@@ -1,0 +1,147 @@
+// Property test: over random depth buffers, random draws and random boxes, the grid
+// never answers "occluded" where a brute-force scan of the box's rectangle finds a
+// pixel at or beyond the threshold. Fixed seeds; at least 100,000 tests per variant and
+// convention, with every kind of source, viewports from 1x1 to odd sizes, and tile
+// sizes from 1 pixel to larger than the viewport.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "logrid/grid.hpp"
+#include "logrid/zread/software_depth.hpp"
+#include "test_sources.hpp"
+
+namespace logrid {
+namespace {
+
+struct Tally {
+  std::uint64_t tests = 0;
+  std::uint64_t missed = 0;          // grid occluded, brute force visible: a bug
+  std::uint64_t false_visible = 0;   // grid visible, brute force occluded
+  std::uint64_t pixels_read = 0;
+  std::uint64_t brute_pixels = 0;
+};
+
+PixelRect randomRect(std::mt19937& rng, std::int32_t w, std::int32_t h) {
+  const std::int32_t x0 = std::int32_t(rng() % std::uint32_t(w));
+  const std::int32_t y0 = std::int32_t(rng() % std::uint32_t(h));
+  // Mostly small rectangles, sometimes screen-filling.
+  const std::int32_t max_w = rng() % 8 == 0 ? w : std::max(1, w / 3);
+  const std::int32_t max_h = rng() % 8 == 0 ? h : std::max(1, h / 3);
+  const std::int32_t x1 = std::min(w, x0 + 1 + std::int32_t(rng() % std::uint32_t(max_w)));
+  const std::int32_t y1 = std::min(h, y0 + 1 + std::int32_t(rng() % std::uint32_t(max_h)));
+  return {x0, y0, x1, y1};
+}
+
+bool bruteVisible(const zread::SoftwareDepthBuffer& b, const PixelRect& r, float threshold) {
+  for (std::int32_t y = r.y0; y < r.y1; ++y) {
+    for (std::int32_t x = r.x0; x < r.x1; ++x) {
+      if (depthKey(b.convention(), b.at(std::uint32_t(x), std::uint32_t(y))) >= threshold) {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+enum class SourceKind { Software, CountOnly, Batched };
+
+Tally run(GridVariant variant, DepthConvention convention, SourceKind kind, std::uint32_t seed,
+          std::uint64_t min_tests) {
+  std::mt19937 rng(seed);
+  const std::uint32_t tile_sizes[] = {1, 2, 3, 7, 8, 16, 32, 64, 256};
+  const float clear = convention == DepthConvention::Reversed ? -0.0f : 1.0f;
+  auto randomKey = [&] {
+    // Quantised so that thresholds often land exactly on stored depths.
+    const float standard = float(rng() % 64) / 64.0f;
+    return convention == DepthConvention::Reversed ? -standard : standard;
+  };
+  Tally tally;
+  while (tally.tests < min_tests) {
+    const std::int32_t w = rng() % 10 == 0 ? 1 : 1 + std::int32_t(rng() % 97);
+    const std::int32_t h = rng() % 10 == 0 ? 1 : 1 + std::int32_t(rng() % 61);
+    const std::uint32_t ts = tile_sizes[rng() % std::size(tile_sizes)];
+    zread::SoftwareDepthBuffer buffer(std::uint32_t(w), std::uint32_t(h), convention);
+    test::CountOnlySource count_only(buffer);
+    test::BatchedSource batched(buffer);
+    DepthSource& source = kind == SourceKind::Software    ? static_cast<DepthSource&>(buffer)
+                          : kind == SourceKind::CountOnly ? static_cast<DepthSource&>(count_only)
+                                                          : static_cast<DepthSource&>(batched);
+    OcclusionGrid grid({std::uint32_t(w), std::uint32_t(h), ts, variant});
+    grid.reset(clear);
+    const bool busy = kind != SourceKind::CountOnly && rng() % 4 == 0;
+    for (int step = 0; step < 60; ++step) {
+      if (rng() % 3 == 0) {
+        // Draw: fill a rectangle at a random depth; tell the grid (lazily or busily).
+        const PixelRect r = randomRect(rng, w, h);
+        buffer.fillRect(r, windowDepth(convention, randomKey()));
+        if (busy && variant == GridVariant::OcclusionState) {
+          grid.refreshNow(r, source);
+        } else {
+          grid.markOutdated(r);
+        }
+        continue;
+      }
+      const PixelRect r = randomRect(rng, w, h);
+      const float threshold = variant == GridVariant::OcclusionState ? clear : randomKey();
+      GridTestCounts counts;
+      const std::uint64_t before = source.counters().pixels + buffer.counters().pixels;
+      const Visibility v = grid.test(r, threshold, source, counts);
+      tally.pixels_read += source.counters().pixels + buffer.counters().pixels - before;
+      tally.brute_pixels += std::uint64_t(r.area());
+      const bool truth = bruteVisible(buffer, r, threshold);
+      ++tally.tests;
+      if (v == Visibility::Occluded && truth) ++tally.missed;
+      if (v == Visibility::Visible && !truth) ++tally.false_visible;
+    }
+  }
+  return tally;
+}
+
+struct Case {
+  GridVariant variant;
+  DepthConvention convention;
+  SourceKind kind;
+};
+
+std::string caseName(const testing::TestParamInfo<Case>& param) {
+  static const char* const kKinds[] = {"software", "count_only", "batched"};
+  std::string s = std::string(toString(param.param.variant)) + "_" +
+                  toString(param.param.convention) + "_" + kKinds[int(param.param.kind)];
+  for (char& ch : s) ch = ch == '-' ? '_' : ch;
+  return s;
+}
+
+class GridPropertyTest : public testing::TestWithParam<Case> {};
+
+TEST_P(GridPropertyTest, NeverOccludedWhereAPixelShows) {
+  const Case c = GetParam();
+  const std::uint32_t seed = 1000 + 100 * std::uint32_t(c.variant) + 10 * std::uint32_t(c.convention) +
+                             std::uint32_t(c.kind);
+  const Tally t = run(c.variant, c.convention, c.kind, seed, 100000);
+  EXPECT_EQ(t.missed, 0u) << "the grid culled boxes with visible pixels";
+  // Relative to its rectangle the grid is exact: a "visible" answer always has a pixel.
+  EXPECT_EQ(t.false_visible, 0u);
+  RecordProperty("tests", std::to_string(t.tests));
+  RecordProperty("false_visible", std::to_string(t.false_visible));
+  std::printf("[ property ] %s %s: %llu tests, %llu missed, %llu false visible, pixels read %.1f%% "
+              "of a per-box scan\n",
+              toString(c.variant), toString(c.convention), (unsigned long long)t.tests,
+              (unsigned long long)t.missed, (unsigned long long)t.false_visible,
+              100.0 * double(t.pixels_read) / double(t.brute_pixels));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    AllVariants, GridPropertyTest,
+    testing::Values(Case{GridVariant::OcclusionState, DepthConvention::Standard, SourceKind::Software},
+                    Case{GridVariant::OcclusionState, DepthConvention::Reversed, SourceKind::Software},
+                    Case{GridVariant::Zfar, DepthConvention::Standard, SourceKind::Software},
+                    Case{GridVariant::Zfar, DepthConvention::Reversed, SourceKind::Software},
+                    Case{GridVariant::OcclusionState, DepthConvention::Standard, SourceKind::CountOnly},
+                    Case{GridVariant::Zfar, DepthConvention::Reversed, SourceKind::CountOnly},
+                    Case{GridVariant::OcclusionState, DepthConvention::Reversed, SourceKind::Batched},
+                    Case{GridVariant::Zfar, DepthConvention::Standard, SourceKind::Batched}),
+    caseName);
+
+}  // namespace
+}  // namespace logrid

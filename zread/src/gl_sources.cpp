@@ -1,0 +1,275 @@
+#include "logrid/zread/gl_sources.hpp"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include "logrid/error.hpp"
+#include "logrid/zread/program.hpp"
+
+namespace logrid::zread {
+namespace {
+
+// The GL type a depth format is read in without conversion.
+GLenum nativeType(DepthFormat format) {
+  switch (format) {
+    case DepthFormat::D16: return GL_UNSIGNED_SHORT;
+    case DepthFormat::D24: return GL_UNSIGNED_INT;
+    case DepthFormat::D32F: return GL_FLOAT;
+  }
+  return GL_FLOAT;
+}
+
+NativeDepth nativeDepth(DepthFormat format) {
+  switch (format) {
+    case DepthFormat::D16: return NativeDepth::Unorm16;
+    case DepthFormat::D24: return NativeDepth::Unorm32;
+    case DepthFormat::D32F: return NativeDepth::Float32;
+  }
+  return NativeDepth::Float32;
+}
+
+// Throws unless the framebuffer's depth attachment is what the camera says it is: the
+// depth margin depends on the format, so a mismatch would be silently wrong.
+void checkDepthAttachment(const char* who, GLuint framebuffer, const Camera& camera) {
+  const GLenum attachment = framebuffer ? GL_DEPTH_ATTACHMENT : GL_DEPTH;
+  GLint bits = 0, type = 0;
+  glGetNamedFramebufferAttachmentParameteriv(framebuffer, attachment,
+                                             GL_FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE, &bits);
+  glGetNamedFramebufferAttachmentParameteriv(framebuffer, attachment,
+                                             GL_FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE, &type);
+  const DepthFormat want = camera.depth.format;
+  const bool ok = (want == DepthFormat::D32F && type == GL_FLOAT && bits == 32) ||
+                  (want == DepthFormat::D24 && type == GL_UNSIGNED_NORMALIZED && bits == 24) ||
+                  (want == DepthFormat::D16 && type == GL_UNSIGNED_NORMALIZED && bits == 16);
+  if (!ok) {
+    std::ostringstream out;
+    out << who << ": the camera says depth format " << toString(want) << " but framebuffer "
+        << framebuffer << " has a " << bits << "-bit "
+        << (type == GL_FLOAT                 ? "float"
+            : type == GL_UNSIGNED_NORMALIZED ? "unorm"
+                                             : "unknown")
+        << " depth attachment; set Camera::depth.format to match the buffer";
+    throw Error(ErrorCode::InvalidArgument, out.str());
+  }
+}
+
+std::size_t bytesOf(GLenum type) { return type == GL_UNSIGNED_SHORT ? 2 : 4; }
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+// glReadPixels
+// ---------------------------------------------------------------------------
+
+ReadPixelsSource::ReadPixelsSource(std::uint32_t framebuffer) : framebuffer_(framebuffer) {}
+
+void ReadPixelsSource::beginFrame(const Camera& camera) {
+  checkDepthAttachment("ReadPixelsSource", framebuffer_, camera);
+  encoding_ = {nativeDepth(camera.depth.format), camera.depth.convention};
+  type_ = nativeType(camera.depth.format);
+}
+
+void ReadPixelsSource::fetch(const PixelRect* rects, std::size_t count, const void** data,
+                             std::size_t* strides) {
+  const std::size_t bytes = bytesOf(type_);
+  std::size_t total = 0;
+  for (std::size_t i = 0; i < count; ++i) total += std::size_t(rects[i].area()) * bytes;
+  if (scratch_.size() < total) scratch_.resize(total);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer_);
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+  std::size_t offset = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const PixelRect& r = rects[i];
+    glReadPixels(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0, GL_DEPTH_COMPONENT, type_,
+                 scratch_.data() + offset);
+    data[i] = scratch_.data() + offset;
+    strides[i] = std::size_t(r.x1 - r.x0);
+    offset += std::size_t(r.area()) * bytes;
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Pixel-buffer objects, persistently mapped
+// ---------------------------------------------------------------------------
+
+PboSource::PboSource(std::uint32_t framebuffer) : framebuffer_(framebuffer) {}
+
+PboSource::~PboSource() {
+  if (buffer_) glDeleteBuffers(1, &buffer_);
+}
+
+void PboSource::beginFrame(const Camera& camera) {
+  checkDepthAttachment("PboSource", framebuffer_, camera);
+  encoding_ = {nativeDepth(camera.depth.format), camera.depth.convention};
+  type_ = nativeType(camera.depth.format);
+}
+
+void PboSource::reserve(std::size_t bytes) {
+  if (bytes <= capacity_) return;
+  if (buffer_) glDeleteBuffers(1, &buffer_);
+  capacity_ = std::max<std::size_t>(bytes, std::max<std::size_t>(capacity_ * 2, 1 << 16));
+  glCreateBuffers(1, &buffer_);
+  const GLbitfield flags = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
+  glNamedBufferStorage(buffer_, GLsizeiptr(capacity_), nullptr, flags);
+  mapped_ = static_cast<const unsigned char*>(
+      glMapNamedBufferRange(buffer_, 0, GLsizeiptr(capacity_), flags));
+  if (!mapped_) {
+    throw Error(ErrorCode::Runtime, "PboSource: could not map a pixel-buffer object of " +
+                                        std::to_string(capacity_) + " bytes");
+  }
+}
+
+void PboSource::fetch(const PixelRect* rects, std::size_t count, const void** data,
+                      std::size_t* strides) {
+  const std::size_t bytes = bytesOf(type_);
+  std::size_t total = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    total += (std::size_t(rects[i].area()) * bytes + 15) & ~std::size_t(15);
+  }
+  reserve(total);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer_);
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, buffer_);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+  // Issue every read, then wait once.
+  std::size_t offset = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const PixelRect& r = rects[i];
+    glReadPixels(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0, GL_DEPTH_COMPONENT, type_,
+                 reinterpret_cast<void*>(offset));
+    data[i] = mapped_ + offset;
+    strides[i] = std::size_t(r.x1 - r.x0);
+    offset += (std::size_t(r.area()) * bytes + 15) & ~std::size_t(15);
+  }
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+  GLsync fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+  const GLenum result = glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, 10'000'000'000ull);
+  glDeleteSync(fence);
+  if (result == GL_TIMEOUT_EXPIRED || result == GL_WAIT_FAILED) {
+    throw Error(ErrorCode::Runtime, "PboSource: waiting for depth reads failed or took over 10 s");
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Hardware occlusion queries
+// ---------------------------------------------------------------------------
+
+namespace {
+
+// A scissored full-viewport triangle whose fragments all get the depth `u_depth`:
+// writing gl_FragDepth makes the compared depth exactly the uniform, whatever the clip
+// range, so the threshold can be placed exactly.
+constexpr const char* kQueryVertex = R"(#version 450 core
+void main() {
+  vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2) * 2.0 - 1.0;
+  gl_Position = vec4(p, 0.0, 1.0);
+}
+)";
+constexpr const char* kQueryFragment = R"(#version 450 core
+uniform float u_depth;
+void main() { gl_FragDepth = u_depth; }
+)";
+
+}  // namespace
+
+QuerySource::QuerySource(std::uint32_t framebuffer)
+    : framebuffer_(framebuffer),
+      program_(std::make_unique<Program>("QuerySource", kQueryVertex, kQueryFragment)),
+      depth_uniform_(program_->uniform("u_depth")) {
+  glCreateVertexArrays(1, &vao_);
+}
+
+QuerySource::~QuerySource() {
+  if (!queries_.empty()) glDeleteQueries(GLsizei(queries_.size()), queries_.data());
+  glDeleteVertexArrays(1, &vao_);
+}
+
+void QuerySource::beginFrame(const Camera& camera) {
+  checkDepthAttachment("QuerySource", framebuffer_, camera);
+  depth_ = camera.depth;
+}
+
+void QuerySource::summarize(const PixelRect*, std::size_t, AreaDepth*) {
+  throw Error(ErrorCode::Unsupported,
+              "QuerySource::summarize: occlusion queries cannot read depth values; use a "
+              "pixel-reading source (readpixels, pbo, software) for this method");
+}
+
+void QuerySource::readKeys(const PixelRect&, float*) { summarize(nullptr, 0, nullptr); }
+
+void QuerySource::countAtOrBeyond(const AreaQuery* queries, std::size_t count, std::uint32_t* out) {
+  const auto start = std::chrono::steady_clock::now();
+  if (queries_.size() < count) {
+    const std::size_t old = queries_.size();
+    queries_.resize(count);
+    // One query object per target (PLATFORM.md pitfall 4): created for SAMPLES_PASSED.
+    glCreateQueries(GL_SAMPLES_PASSED, GLsizei(count - old), queries_.data() + old);
+  }
+  // Save the state this draws with, and restore it afterwards.
+  GLint program = 0, vao = 0, draw_fb = 0, depth_func = 0, scissor_box[4];
+  GLboolean depth_mask = GL_TRUE, color_mask[4], scissor = glIsEnabled(GL_SCISSOR_TEST);
+  glGetIntegerv(GL_CURRENT_PROGRAM, &program);
+  glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &vao);
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &draw_fb);
+  glGetIntegerv(GL_DEPTH_FUNC, &depth_func);
+  glGetIntegerv(GL_SCISSOR_BOX, scissor_box);
+  glGetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask);
+  glGetBooleanv(GL_COLOR_WRITEMASK, color_mask);
+
+  const bool reversed = depth_.convention == DepthConvention::Reversed;
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer_);
+  program_->use();
+  glBindVertexArray(vao_);
+  glEnable(GL_SCISSOR_TEST);
+  glDepthMask(GL_FALSE);
+  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  // Pass where the stored key >= threshold: standard stored >= d, reversed stored <= d.
+  glDepthFunc(reversed ? GL_GEQUAL : GL_LEQUAL);
+  for (std::size_t i = 0; i < count; ++i) {
+    const PixelRect& r = queries[i].rect;
+    // Round the depth so that every pixel exactly at the threshold still passes.
+    double d = reversed ? -double(queries[i].threshold) : double(queries[i].threshold);
+    float depth = static_cast<float>(d);
+    if (!reversed && depth > d) depth = std::nextafter(depth, -1.0f);
+    if (reversed && depth < d) depth = std::nextafter(depth, 2.0f);
+    depth = std::clamp(depth, 0.0f, 1.0f);
+    glUniform1f(depth_uniform_, depth);
+    glScissor(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0);
+    glBeginQuery(GL_SAMPLES_PASSED, queries_[i]);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glEndQuery(GL_SAMPLES_PASSED);
+  }
+  for (std::size_t i = 0; i < count; ++i) {
+    GLuint samples = 0;
+    glGetQueryObjectuiv(queries_[i], GL_QUERY_RESULT, &samples);
+    out[i] = samples;
+  }
+
+  glDepthFunc(GLenum(depth_func));
+  glDepthMask(depth_mask);
+  glColorMask(color_mask[0], color_mask[1], color_mask[2], color_mask[3]);
+  glScissor(scissor_box[0], scissor_box[1], scissor_box[2], scissor_box[3]);
+  if (!scissor) glDisable(GL_SCISSOR_TEST);
+  glBindVertexArray(GLuint(vao));
+  glUseProgram(GLuint(program));
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(draw_fb));
+
+  counters_.queries += count;
+  if (drawn_since_query_) {
+    ++counters_.flushes;
+    drawn_since_query_ = false;
+  }
+  counters_.seconds +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace logrid::zread

@@ -1,0 +1,70 @@
+#include "logrid/zread/program.hpp"
+
+#include <epoxy/gl.h>
+
+#include "logrid/error.hpp"
+
+namespace logrid::zread {
+namespace {
+
+GLuint compileStage(const std::string& name, GLenum stage, const char* source) {
+  const GLuint shader = glCreateShader(stage);
+  glShaderSource(shader, 1, &source, nullptr);
+  glCompileShader(shader);
+  GLint ok = 0;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {};
+    glGetShaderInfoLog(shader, sizeof log, nullptr, log);
+    glDeleteShader(shader);
+    throw Error(ErrorCode::Runtime,
+                "program '" + name + "': " + (stage == GL_VERTEX_SHADER ? "vertex" : "fragment") +
+                    " shader does not compile: " + log);
+  }
+  return shader;
+}
+
+}  // namespace
+
+Program::Program(const std::string& name, const char* vertex_source, const char* fragment_source)
+    : name_(name) {
+  const GLuint vs = compileStage(name, GL_VERTEX_SHADER, vertex_source);
+  GLuint fs = 0;
+  try {
+    fs = compileStage(name, GL_FRAGMENT_SHADER, fragment_source);
+  } catch (...) {
+    glDeleteShader(vs);
+    throw;
+  }
+  program_ = glCreateProgram();
+  glAttachShader(program_, vs);
+  glAttachShader(program_, fs);
+  glLinkProgram(program_);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+  GLint ok = 0;
+  glGetProgramiv(program_, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {};
+    glGetProgramInfoLog(program_, sizeof log, nullptr, log);
+    glDeleteProgram(program_);
+    throw Error(ErrorCode::Runtime, "program '" + name + "' does not link: " + log);
+  }
+}
+
+Program::~Program() {
+  if (program_) glDeleteProgram(program_);
+}
+
+void Program::use() const { glUseProgram(program_); }
+
+std::int32_t Program::uniform(const char* uniform_name) const {
+  const GLint location = glGetUniformLocation(program_, uniform_name);
+  if (location < 0) {
+    throw Error(ErrorCode::InvalidArgument,
+                "program '" + name_ + "' has no active uniform '" + uniform_name + "'");
+  }
+  return location;
+}
+
+}  // namespace logrid::zread
