@@ -1,0 +1,2 @@
+// Placeholder: implemented in the camera-path change.
+#include "scene/camera_path.hpp"

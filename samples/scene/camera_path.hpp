@@ -1,0 +1,58 @@
+// Camera paths: key frames (eye position, look-at point, optional time) interpolated
+// smoothly, in world coordinates (double precision).
+//
+// JSON format (--path FILE.json):
+//   { "keys": [ { "position": [x, y, z], "look_at": [x, y, z], "time": 0.0 }, ... ],
+//     "up": [0, 1, 0] }                                    // optional, default +y
+// "time" is optional for every key or for none: without times, keys are spaced by the
+// distance travelled (constant speed). Times must increase strictly. At least one key.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "logrid/types.hpp"
+
+namespace logrid::samples {
+
+struct CameraKey {
+  DVec3 position;
+  DVec3 look_at;
+  double time = 0.0;
+};
+
+struct CameraPose {
+  DVec3 position;
+  DVec3 look_at;
+  DVec3 up{0, 1, 0};
+};
+
+class CameraPath {
+ public:
+  CameraPath() = default;
+  // Throws logrid::Error(InvalidArgument) for no keys, non-finite values, a key whose
+  // position equals its look_at, or times that do not increase.
+  CameraPath(std::vector<CameraKey> keys, DVec3 up = {0, 1, 0});
+
+  // Reads the JSON format above; throws logrid::Error(BadInput) with the file name and
+  // what is wrong (unreadable file, JSON syntax error with its position, missing or
+  // mistyped fields, and the checks of the constructor).
+  static CameraPath fromJsonFile(const std::string& path);
+  static CameraPath fromJsonText(const std::string& text, const std::string& name = "<json>");
+
+  bool empty() const { return keys_.empty(); }
+  const std::vector<CameraKey>& keys() const { return keys_; }
+  double duration() const;
+
+  // The pose at `time` (clamped to the path), interpolated with a centripetal
+  // Catmull-Rom spline through the keys (positions and look-at points alike).
+  CameraPose at(double time) const;
+  // The pose of frame `frame` of `frames` frames spread evenly over the whole path.
+  CameraPose frame(std::size_t frame, std::size_t frames) const;
+
+ private:
+  std::vector<CameraKey> keys_;
+  DVec3 up_{0, 1, 0};
+};
+
+}  // namespace logrid::samples

@@ -1,0 +1,2 @@
+// Placeholder: implemented in the loader change.
+#include "scene/loader.hpp"

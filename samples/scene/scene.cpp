@@ -1,0 +1,84 @@
+#include "scene/scene.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "logrid/error.hpp"
+
+namespace logrid::samples {
+
+Aabb emptyBox() {
+  constexpr float inf = std::numeric_limits<float>::infinity();
+  return {{inf, inf, inf}, {-inf, -inf, -inf}};
+}
+
+void growBox(Aabb& b, const float* p) {
+  b.min.x = std::min(b.min.x, p[0]), b.min.y = std::min(b.min.y, p[1]);
+  b.min.z = std::min(b.min.z, p[2]), b.max.x = std::max(b.max.x, p[0]);
+  b.max.y = std::max(b.max.y, p[1]), b.max.z = std::max(b.max.z, p[2]);
+}
+
+void growBox(Aabb& b, const Aabb& o) {
+  growBox(b, &o.min.x);
+  growBox(b, &o.max.x);
+}
+
+void computeBounds(Scene& scene) {
+  scene.bounds = emptyBox();
+  for (std::size_t v = 0; v + 2 < scene.positions.size(); v += 3) {
+    growBox(scene.bounds, &scene.positions[v]);
+  }
+  for (SceneObject& o : scene.objects) {
+    o.box = emptyBox();
+    for (std::uint32_t i = o.first_index; i < o.first_index + o.index_count; ++i) {
+      growBox(o.box, &scene.positions[std::size_t(scene.indices[i]) * 3]);
+    }
+  }
+}
+
+void validateScene(const Scene& scene) {
+  auto fail = [&](const std::string& what) {
+    throw Error(ErrorCode::BadInput, "scene '" + scene.name + "': " + what);
+  };
+  if (scene.positions.size() % 3 != 0) fail("positions are not xyz triples");
+  if (scene.indices.empty() || scene.indices.size() % 3 != 0) {
+    fail("has no triangles (or an index count that is not a multiple of 3)");
+  }
+  const std::size_t vertices = scene.positions.size() / 3;
+  for (std::size_t i = 0; i < scene.positions.size(); ++i) {
+    if (!std::isfinite(scene.positions[i])) {
+      std::ostringstream out;
+      out << "vertex " << i / 3 << " has a non-finite coordinate (" << scene.positions[i] << ")";
+      fail(out.str());
+    }
+  }
+  for (std::size_t i = 0; i < scene.indices.size(); ++i) {
+    if (scene.indices[i] >= vertices) {
+      std::ostringstream out;
+      out << "triangle " << i / 3 << " uses vertex " << scene.indices[i] << " but there are "
+          << vertices << " vertices";
+      fail(out.str());
+    }
+  }
+  if (scene.split_by_triangles) {
+    if (scene.triangle_colors.size() != scene.triangleCount()) {
+      fail("needs one colour per triangle when split by triangles");
+    }
+    return;
+  }
+  if (scene.objects.empty()) fail("has no objects");
+  for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+    const SceneObject& obj = scene.objects[o];
+    if (obj.index_count == 0 || obj.index_count % 3 != 0 ||
+        std::uint64_t(obj.first_index) + obj.index_count > scene.indices.size()) {
+      std::ostringstream out;
+      out << "object " << o << " covers indices [" << obj.first_index << ", "
+          << std::uint64_t(obj.first_index) + obj.index_count << ") of " << scene.indices.size();
+      fail(out.str());
+    }
+  }
+}
+
+}  // namespace logrid::samples

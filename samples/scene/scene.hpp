@@ -1,0 +1,58 @@
+// The scenes of the samples: geometry as far as culling and a readable picture need it
+// (positions, indices, a flat colour per object), a camera path, and where the scene
+// sits in the world.
+//
+// Coordinates are stored *local* to Scene::origin (double precision), so a scene
+// placed a million units from the world origin keeps float positions near zero; the
+// cameras compose the translation in double (see samples/scene/view.hpp).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "logrid/types.hpp"
+#include "scene/camera_path.hpp"
+
+namespace logrid::samples {
+
+struct SceneObject {
+  std::uint32_t first_index = 0;  // into Scene::indices
+  std::uint32_t index_count = 0;  // a multiple of 3
+  std::uint32_t color = 0xFFFFFFFFu;  // RGBA8: r | g << 8 | b << 16 | a << 24
+  Aabb box;                           // local coordinates, contains every vertex used
+};
+
+struct Scene {
+  std::string name;
+  DVec3 origin;                      // world position of the local origin
+  std::vector<float> positions;      // xyz per vertex, local coordinates
+  std::vector<std::uint32_t> indices;  // three per triangle
+  // One entry per object (a tree, a terrain patch, a mesh of a file). For scenes whose
+  // hierarchy is built over triangles (the city), leave empty and set colors per
+  // triangle in triangle_colors instead; objects are then the hierarchy's chunks.
+  std::vector<SceneObject> objects;
+  bool split_by_triangles = false;
+  std::vector<std::uint32_t> triangle_colors;  // per triangle when split_by_triangles
+  Aabb bounds;                                 // local, of all positions
+  CameraPath path;                             // the default walkthrough
+  // Suggested clip planes for the walkthrough (world units).
+  double near_plane = 0.1;
+  double far_plane = 1000.0;
+
+  std::size_t triangleCount() const { return indices.size() / 3; }
+};
+
+// The union of a box and a point / box.
+void growBox(Aabb& box, const float* p);
+void growBox(Aabb& box, const Aabb& other);
+Aabb emptyBox();
+
+// Recomputes `bounds` and every object's box from the geometry.
+void computeBounds(Scene& scene);
+
+// Checks the scene's invariants (indices in range, finite positions, objects inside the
+// index array, non-empty) and throws logrid::Error(BadInput) naming the first problem.
+void validateScene(const Scene& scene);
+
+}  // namespace logrid::samples
