@@ -85,21 +85,27 @@ std::uint32_t countCompare(const T* data, std::int32_t width, std::int32_t heigh
   return n;
 }
 
+// Keys are floats, so a threshold stands for every depth that rounds to it: the count
+// must include any stored value whose float key equals or exceeds the threshold. The
+// bound is therefore taken from the lower edge of the threshold's rounding interval
+// (half a float ulp below), and the product's own error (2^-52 relative) is covered by a
+// further 1e-3 of a unit. This may count a stored value within half an ulp below the
+// threshold as well: an extra pixel counted is conservative, a dropped one is not.
 template <typename T>
 std::uint32_t countUnorm(const T* data, std::int32_t w, std::int32_t h, std::size_t stride,
                          bool reversed, float threshold) {
   const double scale = unormScale<T>();
-  // The product carries a relative error of 2^-52 (under 1e-6 absolute here), so the
-  // 1e-3 slack can only add pixels that lie exactly at the threshold: never drop one.
+  const double half_ulp =
+      0.5 * (double(std::nextafter(std::fabs(threshold), 2.0f)) - double(std::fabs(threshold)));
   if (!reversed) {
     // depth >= t  <=>  v >= t * scale
-    const double bound = std::ceil(double(threshold) * scale - 1e-3);
+    const double bound = std::ceil((double(threshold) - half_ulp) * scale - 1e-3);
     if (bound <= 0) return std::uint32_t(w) * std::uint32_t(h);
     if (bound > scale) return 0;
     return countCompare<T>(data, w, h, stride, T(bound), false);
   }
   // -depth >= t  <=>  v <= -t * scale
-  const double bound = std::floor(-double(threshold) * scale + 1e-3);
+  const double bound = std::floor((-double(threshold) + half_ulp) * scale + 1e-3);
   if (bound >= scale) return std::uint32_t(w) * std::uint32_t(h);
   if (bound < 0) return 0;
   return countCompare<T>(data, w, h, stride, T(bound), true);

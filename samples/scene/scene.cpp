@@ -62,12 +62,11 @@ void validateScene(const Scene& scene) {
       fail(out.str());
     }
   }
-  if (scene.split_by_triangles) {
-    if (scene.triangle_colors.size() != scene.triangleCount()) {
-      fail("needs one colour per triangle when split by triangles");
-    }
-    return;
+  if (!scene.vertex_colors.empty() && scene.vertex_colors.size() != vertices) {
+    fail("has " + std::to_string(scene.vertex_colors.size()) + " vertex colours for " +
+         std::to_string(vertices) + " vertices");
   }
+  if (scene.split_by_triangles) return;
   if (scene.objects.empty()) fail("has no objects");
   for (std::size_t o = 0; o < scene.objects.size(); ++o) {
     const SceneObject& obj = scene.objects[o];

@@ -28,12 +28,14 @@ struct Scene {
   DVec3 origin;                      // world position of the local origin
   std::vector<float> positions;      // xyz per vertex, local coordinates
   std::vector<std::uint32_t> indices;  // three per triangle
+  // Optional RGBA8 colour per vertex; when present it replaces the objects' colours.
+  std::vector<std::uint32_t> vertex_colors;
   // One entry per object (a tree, a terrain patch, a mesh of a file). For scenes whose
-  // hierarchy is built over triangles (the city), leave empty and set colors per
-  // triangle in triangle_colors instead; objects are then the hierarchy's chunks.
+  // hierarchy is built over triangles (the city, LOG §5: "each triangle is a primitive
+  // object"), leave it empty and set split_by_triangles: the objects are then the
+  // hierarchy's leaf chunks of at most BuildArgs::max_leaf_size triangles.
   std::vector<SceneObject> objects;
   bool split_by_triangles = false;
-  std::vector<std::uint32_t> triangle_colors;  // per triangle when split_by_triangles
   Aabb bounds;                                 // local, of all positions
   CameraPath path;                             // the default walkthrough
   // Suggested clip planes for the walkthrough (world units).

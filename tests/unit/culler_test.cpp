@@ -9,7 +9,7 @@
 #include "logrid/bvh.hpp"
 #include "logrid/culler.hpp"
 #include "logrid/error.hpp"
-#include "soft_raster.hpp"
+#include "logrid/zread/software_rasterizer.hpp"
 #include "test_sources.hpp"
 
 namespace logrid {
@@ -64,29 +64,29 @@ Outcome runFrame(const Scene& scene, const Camera& cam, const CullerDesc& desc, 
   // The oracle: the full scene with IDs.
   {
     zread::SoftwareDepthBuffer depth(cam.width, cam.height, cam.depth.convention);
-    std::vector<std::uint32_t> ids(std::size_t(cam.width) * cam.height, test::kNoId);
-    test::SoftRasterizer raster(cam, depth, &ids);
+    std::vector<std::uint32_t> ids(std::size_t(cam.width) * cam.height, zread::kNoId);
+    zread::SoftwareRasterizer raster(cam, depth, &ids);
     for (std::uint32_t i = 0; i < scene.boxes.size(); ++i) {
       std::vector<float> p;
       std::vector<std::uint32_t> idx;
-      test::appendBox(scene.boxes[i], p, idx);
+      zread::appendBox(scene.boxes[i], p, idx);
       raster.draw(p, idx, i);
     }
     for (std::uint32_t id : ids) {
-      if (id != test::kNoId) out.visible.insert(id);
+      if (id != zread::kNoId) out.visible.insert(id);
     }
   }
   // The method under test, drawing through the same rasteriser.
   zread::SoftwareDepthBuffer depth(cam.width, cam.height, cam.depth.convention);
   test::CountOnlySource queries(depth);
-  test::SoftRasterizer raster(cam, depth, nullptr);
+  zread::SoftwareRasterizer raster(cam, depth, nullptr);
   Culler culler(desc);
   out.stats = culler.cullFrame(cam, scene.hierarchy, count_only ? static_cast<DepthSource&>(queries)
                                                                 : static_cast<DepthSource&>(depth),
                                [&](ObjectId id) {
                                  std::vector<float> p;
                                  std::vector<std::uint32_t> idx;
-                                 test::appendBox(scene.boxes[id], p, idx);
+                                 zread::appendBox(scene.boxes[id], p, idx);
                                  raster.draw(p, idx, id);
                                  EXPECT_TRUE(out.drawn.insert(id).second) << "drawn twice: " << id;
                                });

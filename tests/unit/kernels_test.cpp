@@ -57,7 +57,9 @@ void checkType(NativeDepth native, DepthConvention convention, std::uint32_t see
           for (int x = 0; x < w; ++x) {
             const double kk = (reversed ? -1.0 : 1.0) * double(data[std::size_t(y) * stride + x]) / scale;
             exact += kk >= double(t);
-            slack += kk >= double(t) - 2e-8;  // within the kernels' documented slack
+            // The documented slack: half a float ulp of t, and 1e-3 of a unit.
+            const double half_ulp = 0.5 * (double(std::nextafter(std::fabs(t), 2.0f)) - std::fabs(double(t)));
+            slack += kk >= double(t) - half_ulp - 1e-3 / scale - 1e-12;
           }
         }
         const std::uint32_t got = countDepthAtOrBeyond(enc, data.data(), w, h, std::size_t(stride), t);

@@ -226,6 +226,7 @@ void QuerySource::countAtOrBeyond(const AreaQuery* queries, std::size_t count, s
   glGetBooleanv(GL_COLOR_WRITEMASK, color_mask);
 
   const bool reversed = depth_.convention == DepthConvention::Reversed;
+  const float far_key = clearKey(depth_), near_key = nearPlaneKey(depth_);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer_);
   program_->use();
   glBindVertexArray(vao_);
@@ -234,8 +235,13 @@ void QuerySource::countAtOrBeyond(const AreaQuery* queries, std::size_t count, s
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   // Pass where the stored key >= threshold: standard stored >= d, reversed stored <= d.
   glDepthFunc(reversed ? GL_GEQUAL : GL_LEQUAL);
+  std::size_t issued = 0;
   for (std::size_t i = 0; i < count; ++i) {
     const PixelRect& r = queries[i].rect;
+    // Thresholds outside the depth range need no query: nothing lies beyond the far
+    // plane, everything lies beyond the near plane.
+    if (queries[i].threshold > far_key || queries[i].threshold <= near_key) continue;
+    ++issued;
     // Round the depth so that every pixel exactly at the threshold still passes.
     double d = reversed ? -double(queries[i].threshold) : double(queries[i].threshold);
     float depth = static_cast<float>(d);
@@ -249,9 +255,16 @@ void QuerySource::countAtOrBeyond(const AreaQuery* queries, std::size_t count, s
     glEndQuery(GL_SAMPLES_PASSED);
   }
   for (std::size_t i = 0; i < count; ++i) {
-    GLuint samples = 0;
-    glGetQueryObjectuiv(queries_[i], GL_QUERY_RESULT, &samples);
-    out[i] = samples;
+    const float t = queries[i].threshold;
+    if (t > far_key) {
+      out[i] = 0;
+    } else if (t <= near_key) {
+      out[i] = std::uint32_t(queries[i].rect.area());
+    } else {
+      GLuint samples = 0;
+      glGetQueryObjectuiv(queries_[i], GL_QUERY_RESULT, &samples);
+      out[i] = samples;
+    }
   }
 
   glDepthFunc(GLenum(depth_func));
@@ -259,11 +272,13 @@ void QuerySource::countAtOrBeyond(const AreaQuery* queries, std::size_t count, s
   glColorMask(color_mask[0], color_mask[1], color_mask[2], color_mask[3]);
   glScissor(scissor_box[0], scissor_box[1], scissor_box[2], scissor_box[3]);
   if (!scissor) glDisable(GL_SCISSOR_TEST);
-  glBindVertexArray(GLuint(vao));
-  glUseProgram(GLuint(program));
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(draw_fb));
+  // A program or vertex array the application deleted while it was current ceased to
+  // exist when this source switched away from it: restore only names that still exist.
+  glBindVertexArray(glIsVertexArray(GLuint(vao)) ? GLuint(vao) : 0);
+  glUseProgram(glIsProgram(GLuint(program)) ? GLuint(program) : 0);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, glIsFramebuffer(GLuint(draw_fb)) ? GLuint(draw_fb) : 0);
 
-  counters_.queries += count;
+  counters_.queries += issued;
   if (drawn_since_query_) {
     ++counters_.flushes;
     drawn_since_query_ = false;

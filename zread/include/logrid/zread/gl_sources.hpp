@@ -11,7 +11,10 @@
 //                     direct read and costs more (PLATFORM.md §2b).
 //   QuerySource       hardware occlusion queries: counts the pixels at or beyond a depth
 //                     by drawing the rectangle (scissored) at that depth with
-//                     GL_SAMPLES_PASSED and no writes. Reads no depth at all.
+//                     GL_SAMPLES_PASSED and no writes. Reads no depth at all. The depth
+//                     test compares in the buffer's format, so for D16 and D24 the count
+//                     may include pixels up to one quantisation step in front of the
+//                     threshold (never fewer than those at or beyond it): conservative.
 //
 // beginFrame() checks the framebuffer's depth attachment against Camera::depth.format
 // and throws logrid::Error if they differ.

@@ -1,11 +1,11 @@
-#include "soft_raster.hpp"
+#include "logrid/zread/software_rasterizer.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-namespace logrid::test {
+namespace logrid::zread {
 
-SoftRasterizer::SoftRasterizer(const Camera& camera, zread::SoftwareDepthBuffer& depth,
+SoftwareRasterizer::SoftwareRasterizer(const Camera& camera, SoftwareDepthBuffer& depth,
                                std::vector<std::uint32_t>* ids)
     : camera_(camera), depth_(depth), ids_(ids) {
   const Mat4d m = multiply(camera.view_projection, translation(camera.render_origin));
@@ -20,7 +20,7 @@ SoftRasterizer::SoftRasterizer(const Camera& camera, zread::SoftwareDepthBuffer&
   depth_offset_ = zero_to_one ? 0.0f : 0.5f;
 }
 
-void SoftRasterizer::draw(const std::vector<float>& positions,
+void SoftwareRasterizer::draw(const std::vector<float>& positions,
                           const std::vector<std::uint32_t>& indices, std::uint32_t id) {
   for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
     drawTriangle(&positions[indices[t] * 3], &positions[indices[t + 1] * 3],
@@ -28,7 +28,7 @@ void SoftRasterizer::draw(const std::vector<float>& positions,
   }
 }
 
-void SoftRasterizer::drawTriangle(const float* a, const float* b, const float* c,
+void SoftwareRasterizer::drawTriangle(const float* a, const float* b, const float* c,
                                   std::uint32_t id) {
   const float* in[3] = {a, b, c};
   std::vector<V> poly(3);
@@ -61,7 +61,7 @@ void SoftRasterizer::drawTriangle(const float* a, const float* b, const float* c
   for (std::size_t i = 1; i + 1 < poly.size(); ++i) rasterize(poly[0], poly[i], poly[i + 1], id);
 }
 
-void SoftRasterizer::rasterize(const V& a, const V& b, const V& c, std::uint32_t id) {
+void SoftwareRasterizer::rasterize(const V& a, const V& b, const V& c, std::uint32_t id) {
   const V* v[3] = {&a, &b, &c};
   float x[3], y[3], z[3];
   const float w_px = float(camera_.width), h_px = float(camera_.height);
@@ -116,4 +116,4 @@ void appendBox(const Aabb& box, std::vector<float>& positions,
   }
 }
 
-}  // namespace logrid::test
+}  // namespace logrid::zread

@@ -1,0 +1,82 @@
+// A small OpenGL 4.5 core renderer for culling experiments: one vertex buffer, one
+// index buffer, one draw call per object with a flat colour (or colours per vertex), Lambert-shaded with
+// normals derived per pixel (no normals stored), and an object-ID pass that writes each
+// object's id into an R32UI attachment.
+//
+// Precision: positions are local to the scene; the renderer draws camera-relative. It
+// takes a logrid::Camera whose view_projection maps *local* positions to clip space and
+// whose render_origin is the eye in local coordinates, and computes in double
+//   u_vp = view_projection * translation(render_origin),  u_offset = -render_origin
+// so the shader's float math sees only small numbers: gl_Position = u_vp * (p + u_offset).
+// The culler gets the same camera, so its margins model exactly this transform.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "logrid/camera.hpp"
+#include "logrid/types.hpp"
+
+namespace logrid::gl {
+
+struct RenderMesh {
+  struct Draw {
+    std::uint32_t first_index = 0;
+    std::uint32_t index_count = 0;
+    std::int32_t base_vertex = 0;
+    std::uint32_t color = 0xFFFFFFFFu;  // RGBA8: r | g << 8 | b << 16 | a << 24
+  };
+  std::vector<float> positions;           // xyz per vertex
+  std::vector<std::uint32_t> colors;      // optional RGBA8 per vertex (else Draw::color)
+  std::vector<std::uint16_t> indices16;   // used when non-empty (every draw < 65536 vertices)
+  std::vector<std::uint32_t> indices32;   // otherwise
+  std::vector<Draw> draws;                // one per object, indexed by ObjectId
+
+  std::size_t triangleCount() const {
+    return (indices16.empty() ? indices32.size() : indices16.size()) / 3;
+  }
+  std::size_t memoryBytes() const;
+};
+
+enum class Pass : std::uint8_t {
+  Shaded,     // colour + depth
+  ObjectIds,  // object id into colour attachment 1 + depth (Framebuffer::selectIdPass)
+  DepthOnly,  // depth only
+};
+
+class MeshRenderer {
+ public:
+  // Uploads the mesh (requires a current GL 4.5 context). Throws logrid::Error when
+  // draws reference indices or vertices outside the arrays, or GL runs out of memory.
+  explicit MeshRenderer(const RenderMesh& mesh);
+  ~MeshRenderer();
+  MeshRenderer(const MeshRenderer&) = delete;
+  MeshRenderer& operator=(const MeshRenderer&) = delete;
+
+  std::size_t objectCount() const { return draws_.size(); }
+  std::uint32_t triangles(ObjectId id) const { return draws_[id].index_count / 3; }
+  std::uint64_t gpuBytes() const { return gpu_bytes_; }
+
+  // Binds program, vertex array and per-frame uniforms for a pass.
+  void begin(Pass pass, const Camera& camera);
+  void draw(ObjectId id);
+  void end();
+
+ private:
+  struct Programs;
+  std::unique_ptr<Programs> programs_;
+  std::vector<RenderMesh::Draw> draws_;
+  std::uint32_t vao_ = 0;
+  std::uint32_t vertex_buffer_ = 0;
+  std::uint32_t index_buffer_ = 0;
+  std::uint32_t color_buffer_ = 0;
+  bool vertex_colors_ = false;
+  std::uint32_t index_type_ = 0;
+  std::size_t index_bytes_ = 0;
+  std::uint64_t gpu_bytes_ = 0;
+  Pass pass_ = Pass::Shaded;
+  std::int32_t id_location_ = -1;
+};
+
+}  // namespace logrid::gl

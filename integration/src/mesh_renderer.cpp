@@ -1,0 +1,176 @@
+#include "logrid/gl/mesh_renderer.hpp"
+
+#include <epoxy/gl.h>
+
+#include <sstream>
+
+#include "logrid/error.hpp"
+#include "logrid/gl/context.hpp"
+#include "logrid/zread/program.hpp"
+
+namespace logrid::gl {
+
+std::size_t RenderMesh::memoryBytes() const {
+  return positions.capacity() * sizeof(float) + colors.capacity() * 4 +
+         indices16.capacity() * 2 + indices32.capacity() * 4 + draws.capacity() * sizeof(Draw);
+}
+
+namespace {
+
+// `invariant` keeps the shaded, ID and depth passes at identical depths, which the
+// object-ID oracle relies on.
+constexpr const char* kVertex = R"(#version 450 core
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec4 a_color;  // per vertex, or the draw's colour (generic value)
+uniform mat4 u_vp;
+uniform vec3 u_offset;
+out vec3 v_relative;
+out vec4 v_color;
+invariant gl_Position;
+void main() {
+  v_relative = a_position + u_offset;
+  v_color = a_color;
+  gl_Position = u_vp * vec4(v_relative, 1.0);
+}
+)";
+
+// Flat shading from screen-space derivatives of the camera-relative position: the
+// face normal, for free, without a normal attribute.
+constexpr const char* kShaded = R"(#version 450 core
+in vec3 v_relative;
+in vec4 v_color;
+layout(location = 0) out vec4 o_color;
+void main() {
+  vec3 n = normalize(cross(dFdx(v_relative), dFdy(v_relative)));
+  const vec3 sun = normalize(vec3(0.45, 0.8, 0.35));
+  float light = 0.35 + 0.65 * abs(dot(n, sun));
+  o_color = vec4(v_color.rgb * light, 1.0);
+}
+)";
+
+constexpr const char* kIds = R"(#version 450 core
+uniform uint u_object;
+layout(location = 1) out uint o_id;
+void main() { o_id = u_object; }
+)";
+
+constexpr const char* kDepthOnly = R"(#version 450 core
+void main() {}
+)";
+
+}  // namespace
+
+struct MeshRenderer::Programs {
+  zread::Program shaded{"mesh shaded", kVertex, kShaded};
+  zread::Program ids{"mesh ids", kVertex, kIds};
+  zread::Program depth{"mesh depth", kVertex, kDepthOnly};
+};
+
+MeshRenderer::MeshRenderer(const RenderMesh& mesh)
+    : programs_(std::make_unique<Programs>()), draws_(mesh.draws) {
+  const bool small = !mesh.indices16.empty();
+  const std::size_t index_count = small ? mesh.indices16.size() : mesh.indices32.size();
+  const std::size_t vertices = mesh.positions.size() / 3;
+  for (std::size_t i = 0; i < draws_.size(); ++i) {
+    const RenderMesh::Draw& d = draws_[i];
+    if (std::uint64_t(d.first_index) + d.index_count > index_count || d.base_vertex < 0 ||
+        std::uint64_t(d.base_vertex) > vertices) {
+      std::ostringstream out;
+      out << "MeshRenderer: draw " << i << " (indices " << d.first_index << "+" << d.index_count
+          << ", base vertex " << d.base_vertex << ") lies outside the mesh (" << index_count
+          << " indices, " << vertices << " vertices)";
+      throw Error(ErrorCode::InvalidArgument, out.str());
+    }
+  }
+  checkGlErrors("MeshRenderer: before upload");
+  index_type_ = small ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
+  index_bytes_ = small ? 2 : 4;
+  if (!mesh.colors.empty() && mesh.colors.size() != vertices) {
+    throw Error(ErrorCode::InvalidArgument, "MeshRenderer: " + std::to_string(mesh.colors.size()) +
+                                                " colours for " + std::to_string(vertices) +
+                                                " vertices");
+  }
+  const std::size_t vertex_bytes = mesh.positions.size() * sizeof(float);
+  const std::size_t color_bytes = mesh.colors.size() * 4;
+  const std::size_t index_bytes = index_count * index_bytes_;
+  glCreateBuffers(1, &vertex_buffer_);
+  glNamedBufferStorage(vertex_buffer_, GLsizeiptr(std::max<std::size_t>(vertex_bytes, 4)),
+                       mesh.positions.empty() ? nullptr : mesh.positions.data(), 0);
+  glCreateBuffers(1, &index_buffer_);
+  const void* index_data = small ? static_cast<const void*>(mesh.indices16.data())
+                                 : static_cast<const void*>(mesh.indices32.data());
+  glNamedBufferStorage(index_buffer_, GLsizeiptr(std::max<std::size_t>(index_bytes, 4)),
+                       index_count ? index_data : nullptr, 0);
+  if (glGetError() == GL_OUT_OF_MEMORY) {
+    throw Error(ErrorCode::Runtime, "MeshRenderer: out of GL memory uploading " +
+                                        std::to_string(vertex_bytes + index_bytes) + " bytes");
+  }
+  glCreateVertexArrays(1, &vao_);
+  glVertexArrayVertexBuffer(vao_, 0, vertex_buffer_, 0, 3 * sizeof(float));
+  glVertexArrayElementBuffer(vao_, index_buffer_);
+  glEnableVertexArrayAttrib(vao_, 0);
+  glVertexArrayAttribFormat(vao_, 0, 3, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribBinding(vao_, 0, 0);
+  vertex_colors_ = !mesh.colors.empty();
+  if (vertex_colors_) {
+    glCreateBuffers(1, &color_buffer_);
+    glNamedBufferStorage(color_buffer_, GLsizeiptr(color_bytes), mesh.colors.data(), 0);
+    glVertexArrayVertexBuffer(vao_, 1, color_buffer_, 0, 4);
+    glEnableVertexArrayAttrib(vao_, 1);
+    glVertexArrayAttribFormat(vao_, 1, 4, GL_UNSIGNED_BYTE, GL_TRUE, 0);
+    glVertexArrayAttribBinding(vao_, 1, 1);
+  }
+  if (glGetError() == GL_OUT_OF_MEMORY) {
+    throw Error(ErrorCode::Runtime, "MeshRenderer: out of GL memory uploading " +
+                                        std::to_string(color_bytes) + " bytes of colours");
+  }
+  gpu_bytes_ = vertex_bytes + index_bytes + color_bytes;
+  checkGlErrors("MeshRenderer: upload");
+}
+
+MeshRenderer::~MeshRenderer() {
+  glDeleteVertexArrays(1, &vao_);
+  glDeleteBuffers(1, &vertex_buffer_);
+  glDeleteBuffers(1, &index_buffer_);
+  if (color_buffer_) glDeleteBuffers(1, &color_buffer_);
+}
+
+void MeshRenderer::begin(Pass pass, const Camera& camera) {
+  pass_ = pass;
+  const zread::Program& program = pass == Pass::Shaded      ? programs_->shaded
+                                  : pass == Pass::ObjectIds ? programs_->ids
+                                                            : programs_->depth;
+  program.use();
+  const Mat4d vp = multiply(camera.view_projection, translation(camera.render_origin));
+  float m[16];
+  for (int i = 0; i < 16; ++i) m[i] = static_cast<float>(vp.m[i]);
+  glUniformMatrix4fv(program.uniform("u_vp"), 1, GL_FALSE, m);
+  glUniform3f(program.uniform("u_offset"), float(-camera.render_origin.x),
+              float(-camera.render_origin.y), float(-camera.render_origin.z));
+  id_location_ = pass == Pass::ObjectIds ? program.uniform("u_object") : -1;
+  const GLboolean color_writes = pass == Pass::DepthOnly ? GL_FALSE : GL_TRUE;
+  glColorMask(color_writes, color_writes, color_writes, color_writes);
+  glBindVertexArray(vao_);
+}
+
+void MeshRenderer::draw(ObjectId id) {
+  const RenderMesh::Draw& d = draws_[id];
+  if (pass_ == Pass::Shaded && !vertex_colors_) {
+    // Attribute 1 has no array: the shader reads this generic value.
+    const std::uint32_t c = d.color;
+    glVertexAttrib4Nub(1, GLubyte(c & 0xFF), GLubyte((c >> 8) & 0xFF), GLubyte((c >> 16) & 0xFF),
+                       GLubyte(c >> 24));
+  } else if (pass_ == Pass::ObjectIds) {
+    glUniform1ui(id_location_, id);
+  }
+  glDrawElementsBaseVertex(GL_TRIANGLES, GLsizei(d.index_count), index_type_,
+                           reinterpret_cast<const void*>(std::size_t(d.first_index) * index_bytes_),
+                           d.base_vertex);
+}
+
+void MeshRenderer::end() {
+  glBindVertexArray(0);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+}
+
+}  // namespace logrid::gl

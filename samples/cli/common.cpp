@@ -1,0 +1,226 @@
+#include "cli/common.hpp"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "logrid/error.hpp"
+#include "scene/generators.hpp"
+#include "scene/loader.hpp"
+
+namespace logrid::samples {
+
+void addSceneOptions(CLI::App& app, WalkOptions& o) {
+  app.add_option("--scene", o.scene, "forest, city, or a model file assimp reads")->required();
+  app.add_option("--scale", o.scale, "scene size relative to the paper's (procedural scenes)");
+  app.add_option("--seed", o.seed, "seed of the procedural scenes");
+  app.add_option("--path", o.path_file, "camera path JSON (keys: position, look_at, time)");
+  app.add_option("--frames", o.frames, "frames along the path")->check(CLI::Range(1, 10000000));
+  app.add_option("--leaf", o.leaf, "objects (or triangles) per hierarchy leaf; 0: the scene's");
+  app.add_option("--platform", o.platform, "EGL platform: auto, surfaceless or device");
+}
+
+void addViewOptions(CLI::App& app, WalkOptions& o) {
+  app.add_option("--tile", o.tile, "tile size in pixels");
+  app.add_option("--reader", o.reader, "depth source: readpixels, pbo, query or software");
+  app.add_option("--depth-format", o.depth_format, "depth buffer: 16, 24 or 32f");
+  app.add_option("--depth-convention", o.depth_convention, "standard or reversed");
+  app.add_option("--near", o.near_plane, "near plane (default: the scene's)");
+  app.add_option("--far", o.far_plane, "far plane (default: the scene's)");
+  auto* fov = app.add_option("--fov", o.fov, "vertical field of view in degrees");
+  app.add_flag("--ortho", o.ortho, "orthographic projection")->excludes(fov);
+}
+
+std::pair<std::uint32_t, std::uint32_t> parseSize(const std::string& text) {
+  unsigned long w = 0, h = 0;
+  char x = 0, extra = 0;
+  std::istringstream in(text);
+  if (!(in >> w >> x >> h) || (x != 'x' && x != 'X') || (in >> extra) || w < 1 || h < 1 ||
+      w > kMaxViewportSide || h > kMaxViewportSide) {
+    throw Error(ErrorCode::InvalidArgument,
+                "size '" + text + "' is invalid; use WIDTHxHEIGHT with each side from 1 to " +
+                    std::to_string(kMaxViewportSide) + ", e.g. 640x480");
+  }
+  return {std::uint32_t(w), std::uint32_t(h)};
+}
+
+DepthFormat parseDepthFormat(const std::string& text) {
+  if (text == "16") return DepthFormat::D16;
+  if (text == "24") return DepthFormat::D24;
+  if (text == "32f" || text == "32F") return DepthFormat::D32F;
+  throw Error(ErrorCode::InvalidArgument, "depth format '" + text + "' is unknown; use 16, 24 or 32f");
+}
+
+DepthConvention parseDepthConvention(const std::string& text) {
+  if (text == "standard") return DepthConvention::Standard;
+  if (text == "reversed") return DepthConvention::Reversed;
+  throw Error(ErrorCode::InvalidArgument,
+              "depth convention '" + text + "' is unknown; use standard or reversed");
+}
+
+namespace {
+
+double msSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+nlohmann::json LoadedScene::describe() const {
+  const PreparedScene& p = prepared;
+  return {{"scene", p.name},
+          {"scene_triangles", p.triangles},
+          {"scene_objects", p.mesh.draws.size()},
+          {"source_objects", p.source_objects},
+          {"hierarchy_nodes", p.hierarchy.nodes().size()},
+          {"hierarchy_depth", p.hierarchy.depth()},
+          {"generate_ms", generate_ms},
+          {"bvh_build_ms", p.bvh_build_ms},
+          {"prepare_ms", p.prepare_ms},
+          {"cpu_bytes", p.memoryBytes()},
+          {"gpu_bytes", renderer ? renderer->gpuBytes() : 0},
+          {"peak_rss_bytes", peak_rss_bytes},
+          {"bytes_per_triangle",
+           p.triangles ? double(peak_rss_bytes) / double(p.triangles) : 0.0}};
+}
+
+LoadedScene loadScene(const WalkOptions& o) {
+  LoadedScene out;
+  const auto start = std::chrono::steady_clock::now();
+  Scene scene;
+  if (o.scene == "forest") {
+    scene = makeForest({o.scale, o.seed});
+  } else if (o.scene == "city") {
+    scene = makeCity({o.scale, o.seed});
+  } else {
+    scene = loadSceneFile(o.scene);
+  }
+  if (!o.path_file.empty()) scene.path = CameraPath::fromJsonFile(o.path_file);
+  out.generate_ms = msSince(start);
+  bvh::BuildArgs args = defaultBuildArgs(scene);
+  if (o.leaf) args.max_leaf_size = o.leaf;
+  out.prepared = prepareScene(std::move(scene), args);
+  out.renderer = std::make_unique<gl::MeshRenderer>(out.prepared.mesh);
+  out.peak_rss_bytes = peakRssBytes();
+  return out;
+}
+
+RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
+  RunConfig c;
+  const auto method = parseMethodChoice(o.method);
+  if (!method) {
+    throw Error(ErrorCode::InvalidArgument, "method '" + o.method +
+                                                "' is unknown; use log-state, log-zfar, bog, hzb, "
+                                                "pq, vfc or oracle");
+  }
+  c.method = *method;
+  const auto reader = parseReader(o.reader);
+  if (!reader) {
+    throw Error(ErrorCode::InvalidArgument,
+                "reader '" + o.reader + "' is unknown; use readpixels, pbo, query or software");
+  }
+  c.reader = *reader;
+  c.culler.tile_size = o.tile;
+  if (o.tile < 1) throw Error(ErrorCode::InvalidArgument, "tile size 0 is invalid; use 1 pixel or more");
+  const auto [w, h] = parseSize(o.size);
+  c.view.width = w;
+  c.view.height = h;
+  c.view.fov_degrees = o.fov;
+  if (!(o.fov > 0 && o.fov < 180)) {
+    throw Error(ErrorCode::InvalidArgument,
+                "field of view " + std::to_string(o.fov) + " is invalid; use 0 < fov < 180 degrees");
+  }
+  c.view.orthographic = o.ortho;
+  c.view.near_plane = o.near_plane > 0 ? o.near_plane : scene.near_plane;
+  c.view.far_plane = o.far_plane > 0 ? o.far_plane : scene.far_plane;
+  if (!(c.view.far_plane > c.view.near_plane)) {
+    throw Error(ErrorCode::InvalidArgument, "far plane " + std::to_string(c.view.far_plane) +
+                                                " must lie beyond the near plane " +
+                                                std::to_string(c.view.near_plane));
+  }
+  c.view.depth = depthSetupFor(parseDepthConvention(o.depth_convention), parseDepthFormat(o.depth_format));
+  c.frames = o.frames;
+  c.verify = o.verify;
+  c.images_dir = o.images;
+  c.overlay = o.overlay;
+  return c;
+}
+
+gl::ContextDesc contextDesc(const WalkOptions& o) {
+  gl::ContextDesc d;
+  const auto platform = gl::parsePlatform(o.platform);
+  if (!platform) {
+    throw Error(ErrorCode::InvalidArgument,
+                "platform '" + o.platform + "' is unknown; use auto, surfaceless or device");
+  }
+  d.platform = *platform;
+  return d;
+}
+
+nlohmann::json machineInfo(const gl::Context& context) {
+  std::string cpu;
+  std::ifstream info("/proc/cpuinfo");
+  for (std::string line; std::getline(info, line);) {
+    if (line.rfind("model name", 0) == 0) {
+      cpu = line.substr(line.find(':') + 2);
+      break;
+    }
+  }
+  const char* lp = std::getenv("LP_NUM_THREADS");
+  const gl::ContextInfo& gl = context.info();
+  return {{"gl_renderer", gl.renderer},
+          {"gl_version", gl.version},
+          {"gl_vendor", gl.vendor},
+          {"egl_platform", gl::toString(gl.platform)},
+          {"software_rasterizer", gl.software},
+          {"cores", std::thread::hardware_concurrency()},
+          {"cpu", cpu},
+          {"lp_num_threads", lp ? lp : ""}};
+}
+
+std::string machineLine(const nlohmann::json& m) {
+  std::ostringstream out;
+  out << m["gl_renderer"].get<std::string>() << " (" << m["gl_version"].get<std::string>()
+      << "), " << m["cores"].get<unsigned>() << " cores, " << m["cpu"].get<std::string>();
+  return out.str();
+}
+
+Progress::Progress(std::string label, std::size_t total)
+    : label_(std::move(label)), total_(total), tty_(isatty(STDERR_FILENO) != 0) {}
+
+void Progress::update(std::size_t done, double ms) {
+  if (tty_) {
+    std::fprintf(stderr, "\r%s: frame %zu/%zu, %.2f ms/frame   ", label_.c_str(), done, total_, ms);
+    std::fflush(stderr);
+    return;
+  }
+  const std::size_t percent = done * 100 / std::max<std::size_t>(total_, 1);
+  if (done == total_ || percent >= last_percent_ + 10) {
+    last_percent_ = percent;
+    std::fprintf(stderr, "%s: frame %zu/%zu, %.2f ms/frame\n", label_.c_str(), done, total_, ms);
+  }
+}
+
+void Progress::finish() {
+  if (tty_) std::fprintf(stderr, "\n");
+}
+
+std::uint64_t peakRssBytes() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);) {
+    if (line.rfind("VmHWM:", 0) == 0) return std::stoull(line.substr(6)) * 1024;
+  }
+  return 0;
+}
+
+void writeJson(const std::string& path, const nlohmann::json& json) {
+  std::ofstream out(path);
+  out << json.dump(2) << "\n";
+  if (!out) throw Error(ErrorCode::Environment, "cannot write '" + path + "' (check the folder)");
+}
+
+}  // namespace logrid::samples

@@ -1,0 +1,91 @@
+// What the logrid commands share: the options of a walkthrough, getting the scene
+// (procedural or from a file) ready, machine information, and progress output.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <string>
+
+#include "cli/frame_runner.hpp"
+#include "logrid/gl/context.hpp"
+#include "scene/prepare.hpp"
+
+namespace logrid::samples {
+
+struct WalkOptions {
+  std::string scene;
+  double scale = 1.0;
+  std::uint64_t seed = 1;
+  std::string path_file;
+  std::size_t frames = 100;
+  std::string method = "log-state";
+  std::string size = "640x480";
+  std::uint32_t tile = 32;
+  std::string reader = "readpixels";
+  std::string depth_format = "32f";
+  std::string depth_convention = "standard";
+  double near_plane = 0;  // 0: the scene's
+  double far_plane = 0;
+  double fov = 60;
+  bool ortho = false;
+  bool verify = false;
+  std::string json;
+  std::string images;
+  bool overlay = false;
+  std::string platform = "auto";
+  std::uint32_t leaf = 0;  // 0: the scene's default
+};
+
+// Adds the options every walkthrough command has (--scene ... --platform).
+void addSceneOptions(CLI::App& app, WalkOptions& o);
+void addViewOptions(CLI::App& app, WalkOptions& o);
+
+// Parses "WxH"; throws logrid::Error(InvalidArgument) naming the text.
+std::pair<std::uint32_t, std::uint32_t> parseSize(const std::string& text);
+DepthFormat parseDepthFormat(const std::string& text);
+DepthConvention parseDepthConvention(const std::string& text);
+
+// A scene ready to draw: prepared, uploaded, with how long each step took.
+struct LoadedScene {
+  PreparedScene prepared;
+  std::unique_ptr<gl::MeshRenderer> renderer;
+  double generate_ms = 0;  // generating or loading
+  std::uint64_t peak_rss_bytes = 0;
+  nlohmann::json describe() const;
+};
+
+// Creates (or loads) the scene named by the options and uploads it. Needs a context.
+LoadedScene loadScene(const WalkOptions& o);
+
+// The run configuration from the options (method, view, tile, reader, depth ...).
+RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene);
+
+gl::ContextDesc contextDesc(const WalkOptions& o);
+
+// GL renderer, cores, CPU model, LP_NUM_THREADS.
+nlohmann::json machineInfo(const gl::Context& context);
+std::string machineLine(const nlohmann::json& machine);
+
+// Progress on stderr: rewrites one line on a terminal, prints every ~10% otherwise.
+class Progress {
+ public:
+  explicit Progress(std::string label, std::size_t total);
+  void update(std::size_t done, double ms_per_frame);
+  void finish();
+
+ private:
+  std::string label_;
+  std::size_t total_;
+  bool tty_;
+  std::size_t last_percent_ = 0;
+};
+
+// Reads the peak resident set size of this process (bytes), 0 if unknown.
+std::uint64_t peakRssBytes();
+
+// Writes JSON to a file; throws logrid::Error(Environment) naming the path.
+void writeJson(const std::string& path, const nlohmann::json& json);
+
+}  // namespace logrid::samples

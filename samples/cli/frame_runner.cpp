@@ -1,0 +1,229 @@
+#include "cli/frame_runner.hpp"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+#include "cli/images.hpp"
+#include "logrid/error.hpp"
+#include "logrid/gl/context.hpp"
+#include "logrid/zread/gl_sources.hpp"
+
+namespace logrid::samples {
+
+const char* toString(Reader reader) {
+  switch (reader) {
+    case Reader::ReadPixels: return "readpixels";
+    case Reader::Pbo: return "pbo";
+    case Reader::Query: return "query";
+    case Reader::Software: return "software";
+  }
+  return "?";
+}
+
+std::optional<Reader> parseReader(const std::string& name) {
+  for (Reader r : {Reader::ReadPixels, Reader::Pbo, Reader::Query, Reader::Software}) {
+    if (name == toString(r)) return r;
+  }
+  return std::nullopt;
+}
+
+std::optional<MethodChoice> parseMethodChoice(const std::string& name) {
+  if (name == "oracle") return MethodChoice{std::nullopt};
+  if (const auto m = parseMethod(name)) return MethodChoice{*m};
+  return std::nullopt;
+}
+
+namespace {
+
+// For the ID pass: view-frustum culling never reads depth.
+class NoDepthSource : public DepthSource {
+ public:
+  DepthSourceTraits traits() const override { return {"none", true, false}; }
+  void beginFrame(const Camera&) override {}
+  void summarize(const PixelRect*, std::size_t, AreaDepth*) override { unused(); }
+  void countAtOrBeyond(const AreaQuery*, std::size_t, std::uint32_t*) override { unused(); }
+  void readKeys(const PixelRect&, float*) override { unused(); }
+
+ private:
+  [[noreturn]] static void unused() {
+    throw Error(ErrorCode::Runtime, "internal: the ID pass read depth");
+  }
+};
+
+NoDepthSource g_no_depth;
+
+// Sky: a light blue-grey, distinct from every scene colour.
+constexpr float kBackground[4] = {0.62f, 0.72f, 0.82f, 1.0f};
+
+}  // namespace
+
+// Collects what the overlay shows.
+struct FrameRunner::Observer : CullObserver {
+  std::vector<BoxProjection> occluded;
+  std::vector<BoxProjection> tested_visible;
+  std::vector<NodeId> drawn_nodes;
+  void onTested(NodeId, const BoxProjection& p, Visibility v) override {
+    (v == Visibility::Occluded ? occluded : tested_visible).push_back(p);
+  }
+  void onDrawn(NodeId node, const BoxProjection&) override { drawn_nodes.push_back(node); }
+  void clear() {
+    occluded.clear();
+    tested_visible.clear();
+    drawn_nodes.clear();
+  }
+};
+
+FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
+                         const RunConfig& config)
+    : scene_(scene), renderer_(renderer), config_(config), observer_(std::make_unique<Observer>()) {
+  if (config.frames == 0) throw Error(ErrorCode::InvalidArgument, "frames must be at least 1");
+  gl::FramebufferDesc fb;
+  fb.width = config.view.width;
+  fb.height = config.view.height;
+  fb.depth = config.view.depth;
+  fb.object_ids = config.verify || !config.method.method;
+  framebuffer_ = std::make_unique<gl::Framebuffer>(fb);
+
+  if (config.method.method) {
+    CullerDesc desc = config.culler;
+    desc.method = *config.method.method;
+    culler_ = std::make_unique<Culler>(desc);
+    if (config.overlay) culler_->setObserver(observer_.get());
+    const std::uint32_t handle = framebuffer_->handle();
+    switch (config.reader) {
+      case Reader::ReadPixels: source_ = std::make_unique<zread::ReadPixelsSource>(handle); break;
+      case Reader::Pbo: source_ = std::make_unique<zread::PboSource>(handle); break;
+      case Reader::Query: source_ = std::make_unique<zread::QuerySource>(handle); break;
+      case Reader::Software:
+        software_ = std::make_unique<zread::SoftwareDepthBuffer>(fb.width, fb.height,
+                                                                 fb.depth.convention);
+        break;
+    }
+    if (config.reader == Reader::Query && desc.method == Method::Hzb) {
+      throw Error(ErrorCode::InvalidArgument,
+                  "method hzb needs depth values; use --reader readpixels, pbo or software");
+    }
+  }
+  vfc_ = std::make_unique<Culler>(CullerDesc{Method::Vfc, 32, config.culler.projection});
+  drawn_.assign(scene.mesh.draws.size(), 0);
+  if (!config.images_dir.empty()) std::filesystem::create_directories(config.images_dir);
+  gl::checkGlErrors("FrameRunner");
+}
+
+FrameRunner::~FrameRunner() = default;
+
+Camera FrameRunner::cameraFor(std::size_t frame) const {
+  return makeCamera(scene_.path.frame(frame, config_.frames), scene_.origin, config_.view);
+}
+
+std::vector<ObjectId> FrameRunner::idPass(const Camera& camera) {
+  framebuffer_->bind();
+  framebuffer_->clear(kBackground);
+  framebuffer_->selectIdPass(true);
+  renderer_.begin(gl::Pass::ObjectIds, camera);
+  vfc_->cullFrame(camera, scene_.hierarchy, g_no_depth, [&](ObjectId id) { renderer_.draw(id); });
+  renderer_.end();
+  framebuffer_->selectIdPass(false);
+  const std::vector<std::uint32_t> ids = framebuffer_->readObjectIds();
+  std::vector<std::uint8_t> seen(scene_.mesh.draws.size(), 0);
+  std::vector<ObjectId> visible;
+  for (std::uint32_t id : ids) {
+    if (id < seen.size() && !seen[id]) {
+      seen[id] = 1;
+      visible.push_back(id);
+    }
+  }
+  return visible;
+}
+
+void FrameRunner::rasterizeObject(ObjectId id, zread::SoftwareRasterizer& raster) {
+  const gl::RenderMesh& mesh = scene_.mesh;
+  const gl::RenderMesh::Draw& d = mesh.draws[id];
+  for (std::uint32_t i = d.first_index; i < d.first_index + d.index_count; i += 3) {
+    const float* v[3];
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      const std::uint32_t local = mesh.indices16.empty() ? mesh.indices32[i + k] : mesh.indices16[i + k];
+      v[k] = &mesh.positions[(std::size_t(d.base_vertex) + local) * 3];
+    }
+    raster.drawTriangle(v[0], v[1], v[2], id);
+  }
+}
+
+FrameRecord FrameRunner::renderFrame(std::size_t frame) {
+  FrameRecord rec;
+  rec.frame = frame;
+  const Camera camera = cameraFor(frame);
+  std::vector<ObjectId> oracle_visible;
+  if (!config_.method.method) oracle_visible = idPass(camera);  // not timed
+  for (ObjectId id : drawn_list_) drawn_[id] = 0;
+  drawn_list_.clear();
+  observer_->clear();
+
+  glFinish();
+  const auto start = std::chrono::steady_clock::now();
+  framebuffer_->bind();
+  framebuffer_->clear(kBackground);
+  renderer_.begin(gl::Pass::Shaded, camera);
+  auto draw = [&](ObjectId id) {
+    renderer_.draw(id);
+    rec.triangles += renderer_.triangles(id);
+    if (!drawn_[id]) {
+      drawn_[id] = 1;
+      drawn_list_.push_back(id);
+    }
+  };
+  if (!config_.method.method) {
+    for (ObjectId id : oracle_visible) draw(id);
+    rec.stats.objects_drawn = oracle_visible.size();
+  } else if (software_) {
+    software_->clear();
+    zread::SoftwareRasterizer raster(camera, *software_, nullptr);
+    rec.stats = culler_->cullFrame(camera, scene_.hierarchy, *software_, [&](ObjectId id) {
+      draw(id);
+      rasterizeObject(id, raster);
+    });
+  } else {
+    rec.stats = culler_->cullFrame(camera, scene_.hierarchy, *source_, draw);
+  }
+  renderer_.end();
+  glFinish();
+  rec.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+
+  if (!config_.images_dir.empty()) writeImages(frame, camera);
+  if (config_.verify || !config_.method.method) {
+    const std::vector<ObjectId> visible = config_.method.method ? idPass(camera) : oracle_visible;
+    rec.visible = std::int64_t(visible.size());
+    rec.missed = 0;
+    for (ObjectId id : visible) {
+      if (!drawn_[id]) {
+        ++rec.missed;
+        if (rec.missed_ids.size() < 16) rec.missed_ids.push_back(id);
+      }
+    }
+  }
+  gl::checkGlErrors("FrameRunner::renderFrame");
+  return rec;
+}
+
+void FrameRunner::writeImages(std::size_t frame, const Camera& camera) {
+  const std::vector<std::uint8_t> color = framebuffer_->readColor();
+  char stem[512];
+  std::snprintf(stem, sizeof stem, "%s/%s_%s_%04zu", config_.images_dir.c_str(), scene_.name.c_str(),
+                config_.method.name().c_str(), frame);
+  writePng(std::string(stem) + ".png", color, camera.width, camera.height);
+  if (config_.overlay && culler_) {
+    OverlayData overlay;
+    overlay.grid = culler_->grid();
+    overlay.occluded = observer_->occluded;
+    overlay.tested_visible = observer_->tested_visible;
+    for (NodeId n : observer_->drawn_nodes) overlay.drawn_boxes.push_back(scene_.hierarchy.bounds(n));
+    writePng(std::string(stem) + "_overlay.png", drawOverlay(color, camera, overlay), camera.width,
+             camera.height);
+  }
+}
+
+}  // namespace logrid::samples

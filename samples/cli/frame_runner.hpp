@@ -1,0 +1,90 @@
+// Renders frames of a walkthrough with one method and one configuration: camera from
+// the scene's path, cull and draw through logrid (or the oracle's exact visible set),
+// glFinish, then optionally images and the object-ID check. `walk`, `bench` and `tune`
+// are loops over FrameRunners; bench interleaves several runners frame by frame so that
+// machine drift hits every method alike.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "logrid/culler.hpp"
+#include "logrid/gl/framebuffer.hpp"
+#include "logrid/gl/mesh_renderer.hpp"
+#include "logrid/zread/software_depth.hpp"
+#include "logrid/zread/software_rasterizer.hpp"
+#include "scene/prepare.hpp"
+#include "scene/view.hpp"
+
+namespace logrid::samples {
+
+enum class Reader : std::uint8_t { ReadPixels, Pbo, Query, Software };
+const char* toString(Reader reader);
+std::optional<Reader> parseReader(const std::string& name);
+
+// A method name: one of logrid::Method's, or "oracle" (draws exactly the visible set
+// found by an ID pass that is not timed: the floor no culling method can beat).
+struct MethodChoice {
+  std::optional<Method> method;  // empty: oracle
+  std::string name() const { return method ? toString(*method) : "oracle"; }
+};
+std::optional<MethodChoice> parseMethodChoice(const std::string& name);
+
+struct RunConfig {
+  MethodChoice method{Method::LogState};
+  CullerDesc culler;          // method is taken from `method`
+  Reader reader = Reader::ReadPixels;
+  ViewSettings view;
+  std::size_t frames = 100;   // frames spread over the whole path
+  bool verify = false;        // object-ID check after each frame
+  std::string images_dir;     // write PNG frames here when set
+  bool overlay = false;       // and overlay pictures (tile grid, boxes)
+};
+
+struct FrameRecord {
+  std::size_t frame = 0;
+  double ms = 0;                  // clear + cull + draw + glFinish
+  FrameStats stats;
+  std::uint64_t triangles = 0;    // triangles drawn
+  std::int64_t visible = -1;      // objects in the ID buffer (with verify or oracle)
+  std::int64_t missed = -1;       // visible objects not drawn (with verify)
+  std::vector<ObjectId> missed_ids;  // the first few
+};
+
+class FrameRunner {
+ public:
+  // Needs a current GL context and a renderer of the scene. Throws logrid::Error for a
+  // configuration that cannot run (bad size, format, tile size, method and reader).
+  FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer, const RunConfig& config);
+  ~FrameRunner();
+
+  const RunConfig& config() const { return config_; }
+  FrameRecord renderFrame(std::size_t frame);
+  // The camera of a frame (for callers that need it, e.g. overlays and tests).
+  Camera cameraFor(std::size_t frame) const;
+  // Last frame's colour image (RGBA8, bottom-up rows).
+  std::vector<std::uint8_t> readColor() const { return framebuffer_->readColor(); }
+
+ private:
+  std::vector<ObjectId> idPass(const Camera& camera);
+  void writeImages(std::size_t frame, const Camera& camera);
+  void rasterizeObject(ObjectId id, zread::SoftwareRasterizer& raster);
+
+  const PreparedScene& scene_;
+  gl::MeshRenderer& renderer_;
+  RunConfig config_;
+  std::unique_ptr<gl::Framebuffer> framebuffer_;
+  std::unique_ptr<DepthSource> source_;
+  std::unique_ptr<zread::SoftwareDepthBuffer> software_;
+  std::unique_ptr<Culler> culler_;
+  std::unique_ptr<Culler> vfc_;  // for the ID pass
+  struct Observer;
+  std::unique_ptr<Observer> observer_;
+  std::vector<std::uint8_t> drawn_;  // per object, this frame
+  std::vector<ObjectId> drawn_list_;
+};
+
+}  // namespace logrid::samples

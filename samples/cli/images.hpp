@@ -1,0 +1,35 @@
+// PNG output through OpenImageIO, and the overlay pictures of LOG figures 1 and 5: the
+// tile grid coloured by state, the border and internal tiles of a tested box, and the
+// drawn objects' leaf boxes.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "logrid/camera.hpp"
+#include "logrid/grid.hpp"
+#include "logrid/projection.hpp"
+
+namespace logrid::samples {
+
+// rgba: width * height * 4 bytes, rows bottom-up (GL order). Throws logrid::Error
+// (Environment) naming the path if it cannot be written.
+void writePng(const std::string& path, const std::vector<std::uint8_t>& rgba, std::uint32_t width,
+              std::uint32_t height);
+
+struct OverlayData {
+  const OcclusionGrid* grid = nullptr;       // the grid at the end of the frame
+  std::vector<BoxProjection> occluded;       // boxes the tests culled
+  std::vector<BoxProjection> tested_visible; // boxes the tests let through
+  std::vector<Aabb> drawn_boxes;             // leaf boxes whose objects were drawn
+};
+
+// The frame, dimmed, with: tiles tinted red (full), yellow (partial) or left clear
+// (free), outdated tiles hatched in blue; red outlines for occluded boxes; the internal
+// (dark) and border (light) tiles of the largest occluded box, as in figure 1; and the
+// drawn leaf boxes as green wireframes, as in figure 5.
+std::vector<std::uint8_t> drawOverlay(const std::vector<std::uint8_t>& rgba, const Camera& camera,
+                                      const OverlayData& data);
+
+}  // namespace logrid::samples

@@ -1,0 +1,98 @@
+#include "cli/report.hpp"
+
+#include <algorithm>
+
+namespace logrid::samples {
+
+nlohmann::json frameJson(const FrameRecord& r) {
+  const FrameStats& s = r.stats;
+  nlohmann::json j = {{"frame", r.frame},
+                      {"ms", r.ms},
+                      {"drawn_objects", s.objects_drawn},
+                      {"drawn_triangles", r.triangles},
+                      {"boxes_tested", s.boxes_tested},
+                      {"boxes_occluded", s.boxes_occluded},
+                      {"tiles_tested", s.tiles_tested},
+                      {"tiles_per_box", s.tilesPerBox()},
+                      {"reads", s.reads},
+                      {"read_pixels", s.pixels_read},
+                      {"queries", s.queries},
+                      {"flushes", s.flushes},
+                      {"read_ms", s.read_seconds * 1e3},
+                      {"cull_ms", s.seconds * 1e3},
+                      {"order_fallbacks", s.order_fallbacks},
+                      {"invalid_boxes", s.invalid_boxes}};
+  if (r.visible >= 0) {
+    j["visible_objects"] = r.visible;
+    j["missed_visible_objects"] = r.missed;
+    if (!r.missed_ids.empty()) j["missed_ids"] = r.missed_ids;
+  }
+  return j;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConfig& config,
+                          bool per_frame) {
+  double ms = 0, objects = 0, triangles = 0, pixels = 0, tiles = 0, boxes = 0, read_ms = 0,
+         reads = 0, queries = 0;
+  std::int64_t visible = 0, missed = 0;
+  bool verified = false;
+  std::vector<double> times;
+  for (const FrameRecord& r : records) {
+    ms += r.ms;
+    times.push_back(r.ms);
+    objects += double(r.stats.objects_drawn);
+    triangles += double(r.triangles);
+    pixels += double(r.stats.pixels_read);
+    tiles += double(r.stats.tiles_tested);
+    boxes += double(r.stats.boxes_tested);
+    read_ms += r.stats.read_seconds * 1e3;
+    reads += double(r.stats.reads);
+    queries += double(r.stats.queries);
+    if (r.visible >= 0) {
+      verified = true;
+      visible += r.visible;
+      missed += r.missed;
+    }
+  }
+  const double n = std::max<double>(1, double(records.size()));
+  nlohmann::json j = {{"method", config.method.name()},
+                      {"reader", toString(config.reader)},
+                      {"frames", records.size()},
+                      {"width", config.view.width},
+                      {"height", config.view.height},
+                      {"tile", config.culler.tile_size},
+                      {"depth_format", toString(config.view.depth.format)},
+                      {"depth_convention", toString(config.view.depth.convention)},
+                      {"projection", config.view.orthographic ? "orthographic" : "perspective"},
+                      {"near", config.view.near_plane},
+                      {"far", config.view.far_plane},
+                      {"avg_frame_ms", ms / n},
+                      {"median_frame_ms", median(times)},
+                      {"avg_drawn_objects", objects / n},
+                      {"avg_drawn_triangles", triangles / n},
+                      {"avg_read_pixels", pixels / n},
+                      {"avg_reads", reads / n},
+                      {"avg_queries", queries / n},
+                      {"avg_read_ms", read_ms / n},
+                      {"read_share", ms > 0 ? read_ms / ms : 0.0},
+                      {"avg_tiles_per_box", boxes > 0 ? tiles / boxes : 0.0}};
+  if (verified) {
+    j["visible_objects"] = visible;
+    j["missed_visible_objects"] = missed;
+  }
+  if (per_frame) {
+    nlohmann::json frames = nlohmann::json::array();
+    for (const FrameRecord& r : records) frames.push_back(frameJson(r));
+    j["per_frame"] = std::move(frames);
+  }
+  return j;
+}
+
+}  // namespace logrid::samples

@@ -1,0 +1,6 @@
+// logrid tune: placeholder until the tuning tool lands.
+#include "cli/commands.hpp"
+
+namespace logrid::samples {
+void addTuneCommand(CLI::App&) {}
+}  // namespace logrid::samples

@@ -1,0 +1,182 @@
+#include "scene/prepare.hpp"
+
+#include <chrono>
+#include <limits>
+
+namespace logrid::samples {
+namespace {
+
+double msSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Appends one object's triangles to the mesh with its vertices regrouped locally.
+// `stamp`/`local` are per-source-vertex scratch arrays reused across objects.
+class MeshBuilder {
+ public:
+  MeshBuilder(const Scene& scene, gl::RenderMesh& mesh, bool wide)
+      : scene_(scene), mesh_(mesh), wide_(wide), stamp_(scene.positions.size() / 3, kNone),
+        local_(scene.positions.size() / 3, 0) {}
+
+  // Triangles are given by their index into scene.indices / 3.
+  template <typename TriangleRange>
+  void addObject(const TriangleRange& triangles, std::uint32_t color) {
+    ++object_;
+    gl::RenderMesh::Draw draw;
+    draw.base_vertex = static_cast<std::int32_t>(mesh_.positions.size() / 3);
+    draw.first_index =
+        static_cast<std::uint32_t>(wide_ ? mesh_.indices32.size() : mesh_.indices16.size());
+    draw.color = color;
+    std::uint32_t next = 0;
+    for (std::uint32_t t : triangles) {
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t v = scene_.indices[std::size_t(t) * 3 + std::size_t(k)];
+        if (stamp_[v] != object_) {
+          stamp_[v] = object_;
+          local_[v] = next++;
+          mesh_.positions.insert(mesh_.positions.end(), &scene_.positions[std::size_t(v) * 3],
+                                 &scene_.positions[std::size_t(v) * 3] + 3);
+          if (!scene_.vertex_colors.empty()) mesh_.colors.push_back(scene_.vertex_colors[v]);
+        }
+        if (wide_) {
+          mesh_.indices32.push_back(local_[v]);
+        } else {
+          mesh_.indices16.push_back(static_cast<std::uint16_t>(local_[v]));
+        }
+      }
+      draw.index_count += 3;
+    }
+    mesh_.draws.push_back(draw);
+  }
+
+ private:
+  static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  const Scene& scene_;
+  gl::RenderMesh& mesh_;
+  bool wide_;
+  std::uint32_t object_ = 0;
+  std::vector<std::uint32_t> stamp_;
+  std::vector<std::uint32_t> local_;
+};
+
+// A contiguous run of triangle numbers, or a run of a permutation.
+struct IotaRange {
+  std::uint32_t first, last;
+  struct It {
+    std::uint32_t v;
+    std::uint32_t operator*() const { return v; }
+    It& operator++() { return ++v, *this; }
+    bool operator!=(const It& o) const { return v != o.v; }
+  };
+  It begin() const { return {first}; }
+  It end() const { return {last}; }
+};
+
+struct SpanRange {
+  const std::uint32_t* first;
+  const std::uint32_t* last;
+  const std::uint32_t* begin() const { return first; }
+  const std::uint32_t* end() const { return last; }
+};
+
+// Whether every object fits 16-bit local indices: an object never has more distinct
+// vertices than 3 * triangles, so only large objects need counting.
+bool needsWideIndices(const Scene& scene, const std::vector<std::pair<std::uint32_t, std::uint32_t>>& spans,
+                      const std::uint32_t* order) {
+  std::vector<std::uint32_t> stamp(scene.positions.size() / 3, 0);
+  std::uint32_t object = 0;
+  for (const auto& [first, last] : spans) {
+    ++object;
+    if (std::uint64_t(last - first) * 3 <= 65536) continue;
+    std::uint32_t distinct = 0;
+    for (std::uint32_t i = first; i < last; ++i) {
+      const std::uint32_t t = order ? order[i] : i;
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t v = scene.indices[std::size_t(t) * 3 + std::size_t(k)];
+        if (stamp[v] != object) stamp[v] = object, ++distinct;
+      }
+    }
+    if (distinct > 65536) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+std::size_t PreparedScene::memoryBytes() const {
+  return hierarchy.memoryBytes() + mesh.memoryBytes() + object_boxes.capacity() * sizeof(Aabb);
+}
+
+bvh::BuildArgs defaultBuildArgs(const Scene& scene) {
+  bvh::BuildArgs args;
+  args.max_leaf_size = scene.split_by_triangles ? 1500 : 1;
+  return args;
+}
+
+PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args) {
+  const auto start = std::chrono::steady_clock::now();
+  validateScene(scene);
+  PreparedScene out;
+  out.name = scene.name;
+  out.origin = scene.origin;
+  out.path = scene.path;
+  out.near_plane = scene.near_plane;
+  out.far_plane = scene.far_plane;
+  out.triangles = scene.triangleCount();
+
+  if (scene.split_by_triangles) {
+    const auto build_start = std::chrono::steady_clock::now();
+    bvh::TriangleHierarchy th = bvh::buildOverTriangles(scene.positions, scene.indices, args);
+    out.bvh_build_ms = msSince(build_start);
+    out.hierarchy = std::move(th.hierarchy);
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> spans;
+    for (std::size_t c = 0; c + 1 < th.chunk_first.size(); ++c) {
+      spans.emplace_back(th.chunk_first[c], th.chunk_first[c + 1]);
+    }
+    const bool wide = needsWideIndices(scene, spans, th.triangle_order.data());
+    MeshBuilder builder(scene, out.mesh, wide);
+    for (const auto& [first, last] : spans) {
+      builder.addObject(SpanRange{th.triangle_order.data() + first, th.triangle_order.data() + last},
+                        0xFFFFFFFFu);
+    }
+  } else {
+    out.source_objects = scene.objects.size();
+    std::vector<Aabb> boxes;
+    boxes.reserve(scene.objects.size());
+    for (const SceneObject& o : scene.objects) boxes.push_back(o.box);
+    const auto build_start = std::chrono::steady_clock::now();
+    out.hierarchy = bvh::buildOverBoxes(boxes, args);
+    out.bvh_build_ms = msSince(build_start);
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> spans;
+    for (const SceneObject& o : scene.objects) {
+      spans.emplace_back(o.first_index / 3, (o.first_index + o.index_count) / 3);
+    }
+    const bool wide = needsWideIndices(scene, spans, nullptr);
+    MeshBuilder builder(scene, out.mesh, wide);
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+      builder.addObject(IotaRange{spans[i].first, spans[i].second}, scene.objects[i].color);
+    }
+  }
+  // Release the source geometry before computing the per-object boxes from the mesh.
+  scene.positions = {};
+  scene.indices = {};
+  scene.vertex_colors = {};
+  out.mesh.positions.shrink_to_fit();
+  out.mesh.colors.shrink_to_fit();
+
+  out.bounds = emptyBox();
+  out.object_boxes.reserve(out.mesh.draws.size());
+  for (const gl::RenderMesh::Draw& d : out.mesh.draws) {
+    Aabb box = emptyBox();
+    for (std::uint32_t i = d.first_index; i < d.first_index + d.index_count; ++i) {
+      const std::uint32_t local = out.mesh.indices16.empty() ? out.mesh.indices32[i] : out.mesh.indices16[i];
+      growBox(box, &out.mesh.positions[(std::size_t(d.base_vertex) + local) * 3]);
+    }
+    out.object_boxes.push_back(box);
+    growBox(out.bounds, box);
+  }
+  out.prepare_ms = msSince(start);
+  return out;
+}
+
+}  // namespace logrid::samples

@@ -1,0 +1,46 @@
+// From a Scene to what a frame needs: the hierarchy logrid walks and the mesh the
+// renderer draws, one draw per object. For scenes split by triangles (the city) the
+// objects are the hierarchy's leaf chunks. Vertices are regrouped per object so every
+// draw indexes at most 65536 vertices through 16-bit indices and a base vertex (6 bytes
+// per triangle instead of 12), falling back to 32-bit indices for larger objects.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "logrid/bvh.hpp"
+#include "logrid/gl/mesh_renderer.hpp"
+#include "scene/scene.hpp"
+
+namespace logrid::samples {
+
+struct PreparedScene {
+  std::string name;
+  DVec3 origin;
+  Aabb bounds;
+  CameraPath path;
+  double near_plane = 0.1;
+  double far_plane = 1000.0;
+
+  bvh::FlatHierarchy hierarchy;
+  gl::RenderMesh mesh;
+  std::vector<Aabb> object_boxes;  // local, indexed by ObjectId
+
+  std::uint64_t triangles = 0;
+  std::uint64_t source_objects = 0;  // objects before splitting (0 for split scenes)
+  double bvh_build_ms = 0;           // building the hierarchy
+  double prepare_ms = 0;             // everything in prepareScene, the build included
+  std::size_t memoryBytes() const;
+};
+
+// Consumes the scene (its arrays are released as soon as they are no longer needed).
+// args.max_leaf_size: objects per leaf for object scenes, triangles per chunk for split
+// scenes. Throws logrid::Error(BadInput) through validateScene for broken geometry.
+PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args);
+
+// The default build arguments: one object per leaf (LOG §5 forest: "each tree is an
+// object with an own bounding box"), or 1500 triangles per chunk for split scenes.
+bvh::BuildArgs defaultBuildArgs(const Scene& scene);
+
+}  // namespace logrid::samples

@@ -1,0 +1,207 @@
+// On a rendered frame, every GL depth source (glReadPixels, PBO, occlusion queries)
+// gives the same answers as a software source holding the same depth values, in every
+// depth format and convention. And the query source leaves the GL state as it found it.
+#include <epoxy/gl.h>
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "gl_test_context.hpp"
+#include "logrid/gl/framebuffer.hpp"
+#include "logrid/gl/mesh_renderer.hpp"
+#include "logrid/projection.hpp"
+#include "logrid/zread/gl_sources.hpp"
+#include "logrid/zread/software_depth.hpp"
+#include "logrid/zread/software_rasterizer.hpp"
+
+namespace logrid {
+namespace {
+
+struct Case {
+  DepthFormat format;
+  DepthConvention convention;
+};
+
+class SourcesTest : public testing::TestWithParam<Case> {};
+
+Camera testCamera(const Case& c, std::uint32_t w, std::uint32_t h) {
+  Camera cam;
+  cam.width = w;
+  cam.height = h;
+  cam.depth = {c.convention,
+               c.convention == DepthConvention::Reversed ? ClipDepthRange::ZeroToOne
+                                                         : ClipDepthRange::NegativeOneToOne,
+               c.format};
+  cam.view_projection = multiply(perspective(1.0, double(w) / h, 0.5, 100, cam.depth),
+                                 lookAt({0, 0, 10}, {0, 0, 0}, {0, 1, 0}));
+  return cam;
+}
+
+// Random boxes in front of the camera, drawn with the mesh renderer.
+gl::RenderMesh randomBoxes(std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> p(-6, 6), s(0.3f, 3.0f);
+  gl::RenderMesh mesh;
+  std::vector<float> positions;
+  std::vector<std::uint32_t> indices;
+  for (int i = 0; i < 40; ++i) {
+    const Vec3 lo{p(rng), p(rng), p(rng) - 5};
+    const std::size_t first = indices.size(), base = positions.size() / 3;
+    zread::appendBox({lo, {lo.x + s(rng), lo.y + s(rng), lo.z + s(rng)}}, positions, indices);
+    gl::RenderMesh::Draw d;
+    d.first_index = std::uint32_t(first);
+    d.index_count = std::uint32_t(indices.size() - first);
+    d.color = 0xFF808080u;
+    for (std::size_t k = first; k < indices.size(); ++k) indices[k] -= std::uint32_t(base);
+    d.base_vertex = std::int32_t(base);
+    mesh.draws.push_back(d);
+  }
+  mesh.positions = positions;
+  mesh.indices32 = indices;
+  return mesh;
+}
+
+TEST_P(SourcesTest, EverySourceAgreesWithTheSoftwareSource) {
+  LOGRID_REQUIRE_GL();
+  const Case c = GetParam();
+  const std::uint32_t w = 97, h = 61;
+  const Camera cam = testCamera(c, w, h);
+  gl::Framebuffer fb({w, h, cam.depth, false});
+  fb.bind();
+  const float clear[4] = {0, 0, 0, 1};
+  fb.clear(clear);
+  gl::MeshRenderer renderer(randomBoxes(3));
+  renderer.begin(gl::Pass::DepthOnly, cam);
+  for (ObjectId id = 0; id < renderer.objectCount(); ++id) renderer.draw(id);
+  renderer.end();
+
+  // The software reference holds exactly what GL stored (read back as float).
+  zread::SoftwareDepthBuffer reference(w, h, c.convention);
+  const std::vector<float> depth = fb.readDepth();
+  std::copy(depth.begin(), depth.end(), reference.data());
+  zread::ReadPixelsSource readpixels(fb.handle());
+  zread::PboSource pbo(fb.handle());
+  zread::QuerySource query(fb.handle());
+  for (DepthSource* s : std::initializer_list<DepthSource*>{&reference, &readpixels, &pbo, &query}) {
+    s->beginFrame(cam);
+  }
+
+  std::mt19937 rng(5);
+  const double step = quantisationStep(c.format);
+  int compared = 0;
+  for (int i = 0; i < 300; ++i) {
+    const std::int32_t x0 = std::int32_t(rng() % w), y0 = std::int32_t(rng() % h);
+    const PixelRect r{x0, y0, x0 + 1 + std::int32_t(rng() % (w - std::uint32_t(x0))),
+                      y0 + 1 + std::int32_t(rng() % (h - std::uint32_t(y0)))};
+    AreaDepth want, got_rp, got_pbo;
+    reference.summarize(&r, 1, &want);
+    readpixels.summarize(&r, 1, &got_rp);
+    pbo.summarize(&r, 1, &got_pbo);
+    for (const AreaDepth* got : {&got_rp, &got_pbo}) {
+      EXPECT_EQ(got->free_pixels, want.free_pixels);
+      EXPECT_LE(got->min_key, want.min_key + 1e-7f);  // rounded outwards
+      EXPECT_GE(got->max_key, want.max_key - 1e-7f);
+      EXPECT_NEAR(got->min_key, want.min_key, 2e-7);
+      EXPECT_NEAR(got->max_key, want.max_key, 2e-7);
+    }
+    // Thresholds between stored values: every source counts exactly the same pixels.
+    // Exactly at a stored value: none may count fewer (that would be non-conservative).
+    const float at = want.min_key + (want.max_key - want.min_key) * float(rng() % 100) / 100.0f;
+    const float margin = float(std::max(step, 1e-6) * 0.5);
+    for (float t : {at - margin, at + margin, want.max_key, want.min_key}) {
+      const AreaQuery q{r, t};
+      std::uint32_t n_ref = 0, n_rp = 0, n_pbo = 0, n_q = 0, n_step_below = 0;
+      reference.countAtOrBeyond(&q, 1, &n_ref);
+      readpixels.countAtOrBeyond(&q, 1, &n_rp);
+      pbo.countAtOrBeyond(&q, 1, &n_pbo);
+      query.countAtOrBeyond(&q, 1, &n_q);
+      const AreaQuery lower{r, float(t - step - 2e-7)};
+      reference.countAtOrBeyond(&lower, 1, &n_step_below);
+      // Never fewer than the pixels at or beyond t: fewer would be non-conservative.
+      EXPECT_GE(n_rp, n_ref);
+      EXPECT_GE(n_pbo, n_ref);
+      EXPECT_GE(n_q, n_ref) << "rect " << r.x0 << "," << r.y0 << " t " << t;
+      if (t == want.max_key) {
+        EXPECT_GT(n_q, 0u);  // the farthest pixel is at the threshold
+      }
+      if (t != want.max_key && t != want.min_key) {
+        // Between stored values the readers count exactly.
+        EXPECT_EQ(n_rp, n_ref) << "rect " << r.x0 << "," << r.y0 << " t " << t;
+        EXPECT_EQ(n_pbo, n_ref);
+      }
+      // A query compares in the buffer's quantised domain: it may also count pixels up
+      // to one quantisation step below the threshold (none for 32F), never more.
+      EXPECT_LE(n_q, n_step_below) << "rect " << r.x0 << "," << r.y0 << " t " << t;
+      if (c.format == DepthFormat::D32F && t != want.max_key && t != want.min_key) {
+        EXPECT_EQ(n_q, n_ref);
+      }
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 1200);
+  EXPECT_GT(query.counters().queries, 0u);
+  EXPECT_GT(readpixels.counters().pixels, 0u);
+  gl::checkGlErrors("SourcesTest");
+}
+
+TEST_P(SourcesTest, QuerySourceRestoresTheStateItChanges) {
+  LOGRID_REQUIRE_GL();
+  const Case c = GetParam();
+  const Camera cam = testCamera(c, 32, 32);
+  gl::Framebuffer fb({32, 32, cam.depth, false});
+  fb.bind();
+  zread::QuerySource query(fb.handle());
+  query.beginFrame(cam);
+  glDepthFunc(GL_LEQUAL);
+  glDepthMask(GL_TRUE);
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(1, 2, 3, 4);
+  const AreaQuery q{{0, 0, 8, 8}, 0.5f};
+  std::uint32_t n = 0;
+  query.countAtOrBeyond(&q, 1, &n);
+  GLint func = 0, box[4];
+  GLboolean mask = GL_FALSE, colors[4];
+  glGetIntegerv(GL_DEPTH_FUNC, &func);
+  glGetBooleanv(GL_DEPTH_WRITEMASK, &mask);
+  glGetBooleanv(GL_COLOR_WRITEMASK, colors);
+  glGetIntegerv(GL_SCISSOR_BOX, box);
+  EXPECT_EQ(func, GL_LEQUAL);
+  gl::checkGlErrors("QuerySourceRestoresTheStateItChanges");
+  EXPECT_EQ(mask, GL_TRUE);
+  EXPECT_EQ(colors[0], GL_TRUE);
+  EXPECT_TRUE(glIsEnabled(GL_SCISSOR_TEST));
+  EXPECT_EQ(box[2], 3);
+  glDisable(GL_SCISSOR_TEST);
+}
+
+TEST(SourcesErrorTest, AMismatchedDepthFormatIsAClearError) {
+  LOGRID_REQUIRE_GL();
+  Camera cam = testCamera({DepthFormat::D24, DepthConvention::Standard}, 16, 16);
+  gl::Framebuffer fb({16, 16, cam.depth, false});
+  cam.depth.format = DepthFormat::D32F;  // the camera claims another format
+  zread::ReadPixelsSource source(fb.handle());
+  try {
+    source.beginFrame(cam);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("24-bit unorm"), std::string::npos) << e.what();
+  }
+  zread::QuerySource query(fb.handle());
+  EXPECT_THROW(query.summarize(nullptr, 0, nullptr), Error);
+}
+
+std::string caseName(const testing::TestParamInfo<Case>& param) {
+  return std::string("d") + toString(param.param.format) + "_" + toString(param.param.convention);
+}
+
+INSTANTIATE_TEST_SUITE_P(AllFormats, SourcesTest,
+                         testing::Values(Case{DepthFormat::D16, DepthConvention::Standard},
+                                         Case{DepthFormat::D16, DepthConvention::Reversed},
+                                         Case{DepthFormat::D24, DepthConvention::Standard},
+                                         Case{DepthFormat::D24, DepthConvention::Reversed},
+                                         Case{DepthFormat::D32F, DepthConvention::Standard},
+                                         Case{DepthFormat::D32F, DepthConvention::Reversed}),
+                         caseName);
+
+}  // namespace
+}  // namespace logrid
