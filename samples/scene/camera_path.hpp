@@ -6,6 +6,7 @@
 //     "up": [0, 1, 0] }                                    // optional, default +y
 // "time" is optional for every key or for none: without times, keys are spaced by the
 // distance travelled (constant speed). Times must increase strictly. At least one key.
+// In C++, keys that all leave `time` at 0 are untimed in the same way.
 #pragma once
 
 #include <string>
@@ -31,12 +32,14 @@ class CameraPath {
  public:
   CameraPath() = default;
   // Throws logrid::Error(InvalidArgument) for no keys, non-finite values, a key whose
-  // position equals its look_at, or times that do not increase.
+  // position equals its look_at, or times that do not increase (keys whose times are all
+  // 0 are first spaced at constant speed).
   CameraPath(std::vector<CameraKey> keys, DVec3 up = {0, 1, 0});
 
-  // Reads the JSON format above; throws logrid::Error(BadInput) with the file name and
-  // what is wrong (unreadable file, JSON syntax error with its position, missing or
-  // mistyped fields, and the checks of the constructor).
+  // Reads the JSON format above; throws logrid::Error with the file name and what is
+  // wrong: Environment for a missing, unreadable or directory path; BadInput for a file
+  // over 64 MiB, a JSON syntax error (with its byte position), missing or mistyped
+  // fields, more than 1,000,000 keys, and the checks of the constructor.
   static CameraPath fromJsonFile(const std::string& path);
   static CameraPath fromJsonText(const std::string& text, const std::string& name = "<json>");
 

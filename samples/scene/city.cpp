@@ -3,8 +3,8 @@
 // window). The triangle count comes from the facades, as in a detailed city model; the
 // hierarchy is built over triangles. From the street, the nearest blocks hide almost
 // everything else.
-#include <cmath>
 #include <array>
+#include <cmath>
 #include <random>
 #include <sstream>
 
@@ -15,12 +15,12 @@
 namespace logrid::samples {
 namespace {
 
-constexpr double kBlock = 76.0;      // block side, metres
-constexpr double kStreet = 24.0;     // street width
+constexpr double kBlock = 76.0;   // block side, metres
+constexpr double kStreet = 24.0;  // street width
 constexpr double kPitch = kBlock + kStreet;
-constexpr double kBaseBlocks = 1190; // blocks at scale 1: ~34 M triangles
-constexpr double kFloor = 3.5;       // storey height
-constexpr double kBay = 4.0;         // window bay width
+constexpr double kBaseBlocks = 1190;  // blocks at scale 1: ~34 M triangles
+constexpr double kFloor = 3.5;        // storey height
+constexpr double kBay = 4.0;          // window bay width
 constexpr double kEye = 1.7;
 
 struct Palette {
@@ -38,7 +38,8 @@ void wall(MeshWriter& w, double x0, double z0, double x1, double z1, int floors,
   const double nx = uz, nz = -ux;  // outward normal
   constexpr double kInset = 0.35;
   auto at = [&](double s, double y, double depth) {
-    return std::array<float, 3>{float(x0 + ux * s - nx * depth), float(y), float(z0 + uz * s - nz * depth)};
+    return std::array<float, 3>{float(x0 + ux * s - nx * depth), float(y),
+                                float(z0 + uz * s - nz * depth)};
   };
   const double bay = length / bays;
   for (int f = 0; f < floors; ++f) {
@@ -116,12 +117,14 @@ Scene makeCity(const GeneratorOptions& options) {
                               {rgba(120, 126, 136), rgba(70, 96, 120)}};
   for (int bz = 0; bz < blocks; ++bz) {
     for (int bx = 0; bx < blocks; ++bx) {
-      const double x0 = -half + bx * kPitch + 0.5 * kStreet, z0 = -half + bz * kPitch + 0.5 * kStreet;
+      const double x0 = -half + bx * kPitch + 0.5 * kStreet,
+                   z0 = -half + bz * kPitch + 0.5 * kStreet;
       // Ground of the block and the streets around it.
-      const float g[4][3] = {{float(x0 - 0.5 * kStreet), 0, float(z0 - 0.5 * kStreet)},
-                             {float(x0 + kBlock + 0.5 * kStreet), 0, float(z0 - 0.5 * kStreet)},
-                             {float(x0 + kBlock + 0.5 * kStreet), 0, float(z0 + kBlock + 0.5 * kStreet)},
-                             {float(x0 - 0.5 * kStreet), 0, float(z0 + kBlock + 0.5 * kStreet)}};
+      const float g[4][3] = {
+          {float(x0 - 0.5 * kStreet), 0, float(z0 - 0.5 * kStreet)},
+          {float(x0 + kBlock + 0.5 * kStreet), 0, float(z0 - 0.5 * kStreet)},
+          {float(x0 + kBlock + 0.5 * kStreet), 0, float(z0 + kBlock + 0.5 * kStreet)},
+          {float(x0 - 0.5 * kStreet), 0, float(z0 + kBlock + 0.5 * kStreet)}};
       w.quad(g[0], g[3], g[2], g[1], rgba(70, 70, 74));
       // Taller towards the centre of the city.
       const double centre = 1.0 - std::hypot(x0 + 0.5 * kBlock, z0 + 0.5 * kBlock) / (1.42 * half);
@@ -137,7 +140,8 @@ Scene makeCity(const GeneratorOptions& options) {
         }
       }
       if (scene.indices.size() > (std::size_t(1) << 32) - 1) {
-        throw Error(ErrorCode::InvalidArgument, "city: too many triangles for 32-bit indices; use a smaller scale");
+        throw Error(ErrorCode::InvalidArgument,
+                    "city: too many triangles for 32-bit indices; use a smaller scale");
       }
     }
   }

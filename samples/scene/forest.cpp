@@ -13,7 +13,7 @@
 namespace logrid::samples {
 namespace {
 
-constexpr double kBaseSide = 640.0;    // metres at scale 1
+constexpr double kBaseSide = 420.0;    // metres at scale 1
 constexpr double kBaseTrees = 6000.0;  // trees at scale 1: ~1.7 M triangles in all
 constexpr double kCell = 4.0;          // terrain cell size
 constexpr int kPatchCells = 16;        // terrain cells per patch side (512 triangles)
@@ -52,7 +52,8 @@ class Trail {
     phase5_ = angle(rng);
   }
   double radiusAt(double theta) const {
-    return radius_ * (1.0 + 0.15 * std::sin(3 * theta + phase3_) + 0.07 * std::sin(5 * theta + phase5_));
+    return radius_ *
+           (1.0 + 0.15 * std::sin(3 * theta + phase3_) + 0.07 * std::sin(5 * theta + phase5_));
   }
   // Approximate distance of (x, z) from the trail: radial, good enough for clearance.
   double distance(double x, double z) const {
@@ -76,7 +77,8 @@ std::uint32_t ring(MeshWriter& w, double x, double y, double z, double r, int se
   std::uint32_t first = 0;
   for (int s = 0; s < segments; ++s) {
     const double a = phase + 2 * M_PI * s / segments;
-    const std::uint32_t v = w.vertex(float(x + r * std::cos(a)), float(y), float(z + r * std::sin(a)), color);
+    const std::uint32_t v =
+        w.vertex(float(x + r * std::cos(a)), float(y), float(z + r * std::sin(a)), color);
     if (s == 0) first = v;
   }
   return first;
@@ -186,17 +188,19 @@ Scene makeForest(const GeneratorOptions& options) {
       if (trail.distance(x, z) < crown + 1.5) continue;
       const double y = terrain.height(x, z);
       w.beginObject();
-      trunk(w, x, y, z, conifer ? 0.5 * height : 0.55 * height, 0.15 + 0.02 * height,
+      trunk(w, x, y, z, conifer ? 0.3 * height : 0.55 * height, 0.15 + 0.02 * height,
             jitter(rng, 92, 64, 40, 12));
       if (conifer) {
         const std::uint32_t green = jitter(rng, 34, 78, 44, 14);
         constexpr int kTiers = 5;
+        // Branches down to the ground, as in a dense spruce stand.
         for (int t = 0; t < kTiers; ++t) {
           const double f = double(t) / kTiers;
-          cone(w, x, y + height * (0.22 + 0.62 * f), z, height * 0.3, crown * (1.0 - 0.75 * f), green);
+          cone(w, x, y + height * (0.06 + 0.7 * f), z, height * 0.32, crown * (1.0 - 0.7 * f),
+               green);
         }
       } else {
-        ellipsoid(w, x, y + 0.68 * height, z, crown, 0.3 * height, jitter(rng, 70, 120, 46, 18));
+        ellipsoid(w, x, y + 0.62 * height, z, crown, 0.36 * height, jitter(rng, 70, 120, 46, 18));
       }
       w.endObject();
     }
@@ -210,7 +214,8 @@ Scene makeForest(const GeneratorOptions& options) {
     const double r = trail.radiusAt(t), ra = trail.radiusAt(ahead);
     const double x = r * std::cos(t), z = r * std::sin(t);
     const double xa = ra * std::cos(ahead), za = ra * std::sin(ahead);
-    keys.push_back({{x, terrain.height(x, z) + kEye, z}, {xa, terrain.height(xa, za) + kEye, za}, 0});
+    keys.push_back(
+        {{x, terrain.height(x, z) + kEye, z}, {xa, terrain.height(xa, za) + kEye, za}, 0});
   }
   scene.path = CameraPath(std::move(keys));
   scene.near_plane = 0.1;

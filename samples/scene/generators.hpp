@@ -18,7 +18,7 @@
 namespace logrid::samples {
 
 struct GeneratorOptions {
-  double scale = 1.0;        // > 0; 0.01 gives a quick test scene
+  double scale = 1.0;  // > 0; 0.01 gives a quick test scene
   std::uint64_t seed = 1;
 };
 

@@ -7,7 +7,8 @@ namespace logrid::samples {
 namespace {
 
 double msSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
 }
 
 // Appends one object's triangles to the mesh with its vertices regrouped locally.
@@ -15,7 +16,10 @@ double msSince(std::chrono::steady_clock::time_point start) {
 class MeshBuilder {
  public:
   MeshBuilder(const Scene& scene, gl::RenderMesh& mesh, bool wide)
-      : scene_(scene), mesh_(mesh), wide_(wide), stamp_(scene.positions.size() / 3, kNone),
+      : scene_(scene),
+        mesh_(mesh),
+        wide_(wide),
+        stamp_(scene.positions.size() / 3, kNone),
         local_(scene.positions.size() / 3, 0) {}
 
   // Triangles are given by their index into scene.indices / 3.
@@ -81,7 +85,8 @@ struct SpanRange {
 
 // Whether every object fits 16-bit local indices: an object never has more distinct
 // vertices than 3 * triangles, so only large objects need counting.
-bool needsWideIndices(const Scene& scene, const std::vector<std::pair<std::uint32_t, std::uint32_t>>& spans,
+bool needsWideIndices(const Scene& scene,
+                      const std::vector<std::pair<std::uint32_t, std::uint32_t>>& spans,
                       const std::uint32_t* order) {
   std::vector<std::uint32_t> stamp(scene.positions.size() / 3, 0);
   std::uint32_t object = 0;
@@ -136,8 +141,9 @@ PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args) {
     const bool wide = needsWideIndices(scene, spans, th.triangle_order.data());
     MeshBuilder builder(scene, out.mesh, wide);
     for (const auto& [first, last] : spans) {
-      builder.addObject(SpanRange{th.triangle_order.data() + first, th.triangle_order.data() + last},
-                        0xFFFFFFFFu);
+      builder.addObject(
+          SpanRange{th.triangle_order.data() + first, th.triangle_order.data() + last},
+          0xFFFFFFFFu);
     }
   } else {
     out.source_objects = scene.objects.size();
@@ -169,7 +175,8 @@ PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args) {
   for (const gl::RenderMesh::Draw& d : out.mesh.draws) {
     Aabb box = emptyBox();
     for (std::uint32_t i = d.first_index; i < d.first_index + d.index_count; ++i) {
-      const std::uint32_t local = out.mesh.indices16.empty() ? out.mesh.indices32[i] : out.mesh.indices16[i];
+      const std::uint32_t local =
+          out.mesh.indices16.empty() ? out.mesh.indices32[i] : out.mesh.indices16[i];
       growBox(box, &out.mesh.positions[(std::size_t(d.base_vertex) + local) * 3]);
     }
     out.object_boxes.push_back(box);

@@ -17,16 +17,16 @@
 namespace logrid::samples {
 
 struct SceneObject {
-  std::uint32_t first_index = 0;  // into Scene::indices
-  std::uint32_t index_count = 0;  // a multiple of 3
+  std::uint32_t first_index = 0;      // into Scene::indices
+  std::uint32_t index_count = 0;      // a multiple of 3
   std::uint32_t color = 0xFFFFFFFFu;  // RGBA8: r | g << 8 | b << 16 | a << 24
   Aabb box;                           // local coordinates, contains every vertex used
 };
 
 struct Scene {
   std::string name;
-  DVec3 origin;                      // world position of the local origin
-  std::vector<float> positions;      // xyz per vertex, local coordinates
+  DVec3 origin;                        // world position of the local origin
+  std::vector<float> positions;        // xyz per vertex, local coordinates
   std::vector<std::uint32_t> indices;  // three per triangle
   // Optional RGBA8 colour per vertex; when present it replaces the objects' colours.
   std::vector<std::uint32_t> vertex_colors;
@@ -36,8 +36,8 @@ struct Scene {
   // hierarchy's leaf chunks of at most BuildArgs::max_leaf_size triangles.
   std::vector<SceneObject> objects;
   bool split_by_triangles = false;
-  Aabb bounds;                                 // local, of all positions
-  CameraPath path;                             // the default walkthrough
+  Aabb bounds;      // local, of all positions
+  CameraPath path;  // the default walkthrough
   // Suggested clip planes for the walkthrough (world units).
   double near_plane = 0.1;
   double far_plane = 1000.0;

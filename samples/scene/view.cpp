@@ -24,8 +24,8 @@ Camera makeCamera(const CameraPose& pose, const DVec3& scene_origin, const ViewS
                   pose.look_at.z - pose.position.z};
     const double distance = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
     const double half_h = distance * std::tan(fovy / 2), half_w = half_h * aspect;
-    projection = orthographic(-half_w, half_w, -half_h, half_h, view.near_plane, view.far_plane,
-                              view.depth);
+    projection =
+        orthographic(-half_w, half_w, -half_h, half_h, view.near_plane, view.far_plane, view.depth);
   } else {
     projection = perspective(fovy, aspect, view.near_plane, view.far_plane, view.depth);
   }

@@ -13,9 +13,9 @@ namespace logrid::samples {
 struct ViewSettings {
   std::uint32_t width = 640;
   std::uint32_t height = 480;
-  double fov_degrees = 60.0;    // vertical field of view (perspective)
-  bool orthographic = false;    // then the view volume is as high as the perspective
-                                // view's at the look-at distance
+  double fov_degrees = 60.0;  // vertical field of view (perspective)
+  bool orthographic = false;  // then the view volume is as high as the perspective
+                              // view's at the look-at distance
   double near_plane = 0.1;
   double far_plane = 1000.0;
   DepthSetup depth;

@@ -48,8 +48,8 @@ Camera makeCamera(std::uint32_t w, std::uint32_t h, DepthConvention convention, 
                DepthFormat::D32F};
   const DVec3 eye{0, 1, 0};
   const DVec3 target{std::sin(yaw) * 10, 0.5, -std::cos(yaw) * 10};
-  cam.view_projection =
-      multiply(perspective(1.0, double(w) / h, 0.3, 300, cam.depth), lookAt(eye, target, {0, 1, 0}));
+  cam.view_projection = multiply(perspective(1.0, double(w) / h, 0.3, 300, cam.depth),
+                                 lookAt(eye, target, {0, 1, 0}));
   return cam;
 }
 
@@ -81,15 +81,16 @@ Outcome runFrame(const Scene& scene, const Camera& cam, const CullerDesc& desc, 
   test::CountOnlySource queries(depth);
   zread::SoftwareRasterizer raster(cam, depth, nullptr);
   Culler culler(desc);
-  out.stats = culler.cullFrame(cam, scene.hierarchy, count_only ? static_cast<DepthSource&>(queries)
-                                                                : static_cast<DepthSource&>(depth),
-                               [&](ObjectId id) {
-                                 std::vector<float> p;
-                                 std::vector<std::uint32_t> idx;
-                                 zread::appendBox(scene.boxes[id], p, idx);
-                                 raster.draw(p, idx, id);
-                                 EXPECT_TRUE(out.drawn.insert(id).second) << "drawn twice: " << id;
-                               });
+  out.stats = culler.cullFrame(
+      cam, scene.hierarchy,
+      count_only ? static_cast<DepthSource&>(queries) : static_cast<DepthSource&>(depth),
+      [&](ObjectId id) {
+        std::vector<float> p;
+        std::vector<std::uint32_t> idx;
+        zread::appendBox(scene.boxes[id], p, idx);
+        raster.draw(p, idx, id);
+        EXPECT_TRUE(out.drawn.insert(id).second) << "drawn twice: " << id;
+      });
   return out;
 }
 
@@ -110,8 +111,8 @@ TEST_P(CullerOracleTest, NeverMissesAVisibleObject) {
         const Camera cam = makeCamera(w, h, c.convention, yaw);
         const Outcome o = runFrame(scene, cam, {c.method, tile, {}}, false);
         for (ObjectId id : o.visible) {
-          EXPECT_TRUE(o.drawn.count(id)) << "visible object " << id << " was culled (tile "
-                                         << tile << ", " << w << "x" << h << ", yaw " << yaw << ")";
+          EXPECT_TRUE(o.drawn.count(id)) << "visible object " << id << " was culled (tile " << tile
+                                         << ", " << w << "x" << h << ", yaw " << yaw << ")";
         }
         drawn += o.drawn.size();
         visible += o.visible.size();
@@ -138,25 +139,25 @@ TEST_P(CullerOracleTest, PredicateOnlySourceNeverMissesEither) {
 }
 
 std::string caseName(const testing::TestParamInfo<Case>& param) {
-  std::string s = std::string(toString(param.param.method)) + "_" + toString(param.param.convention);
+  std::string s =
+      std::string(toString(param.param.method)) + "_" + toString(param.param.convention);
   for (char& ch : s) ch = ch == '-' ? '_' : ch;
   return s;
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    AllMethods, CullerOracleTest,
-    testing::Values(Case{Method::LogState, DepthConvention::Standard},
-                    Case{Method::LogState, DepthConvention::Reversed},
-                    Case{Method::LogZfar, DepthConvention::Standard},
-                    Case{Method::LogZfar, DepthConvention::Reversed},
-                    Case{Method::Bog, DepthConvention::Standard},
-                    Case{Method::Bog, DepthConvention::Reversed},
-                    Case{Method::Hzb, DepthConvention::Standard},
-                    Case{Method::Hzb, DepthConvention::Reversed},
-                    Case{Method::Pq, DepthConvention::Standard},
-                    Case{Method::Pq, DepthConvention::Reversed},
-                    Case{Method::Vfc, DepthConvention::Standard}),
-    caseName);
+INSTANTIATE_TEST_SUITE_P(AllMethods, CullerOracleTest,
+                         testing::Values(Case{Method::LogState, DepthConvention::Standard},
+                                         Case{Method::LogState, DepthConvention::Reversed},
+                                         Case{Method::LogZfar, DepthConvention::Standard},
+                                         Case{Method::LogZfar, DepthConvention::Reversed},
+                                         Case{Method::Bog, DepthConvention::Standard},
+                                         Case{Method::Bog, DepthConvention::Reversed},
+                                         Case{Method::Hzb, DepthConvention::Standard},
+                                         Case{Method::Hzb, DepthConvention::Reversed},
+                                         Case{Method::Pq, DepthConvention::Standard},
+                                         Case{Method::Pq, DepthConvention::Reversed},
+                                         Case{Method::Vfc, DepthConvention::Standard}),
+                         caseName);
 
 // A hierarchy that hands back one NaN box among valid ones.
 class BrokenHierarchy : public Hierarchy {
@@ -210,9 +211,8 @@ TEST(CullerTest, EmptyHierarchyDrawsNothing) {
   const Camera cam = makeCamera(64, 48, DepthConvention::Standard, 0);
   zread::SoftwareDepthBuffer depth(64, 48, DepthConvention::Standard);
   Culler culler;
-  const FrameStats s = culler.cullFrame(cam, bvh::buildOverBoxes({}), depth, [](ObjectId) {
-    ADD_FAILURE() << "nothing to draw";
-  });
+  const FrameStats s = culler.cullFrame(cam, bvh::buildOverBoxes({}), depth,
+                                        [](ObjectId) { ADD_FAILURE() << "nothing to draw"; });
   EXPECT_EQ(s.objects_drawn, 0u);
 }
 

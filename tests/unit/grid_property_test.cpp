@@ -16,8 +16,8 @@ namespace {
 
 struct Tally {
   std::uint64_t tests = 0;
-  std::uint64_t missed = 0;          // grid occluded, brute force visible: a bug
-  std::uint64_t false_visible = 0;   // grid visible, brute force occluded
+  std::uint64_t missed = 0;         // grid occluded, brute force visible: a bug
+  std::uint64_t false_visible = 0;  // grid visible, brute force occluded
   std::uint64_t pixels_read = 0;
   std::uint64_t brute_pixels = 0;
 };
@@ -116,31 +116,33 @@ class GridPropertyTest : public testing::TestWithParam<Case> {};
 
 TEST_P(GridPropertyTest, NeverOccludedWhereAPixelShows) {
   const Case c = GetParam();
-  const std::uint32_t seed = 1000 + 100 * std::uint32_t(c.variant) + 10 * std::uint32_t(c.convention) +
-                             std::uint32_t(c.kind);
+  const std::uint32_t seed = 1000 + 100 * std::uint32_t(c.variant) +
+                             10 * std::uint32_t(c.convention) + std::uint32_t(c.kind);
   const Tally t = run(c.variant, c.convention, c.kind, seed, 100000);
   EXPECT_EQ(t.missed, 0u) << "the grid culled boxes with visible pixels";
   // Relative to its rectangle the grid is exact: a "visible" answer always has a pixel.
   EXPECT_EQ(t.false_visible, 0u);
   RecordProperty("tests", std::to_string(t.tests));
   RecordProperty("false_visible", std::to_string(t.false_visible));
-  std::printf("[ property ] %s %s: %llu tests, %llu missed, %llu false visible, pixels read %.1f%% "
-              "of a per-box scan\n",
-              toString(c.variant), toString(c.convention), (unsigned long long)t.tests,
-              (unsigned long long)t.missed, (unsigned long long)t.false_visible,
-              100.0 * double(t.pixels_read) / double(t.brute_pixels));
+  std::printf(
+      "[ property ] %s %s: %llu tests, %llu missed, %llu false visible, pixels read %.1f%% "
+      "of a per-box scan\n",
+      toString(c.variant), toString(c.convention), (unsigned long long)t.tests,
+      (unsigned long long)t.missed, (unsigned long long)t.false_visible,
+      100.0 * double(t.pixels_read) / double(t.brute_pixels));
 }
 
 INSTANTIATE_TEST_SUITE_P(
     AllVariants, GridPropertyTest,
-    testing::Values(Case{GridVariant::OcclusionState, DepthConvention::Standard, SourceKind::Software},
-                    Case{GridVariant::OcclusionState, DepthConvention::Reversed, SourceKind::Software},
-                    Case{GridVariant::Zfar, DepthConvention::Standard, SourceKind::Software},
-                    Case{GridVariant::Zfar, DepthConvention::Reversed, SourceKind::Software},
-                    Case{GridVariant::OcclusionState, DepthConvention::Standard, SourceKind::CountOnly},
-                    Case{GridVariant::Zfar, DepthConvention::Reversed, SourceKind::CountOnly},
-                    Case{GridVariant::OcclusionState, DepthConvention::Reversed, SourceKind::Batched},
-                    Case{GridVariant::Zfar, DepthConvention::Standard, SourceKind::Batched}),
+    testing::Values(
+        Case{GridVariant::OcclusionState, DepthConvention::Standard, SourceKind::Software},
+        Case{GridVariant::OcclusionState, DepthConvention::Reversed, SourceKind::Software},
+        Case{GridVariant::Zfar, DepthConvention::Standard, SourceKind::Software},
+        Case{GridVariant::Zfar, DepthConvention::Reversed, SourceKind::Software},
+        Case{GridVariant::OcclusionState, DepthConvention::Standard, SourceKind::CountOnly},
+        Case{GridVariant::Zfar, DepthConvention::Reversed, SourceKind::CountOnly},
+        Case{GridVariant::OcclusionState, DepthConvention::Reversed, SourceKind::Batched},
+        Case{GridVariant::Zfar, DepthConvention::Standard, SourceKind::Batched}),
     caseName);
 
 }  // namespace

@@ -90,7 +90,7 @@ TEST_P(GridTest, Step4BorderTilesAreReadOnlyOverTheIntersection) {
   draw(grid, {0, 0, 16, 12}, key(GetParam(), 0.5f));
   EXPECT_EQ(test(grid, {5, 5, 7, 7}, clear()), Visibility::Occluded);
   EXPECT_EQ(reads(), 1u);
-  EXPECT_EQ(pixels(), 4u);               // 2x2, not the 4x4 tile
+  EXPECT_EQ(pixels(), 4u);                // 2x2, not the 4x4 tile
   EXPECT_TRUE(grid.tile(1, 1).outdated);  // an intersection does not refresh the tile
 }
 
@@ -156,8 +156,8 @@ TEST_P(GridTest, PredicateOnlySourceGivesTheSameAnswers) {
     b.markOutdated({0, 0, 10, 12});
     draw(a, {3, 3, 5, 5}, key(c, 0.2f));
     b.markOutdated({3, 3, 5, 5});
-    const PixelRect rects[] = {{0, 0, 16, 12}, {0, 0, 8, 8}, {1, 1, 9, 11}, {8, 0, 12, 4},
-                               {3, 3, 5, 5},   {9, 0, 11, 12}};
+    const PixelRect rects[] = {{0, 0, 16, 12}, {0, 0, 8, 8}, {1, 1, 9, 11},
+                               {8, 0, 12, 4},  {3, 3, 5, 5}, {9, 0, 11, 12}};
     for (const PixelRect& r : rects) {
       for (float t : {key(c, 0.1f), key(c, 0.3f), key(c, 0.6f)}) {
         const float threshold = v == GridVariant::OcclusionState ? clear() : t;

@@ -13,8 +13,7 @@ template <typename T>
 void checkType(NativeDepth native, DepthConvention convention, std::uint32_t seed) {
   std::mt19937 rng(seed);
   const DepthEncoding enc{native, convention};
-  const double scale =
-      native == NativeDepth::Float32 ? 1.0 : double(std::numeric_limits<T>::max());
+  const double scale = native == NativeDepth::Float32 ? 1.0 : double(std::numeric_limits<T>::max());
   const bool reversed = convention == DepthConvention::Reversed;
   for (int trial = 0; trial < 300; ++trial) {
     const int w = 1 + int(rng() % 13), h = 1 + int(rng() % 9), stride = w + int(rng() % 4);
@@ -50,19 +49,22 @@ void checkType(NativeDepth native, DepthConvention convention, std::uint32_t see
     for (int k = 0; k < 8; ++k) {
       const T pick = data[rng() % data.size()];
       const double key = (reversed ? -1.0 : 1.0) * double(pick) / scale;
-      for (float t : {float(key), std::nextafter(float(key), 2.0f),
-                      std::nextafter(float(key), -2.0f)}) {
+      for (float t :
+           {float(key), std::nextafter(float(key), 2.0f), std::nextafter(float(key), -2.0f)}) {
         std::uint32_t exact = 0, slack = 0;
         for (int y = 0; y < h; ++y) {
           for (int x = 0; x < w; ++x) {
-            const double kk = (reversed ? -1.0 : 1.0) * double(data[std::size_t(y) * stride + x]) / scale;
+            const double kk =
+                (reversed ? -1.0 : 1.0) * double(data[std::size_t(y) * stride + x]) / scale;
             exact += kk >= double(t);
             // The documented slack: half a float ulp of t, and 1e-3 of a unit.
-            const double half_ulp = 0.5 * (double(std::nextafter(std::fabs(t), 2.0f)) - std::fabs(double(t)));
+            const double half_ulp =
+                0.5 * (double(std::nextafter(std::fabs(t), 2.0f)) - std::fabs(double(t)));
             slack += kk >= double(t) - half_ulp - 1e-3 / scale - 1e-12;
           }
         }
-        const std::uint32_t got = countDepthAtOrBeyond(enc, data.data(), w, h, std::size_t(stride), t);
+        const std::uint32_t got =
+            countDepthAtOrBeyond(enc, data.data(), w, h, std::size_t(stride), t);
         EXPECT_GE(got, exact) << "a pixel at or beyond the threshold was not counted";
         EXPECT_LE(got, slack);
       }

@@ -1,2 +1,614 @@
-// Placeholder.
+// Tests of loadSceneFile: small files of each common format, written by the test, load
+// with the right triangles, objects and bounds; broken files give a logrid::Error with
+// the expected code and a message that names the file and the problem.
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "logrid/error.hpp"
+#include "scene/loader.hpp"
+#include "scene/scene.hpp"
+
+namespace logrid::samples {
+namespace {
+
+namespace fs = std::filesystem;
+
+// --- Files of each format ------------------------------------------------------------
+
+// Two objects: a unit quad at z = 0 and a triangle at z = 5; bounds [0,2]x[0,3]x[0,5].
+const char* const kObjTwoObjects =
+    "# two objects\n"
+    "o first\n"
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
+    "f 1 2 3\nf 2 4 3\n"
+    "o second\n"
+    "v 0 0 5\nv 2 0 5\nv 0 3 5\n"
+    "f 5 6 7\n";
+
+// A quad (split in two) and a triangle sharing its vertices; bounds [-1,1]x[0,2]x[0,4].
+const char* const kPlyAscii =
+    "ply\n"
+    "format ascii 1.0\n"
+    "comment logrid test\n"
+    "element vertex 5\n"
+    "property float x\nproperty float y\nproperty float z\n"
+    "element face 2\n"
+    "property list uchar int vertex_indices\n"
+    "end_header\n"
+    "-1 0 0\n1 0 0\n1 2 0\n-1 2 0\n0 1 4\n"
+    "4 0 1 2 3\n"
+    "3 0 1 4\n";
+
+// Two facets of a square in the y = 0 plane; bounds [0,3]x[0,0]x[0,3].
+const char* const kStlAscii =
+    "solid square\n"
+    " facet normal 0 1 0\n  outer loop\n"
+    "   vertex 0 0 0\n   vertex 0 0 3\n   vertex 3 0 0\n"
+    "  endloop\n endfacet\n"
+    " facet normal 0 1 0\n  outer loop\n"
+    "   vertex 3 0 0\n   vertex 0 0 3\n   vertex 3 0 3\n"
+    "  endloop\n endfacet\n"
+    "endsolid square\n";
+
+void appendFloat(std::string& out, float value) {
+  char bytes[4];
+  std::memcpy(bytes, &value, 4);  // the tests run on little-endian machines
+  out.append(bytes, 4);
+}
+
+void appendInt(std::string& out, std::int32_t value) {
+  char bytes[4];
+  std::memcpy(bytes, &value, 4);
+  out.append(bytes, 4);
+}
+
+// kStlAscii as binary STL: 80-byte header, facet count, 50 bytes a facet.
+std::string binaryStl() {
+  std::string out(80, ' ');
+  out.replace(0, 11, "logrid test");
+  appendInt(out, 2);
+  const float facets[2][12] = {{0, 1, 0, 0, 0, 0, 0, 0, 3, 3, 0, 0},
+                               {0, 1, 0, 3, 0, 0, 0, 0, 3, 3, 0, 3}};
+  for (const auto& facet : facets) {
+    for (const float v : facet) appendFloat(out, v);
+    out.append(2, '\0');  // attribute byte count
+  }
+  return out;
+}
+
+// Binary little-endian PLY with the given vertices and triangles.
+std::string binaryPly(const std::vector<float>& xyz, const std::vector<std::int32_t>& triangles) {
+  std::string out = "ply\nformat binary_little_endian 1.0\nelement vertex " +
+                    std::to_string(xyz.size() / 3) +
+                    "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+                    std::to_string(triangles.size() / 3) +
+                    "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (const float v : xyz) appendFloat(out, v);
+  for (std::size_t t = 0; t < triangles.size(); t += 3) {
+    out.push_back(3);
+    for (std::size_t k = 0; k < 3; ++k) appendInt(out, triangles[t + k]);
+  }
+  return out;
+}
+
+// A tetrahedron; bounds [0,1]x[0,2]x[0,3].
+std::string binaryPlyTetrahedron() {
+  return binaryPly({0, 0, 0, 1, 0, 0, 0, 2, 0, 0, 0, 3}, {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3});
+}
+
+std::string base64(const std::string& bytes) {
+  static const char* const kDigits =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  std::uint32_t bits = 0;
+  int count = 0;
+  for (const char c : bytes) {
+    bits = bits << 8 | static_cast<unsigned char>(c);
+    count += 8;
+    while (count >= 6) {
+      count -= 6;
+      out.push_back(kDigits[(bits >> count) & 63u]);
+    }
+  }
+  if (count > 0) out.push_back(kDigits[(bits << (6 - count)) & 63u]);
+  while (out.size() % 4 != 0) out.push_back('=');
+  return out;
+}
+
+// The buffer of the glTF files: a triangle's positions and indices, padded to 44 bytes.
+std::string gltfBuffer() {
+  std::string buffer;
+  for (const float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) appendFloat(buffer, v);
+  for (const std::uint16_t i : {std::uint16_t{0}, std::uint16_t{1}, std::uint16_t{2}}) {
+    char bytes[2];
+    std::memcpy(bytes, &i, 2);
+    buffer.append(bytes, 2);
+  }
+  buffer.append(2, '\0');
+  return buffer;
+}
+
+// glTF 2.0: one red triangle (0,0,0) (1,0,0) (0,1,0) instanced by two nodes under a root
+// scaled by 2, translated by (10,0,0) and (0,0,-10); world bounds [0,22]x[0,2]x[-20,0].
+// `buffer_uri` empty: the buffer is a GLB's binary chunk.
+std::string gltfInstanced(const std::string& buffer_uri) {
+  return R"({
+  "asset": {"version": "2.0", "generator": "logrid loader_test"},
+  "scene": 0,
+  "scenes": [{"nodes": [0]}],
+  "nodes": [
+    {"name": "root", "scale": [2, 2, 2], "children": [1, 2]},
+    {"name": "east", "mesh": 0, "translation": [10, 0, 0]},
+    {"name": "south", "mesh": 0, "translation": [0, 0, -10]}
+  ],
+  "meshes": [{"name": "triangle", "primitives": [
+    {"attributes": {"POSITION": 0}, "indices": 1, "material": 0, "mode": 4}]}],
+  "materials": [{"name": "red", "pbrMetallicRoughness": {"baseColorFactor": [1, 0, 0, 1]}}],
+  "accessors": [
+    {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+     "min": [0, 0, 0], "max": [1, 1, 0]},
+    {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}
+  ],
+  "bufferViews": [
+    {"buffer": 0, "byteOffset": 0, "byteLength": 36, "target": 34962},
+    {"buffer": 0, "byteOffset": 36, "byteLength": 6, "target": 34963}
+  ],
+  "buffers": [{"byteLength": 44)" +
+         (buffer_uri.empty() ? std::string() : ", \"uri\": \"" + buffer_uri + "\"") + R"(}]
+})";
+}
+
+// The .gltf file: the buffer embedded as a base64 data: URI.
+std::string gltfEmbedded() {
+  return gltfInstanced("data:application/octet-stream;base64," + base64(gltfBuffer()));
+}
+
+// The same as binary glTF: header, JSON chunk, BIN chunk.
+std::string glbInstanced() {
+  std::string json = gltfInstanced("");
+  json.append((4 - json.size() % 4) % 4, ' ');
+  const std::string bin = gltfBuffer();
+  std::string out = "glTF";
+  auto word = [&out](std::size_t value) {
+    char bytes[4];
+    const auto v = static_cast<std::uint32_t>(value);
+    std::memcpy(bytes, &v, 4);
+    out.append(bytes, 4);
+  };
+  word(2);
+  word(12 + 8 + json.size() + 8 + bin.size());
+  word(json.size());
+  out += "JSON" + json;
+  word(bin.size());
+  out += std::string("BIN\0", 4) + bin;
+  return out;
+}
+
+// The glTF file with its node array replaced.
+std::string gltfWithNodes(const std::string& nodes) {
+  std::string gltf = gltfEmbedded();
+  const std::size_t begin = gltf.find("\n  \"nodes\": [") + 3;
+  const std::size_t end = gltf.find("\n  ],\n  \"meshes\"") + 4;
+  return gltf.replace(begin, end - begin, "\"nodes\": " + nodes);
+}
+
+// --- Fixture -------------------------------------------------------------------------
+
+class LoaderTest : public testing::Test {
+ protected:
+  void TearDown() override {
+    std::error_code ec;
+    for (const std::string& path : created_) fs::remove_all(path, ec);
+  }
+
+  // A path under the test's temporary directory, unique to this process and test.
+  std::string tempPath(const std::string& name) {
+    const testing::TestInfo* info = testing::UnitTest::GetInstance()->current_test_info();
+    std::string path = testing::TempDir() + "logrid_loader_" + std::to_string(::getpid()) + "_" +
+                       info->name() + "_" + std::to_string(created_.size()) + "_" + name;
+    created_.push_back(path);
+    return path;
+  }
+
+  std::string writeFile(const std::string& name, const std::string& bytes) {
+    const std::string path = tempPath(name);
+    std::ofstream(path, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+    return path;
+  }
+
+  // Expects loading `path` to throw logrid::Error with `code`, a message naming the file
+  // and containing each of `needles`.
+  static void expectError(const std::string& path, ErrorCode code,
+                          const std::vector<std::string>& needles,
+                          const LoadOptions& options = {}) {
+    try {
+      const Scene scene = loadSceneFile(path, options);
+      ADD_FAILURE() << path << " loaded (" << scene.triangleCount() << " triangles)";
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_EQ(toString(e.code()), std::string(toString(code))) << message;
+      EXPECT_NE(message.find(path), std::string::npos) << message;
+      for (const std::string& needle : needles) {
+        EXPECT_NE(message.find(needle), std::string::npos)
+            << "'" << needle << "' not in: " << message;
+      }
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << path << ": not a logrid::Error: " << e.what();
+    } catch (...) {
+      ADD_FAILURE() << path << ": an exception that is not a std::exception";
+    }
+  }
+
+ private:
+  std::vector<std::string> created_;
+};
+
+void expectWorldBounds(const Scene& scene, DVec3 lo, DVec3 hi) {
+  const double tolerance = 1e-5;
+  EXPECT_NEAR(scene.origin.x + scene.bounds.min.x, lo.x, tolerance);
+  EXPECT_NEAR(scene.origin.y + scene.bounds.min.y, lo.y, tolerance);
+  EXPECT_NEAR(scene.origin.z + scene.bounds.min.z, lo.z, tolerance);
+  EXPECT_NEAR(scene.origin.x + scene.bounds.max.x, hi.x, tolerance);
+  EXPECT_NEAR(scene.origin.y + scene.bounds.max.y, hi.y, tolerance);
+  EXPECT_NEAR(scene.origin.z + scene.bounds.max.z, hi.z, tolerance);
+  // The local origin is the centre of the bounds.
+  EXPECT_NEAR(scene.origin.x, 0.5 * (lo.x + hi.x), tolerance);
+  EXPECT_NEAR(scene.origin.y, 0.5 * (lo.y + hi.y), tolerance);
+  EXPECT_NEAR(scene.origin.z, 0.5 * (lo.z + hi.z), tolerance);
+}
+
+// The checks every loaded scene must pass besides its counts and bounds.
+void expectWellFormed(const Scene& scene) {
+  EXPECT_NO_THROW(validateScene(scene));
+  EXPECT_FALSE(scene.split_by_triangles);
+  for (const SceneObject& object : scene.objects) {
+    EXPECT_GT(object.index_count, 0u);
+    EXPECT_EQ(object.color >> 24, 0xFFu) << "object colours are opaque";
+    EXPECT_LE(object.box.min.x, object.box.max.x);
+  }
+  EXPECT_GT(scene.near_plane, 0.0);
+  EXPECT_GT(scene.far_plane, scene.near_plane);
+  // The default orbit: 8+ keys, outside the bounds, looking at the bounds' centre.
+  ASSERT_GE(scene.path.keys().size(), 8u);
+  const double dx = scene.bounds.max.x - scene.bounds.min.x;
+  const double dy = scene.bounds.max.y - scene.bounds.min.y;
+  const double dz = scene.bounds.max.z - scene.bounds.min.z;
+  const double radius = 0.5 * std::sqrt(dx * dx + dy * dy + dz * dz);
+  const DVec3 centre{scene.origin.x + 0.5 * (scene.bounds.min.x + scene.bounds.max.x),
+                     scene.origin.y + 0.5 * (scene.bounds.min.y + scene.bounds.max.y),
+                     scene.origin.z + 0.5 * (scene.bounds.min.z + scene.bounds.max.z)};
+  for (const CameraKey& key : scene.path.keys()) {
+    EXPECT_NEAR(key.look_at.x, centre.x, 1e-6);
+    EXPECT_NEAR(key.look_at.y, centre.y, 1e-6);
+    EXPECT_NEAR(key.look_at.z, centre.z, 1e-6);
+    const double ex = key.position.x - centre.x, ey = key.position.y - centre.y,
+                 ez = key.position.z - centre.z;
+    EXPECT_NEAR(std::sqrt(ex * ex + ey * ey + ez * ez), 1.2 * radius, 1e-6 * radius + 1e-9);
+    EXPECT_GT(ey, 0.0) << "the orbit runs above the centre";
+  }
+  EXPECT_GT(scene.far_plane, 2.2 * radius) << "the far plane covers the model from the orbit";
+  EXPECT_LT(scene.far_plane, 10 * radius);
+}
+
+// --- Valid files ---------------------------------------------------------------------
+
+TEST(LoaderSupport, AssimpIsAvailableInThisBuild) { EXPECT_TRUE(sceneFilesSupported()); }
+
+TEST_F(LoaderTest, ObjWithTwoObjects) {
+  const std::string path = writeFile("two.obj", kObjTwoObjects);
+  const Scene scene = loadSceneFile(path);
+  EXPECT_EQ(scene.triangleCount(), 3u);
+  ASSERT_EQ(scene.objects.size(), 2u);
+  EXPECT_EQ(scene.objects[0].index_count, 6u);
+  EXPECT_EQ(scene.objects[1].index_count, 3u);
+  EXPECT_NE(scene.objects[0].color, scene.objects[1].color) << "default material: palette";
+  EXPECT_EQ(scene.name, fs::path(path).stem().string());
+  expectWorldBounds(scene, {0, 0, 0}, {2, 3, 5});
+  // Object boxes are local too: the triangle sits at z = 5, i.e. 2.5 above the centre.
+  EXPECT_NEAR(scene.objects[1].box.min.z, 2.5f, 1e-6);
+  EXPECT_NEAR(scene.objects[1].box.max.z, 2.5f, 1e-6);
+  expectWellFormed(scene);
+}
+
+TEST_F(LoaderTest, ObjMaterialColour) {
+  const std::string mtl = writeFile("blue.mtl", "newmtl blue\nKd 0 0 1\n");
+  const std::string obj = "mtllib " + fs::path(mtl).filename().string() +
+                          "\nusemtl blue\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  const Scene scene = loadSceneFile(writeFile("blue.obj", obj));
+  ASSERT_EQ(scene.objects.size(), 1u);
+  EXPECT_EQ(scene.objects[0].color, 0xFFFF0000u);  // RGBA8 little-endian: opaque blue
+}
+
+TEST_F(LoaderTest, AsciiPly) {
+  const Scene scene = loadSceneFile(writeFile("ascii.ply", kPlyAscii));
+  EXPECT_EQ(scene.triangleCount(), 3u);
+  EXPECT_EQ(scene.objects.size(), 1u);
+  expectWorldBounds(scene, {-1, 0, 0}, {1, 2, 4});
+  expectWellFormed(scene);
+}
+
+TEST_F(LoaderTest, BinaryPly) {
+  const Scene scene = loadSceneFile(writeFile("binary.ply", binaryPlyTetrahedron()));
+  EXPECT_EQ(scene.triangleCount(), 4u);
+  EXPECT_EQ(scene.objects.size(), 1u);
+  EXPECT_EQ(scene.positions.size(), 4u * 3) << "identical vertices are shared";
+  expectWorldBounds(scene, {0, 0, 0}, {1, 2, 3});
+  expectWellFormed(scene);
+}
+
+TEST_F(LoaderTest, AsciiStl) {
+  const Scene scene = loadSceneFile(writeFile("square.stl", kStlAscii));
+  EXPECT_EQ(scene.triangleCount(), 2u);
+  EXPECT_EQ(scene.objects.size(), 1u);
+  expectWorldBounds(scene, {0, 0, 0}, {3, 0, 3});
+  expectWellFormed(scene);
+}
+
+TEST_F(LoaderTest, BinaryStl) {
+  const Scene scene = loadSceneFile(writeFile("square_binary.stl", binaryStl()));
+  EXPECT_EQ(scene.triangleCount(), 2u);
+  EXPECT_EQ(scene.objects.size(), 1u);
+  expectWorldBounds(scene, {0, 0, 0}, {3, 0, 3});
+  expectWellFormed(scene);
+}
+
+TEST_F(LoaderTest, GltfWithEmbeddedBufferInstancesAndTransforms) {
+  const Scene scene = loadSceneFile(writeFile("instanced.gltf", gltfEmbedded()));
+  EXPECT_EQ(scene.triangleCount(), 2u);
+  ASSERT_EQ(scene.objects.size(), 2u) << "one object per (node, mesh) instance";
+  expectWorldBounds(scene, {0, 0, -20}, {22, 2, 0});
+  // The material's base colour (assimp's diffuse colour), opaque red.
+  EXPECT_EQ(scene.objects[0].color, 0xFF0000FFu);
+  EXPECT_EQ(scene.objects[1].color, 0xFF0000FFu);
+  expectWellFormed(scene);
+}
+
+TEST_F(LoaderTest, BinaryGltf) {
+  const Scene scene = loadSceneFile(writeFile("instanced.glb", glbInstanced()));
+  EXPECT_EQ(scene.triangleCount(), 2u);
+  EXPECT_EQ(scene.objects.size(), 2u);
+  expectWorldBounds(scene, {0, 0, -20}, {22, 2, 0});
+  expectWellFormed(scene);
+}
+
+TEST_F(LoaderTest, UppercaseExtensionAndFarFromOrigin) {
+  // A model a million units out keeps small local coordinates.
+  const std::string obj = "v 1000000 0 0\nv 1000001 0 0\nv 1000000 1 0\nf 1 2 3\n";
+  const Scene scene = loadSceneFile(writeFile("far.OBJ", obj));
+  EXPECT_EQ(scene.triangleCount(), 1u);
+  expectWorldBounds(scene, {1e6, 0, 0}, {1e6 + 1, 1, 0});
+  EXPECT_NEAR(scene.bounds.max.x, 0.5f, 1e-6);
+  expectWellFormed(scene);
+}
+
+TEST_F(LoaderTest, PointsAndLinesAreDropped) {
+  const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 9 9 9\np 4\nl 1 4\nf 1 2 3\n";
+  const Scene scene = loadSceneFile(writeFile("mixed.obj", obj));
+  EXPECT_EQ(scene.triangleCount(), 1u);
+  expectWorldBounds(scene, {0, 0, 0}, {1, 1, 0});
+}
+
+TEST_F(LoaderTest, DegenerateModelStillGetsAPath) {
+  const Scene scene = loadSceneFile(writeFile("point.obj", "v 1 2 3\nv 1 2 3\nv 1 2 3\nf 1 2 3\n"));
+  EXPECT_EQ(scene.triangleCount(), 1u);
+  EXPECT_GT(scene.near_plane, 0.0);
+  EXPECT_FALSE(scene.path.empty());
+}
+
+// --- Broken files --------------------------------------------------------------------
+
+TEST_F(LoaderTest, TruncatedBinaryPly) {
+  const std::string full = binaryPlyTetrahedron();
+  const std::size_t header = full.find("end_header\n") + 11;
+  // Cut inside the vertex data, inside the face data, and between two faces. (Assimp
+  // itself would read the missing bytes as 0x0A and fail, if at all, on the indices.)
+  expectError(writeFile("cut_vertices.ply", full.substr(0, header + 20)), ErrorCode::BadInput,
+              {"truncated"});
+  expectError(writeFile("cut_faces.ply", full.substr(0, full.size() - 7)), ErrorCode::BadInput,
+              {"'face' 3 of 4", "truncated"});
+  expectError(writeFile("cut_face.ply", full.substr(0, full.size() - 13)), ErrorCode::BadInput,
+              {"'face' 3 of 4", "truncated"});
+}
+
+TEST_F(LoaderTest, TruncatedAsciiPly) {
+  // Cut in the header: assimp 5.2 would loop for ever looking for end_header.
+  std::string ply = kPlyAscii;
+  ply.resize(ply.find("comment") + 10);
+  expectError(writeFile("cut_header.ply", ply), ErrorCode::BadInput, {"no end_header"});
+  // Cut in the data: assimp would repeat the last line it read for the missing ones.
+  ply = kPlyAscii;
+  ply.resize(ply.find("4 0 1 2 3"));
+  expectError(writeFile("cut_faces.ply", ply), ErrorCode::BadInput,
+              {"ends after 0 of 2 'face' lines", "truncated"});
+  ply = kPlyAscii;
+  ply.resize(ply.find("1 2 0\n") + 3);
+  expectError(writeFile("cut_vertices.ply", ply), ErrorCode::BadInput,
+              {"data line 3 ('vertex'): too few values"});
+}
+
+// Each of these made assimp 5.2 hang, abort or corrupt the heap (see loader.cpp); the
+// loader refuses them before assimp sees them.
+TEST_F(LoaderTest, PlyThatBreaksAssimp) {
+  auto replaced = [](std::string text, const std::string& from, const std::string& to) {
+    return text.replace(text.find(from), from.size(), to);
+  };
+  // Counts far above what the file holds: assimp would loop or allocate that often.
+  expectError(writeFile("huge_count.ply", replaced(kPlyAscii, "face 2", "face 4294967295")),
+              ErrorCode::BadInput, {"declares 4294967300 element instances", "truncated"});
+  expectError(
+      writeFile("huge_count64.ply", replaced(kPlyAscii, "face 2", "face 18446744073709551615")),
+      ErrorCode::BadInput, {"not a 32-bit count"});
+  expectError(writeFile("huge_list.ply", replaced(kPlyAscii, "3 0 1 4", "2147483647 0 1 4")),
+              ErrorCode::BadInput, {"bad list count"});
+  expectError(writeFile("long_list.ply", replaced(kPlyAscii, "3 0 1 4", "200 0 1 4")),
+              ErrorCode::BadInput, {"declares 200 values but the line has 3"});
+  std::string binary = binaryPly({0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2});
+  binary = replaced(binary, "list uchar int", "list int int");
+  binary.insert(binary.size() - 12, 3, '\xFF');  // the count: 0xFFFFFFFF, negative
+  expectError(writeFile("huge_list_binary.ply", binary), ErrorCode::BadInput,
+              {"negative list count"});
+  // Control bytes in the header (assimp's line reader runs off its buffer).
+  expectError(writeFile("nul.ply",
+                        replaced(kPlyAscii, "end_header", std::string("\0\x01", 2) + "end_header")),
+              ErrorCode::BadInput, {"header line 10 holds a control"});
+  // An element declared twice (assimp issue 5729: heap corruption).
+  expectError(writeFile("twice.ply",
+                        replaced(kPlyAscii, "element face 2", "element vertex 1\nelement face 2")),
+              ErrorCode::BadInput, {"element 'vertex' declared twice"});
+  // A comment between properties (assimp drops the properties after it).
+  expectError(writeFile("comment.ply",
+                        replaced(kPlyAscii, "property float y", "comment here\nproperty float y")),
+              ErrorCode::BadInput, {"comment between the properties of element 'vertex'"});
+  // Binary data whose first byte is 0x0A (assimp reads it one byte off).
+  const std::uint32_t bits = 0x3F80000Au;  // 1.0000012f, stored 0A 00 80 3F
+  float x = 0;
+  std::memcpy(&x, &bits, 4);
+  expectError(writeFile("lf.ply", binaryPly({x, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2})),
+              ErrorCode::BadInput, {"0x0A"});
+  // Garbage after the last element, an unknown property type.
+  expectError(writeFile("trailing.ply", std::string(kPlyAscii) + "1 2 3\n"), ErrorCode::BadInput,
+              {"data after the last element"});
+  expectError(writeFile("type.ply", replaced(kPlyAscii, "float x", "flaot x")), ErrorCode::BadInput,
+              {"malformed property"});
+}
+
+TEST_F(LoaderTest, NanVertexInObj) {
+  const std::string path = writeFile("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
+  expectError(path, ErrorCode::BadInput, {"vertex", "not finite"});
+}
+
+TEST_F(LoaderTest, InfiniteVertexInAsciiPly) {
+  std::string ply = kPlyAscii;
+  ply.replace(ply.find("0 1 4\n"), 6, "0 1e999\n");  // overflows float: +inf
+  ply.insert(ply.find("1e999") + 5, " 4");
+  expectError(writeFile("inf.ply", ply), ErrorCode::BadInput, {"not finite"});
+}
+
+TEST_F(LoaderTest, IndexOutOfRangeInObj) {
+  const std::string path = writeFile("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99\n");
+  expectError(path, ErrorCode::BadInput, {"index out of range"});
+}
+
+TEST_F(LoaderTest, IndexOutOfRangeInPly) {
+  std::string ply = kPlyAscii;
+  ply.replace(ply.find("3 0 1 4\n"), 8, "3 0 1 99\n");
+  expectError(writeFile("range_ascii.ply", ply), ErrorCode::BadInput,
+              {"face 1 uses vertex 99 but the mesh has 5 vertices"});
+  expectError(writeFile("range_binary.ply", binaryPly({0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 99})),
+              ErrorCode::BadInput, {"face 0 uses vertex 99 but the mesh has 3 vertices"});
+}
+
+TEST_F(LoaderTest, EmptyFile) {
+  expectError(writeFile("empty.obj", ""), ErrorCode::BadInput, {"empty"});
+}
+
+TEST_F(LoaderTest, NoFaces) {
+  expectError(writeFile("vertices.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n"), ErrorCode::BadInput,
+              {"no triangles"});
+  expectError(writeFile("lines.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2 3\n"), ErrorCode::BadInput,
+              {"no triangles"});
+  const std::string ply =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n";
+  expectError(writeFile("vertices.ply", ply), ErrorCode::BadInput, {"no triangles"});
+  expectError(writeFile("empty.stl", "solid x\nendsolid x\n"), ErrorCode::BadInput, {});
+}
+
+TEST_F(LoaderTest, GarbageWithKnownExtension) {
+  std::string garbage;
+  std::uint32_t state = 12345;
+  for (int i = 0; i < 4096; ++i) {
+    state = state * 1664525u + 1013904223u;
+    garbage.push_back(static_cast<char>(state >> 24));
+  }
+  for (const char* extension : {"ply", "gltf", "glb", "stl", "obj", "fbx", "3ds"}) {
+    SCOPED_TRACE(extension);
+    expectError(writeFile(std::string("garbage.") + extension, garbage), ErrorCode::BadInput, {});
+  }
+}
+
+TEST_F(LoaderTest, UnknownExtension) {
+  expectError(writeFile("model.logridxyz", kObjTwoObjects), ErrorCode::BadInput,
+              {"unknown extension '.logridxyz'", ".obj"});
+  expectError(writeFile("no_extension", kObjTwoObjects), ErrorCode::BadInput,
+              {"no file extension"});
+}
+
+TEST_F(LoaderTest, MissingFile) {
+  const std::string path = tempPath("missing.obj");
+  expectError(path, ErrorCode::Environment, {"no such file"});
+}
+
+TEST_F(LoaderTest, Directory) {
+  const std::string path = tempPath("folder.obj");
+  fs::create_directory(path);
+  expectError(path, ErrorCode::Environment, {"directory"});
+}
+
+TEST_F(LoaderTest, FileAboveSizeLimit) {
+  LoadOptions options;
+  options.max_file_bytes = 16;
+  const std::string path = writeFile("big.obj", kObjTwoObjects);
+  const std::string size = std::to_string(std::strlen(kObjTwoObjects));
+  expectError(path, ErrorCode::BadInput, {size + " bytes", "16 bytes", "max_file_bytes"}, options);
+}
+
+TEST_F(LoaderTest, TooManyTriangles) {
+  LoadOptions options;
+  options.max_triangles = 2;
+  expectError(writeFile("many.obj", kObjTwoObjects), ErrorCode::BadInput,
+              {"more than 2 triangles", "max_triangles"}, options);
+  options.max_triangles = 3;
+  EXPECT_EQ(loadSceneFile(writeFile("enough.obj", kObjTwoObjects), options).triangleCount(), 3u);
+}
+
+// Each of these crashed assimp 5.2 (stack overflow) or ate all memory.
+TEST_F(LoaderTest, GltfThatBreaksAssimp) {
+  // A chain of 50000 nested nodes.
+  std::string chain = "[";
+  for (int n = 0; n < 50000; ++n) chain += "{\"children\": [" + std::to_string(n + 1) + "]},";
+  chain += "{\"mesh\": 0}]";
+  expectError(writeFile("deep.gltf", gltfWithNodes(chain)), ErrorCode::BadInput,
+              {"node graph is deeper than 1000 levels"});
+  // 40 nodes, each using the next one twice: 2^40 copies.
+  std::string dag = "[";
+  for (int n = 0; n < 40; ++n) {
+    dag += "{\"children\": [" + std::to_string(n + 1) + ", " + std::to_string(n + 1) + "]},";
+  }
+  dag += "{\"mesh\": 0}]";
+  expectError(writeFile("dag.gltf", gltfWithNodes(dag)), ErrorCode::BadInput,
+              {"expands to more than"});
+  // JSON nested 200000 deep.
+  std::string nested = gltfEmbedded();
+  nested.insert(nested.find("\"scene\""),
+                "\"extras\": " + std::string(200000, '[') + std::string(200000, ']') + ",");
+  expectError(writeFile("nested.gltf", nested), ErrorCode::BadInput, {"nests deeper than"});
+  // A cycle.
+  expectError(writeFile("cycle.gltf", gltfWithNodes("[{\"children\": [1]}, {\"children\": [0]}]")),
+              ErrorCode::BadInput, {"cycle"});
+  // A binary glTF whose JSON chunk claims 2 GiB (assimp allocates it before reading).
+  std::string glb = glbInstanced();
+  glb.replace(12, 4, std::string("\xFF\xFF\xFF\x7F", 4));
+  expectError(writeFile("chunk.glb", glb), ErrorCode::BadInput,
+              {"a JSON chunk of 2147483647 bytes"});
+  glb = glbInstanced();
+  expectError(writeFile("cut.glb", glb.substr(0, glb.size() / 2)), ErrorCode::BadInput,
+              {"truncated"});
+  // A node used twice is fine: two objects.
+  const Scene twice = loadSceneFile(
+      writeFile("twice.gltf", gltfWithNodes("[{\"children\": [1, 1]}, {\"mesh\": 0}]")));
+  EXPECT_EQ(twice.objects.size(), 2u);
+}
+
+}  // namespace
+}  // namespace logrid::samples

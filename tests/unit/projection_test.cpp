@@ -10,8 +10,8 @@
 namespace logrid {
 namespace {
 
-Camera makeCamera(DepthSetup depth, std::uint32_t w = 640, std::uint32_t h = 480,
-                  double near = 0.1, double far = 1000.0) {
+Camera makeCamera(DepthSetup depth, std::uint32_t w = 640, std::uint32_t h = 480, double near = 0.1,
+                  double far = 1000.0) {
   Camera c;
   c.width = w;
   c.height = h;
@@ -24,8 +24,7 @@ Camera makeCamera(DepthSetup depth, std::uint32_t w = 640, std::uint32_t h = 480
 
 const DepthSetup kStandard{DepthConvention::Standard, ClipDepthRange::NegativeOneToOne,
                            DepthFormat::D32F};
-const DepthSetup kReversed{DepthConvention::Reversed, ClipDepthRange::ZeroToOne,
-                           DepthFormat::D32F};
+const DepthSetup kReversed{DepthConvention::Reversed, ClipDepthRange::ZeroToOne, DepthFormat::D32F};
 
 TEST(ProjectionTest, BoxInFrontProjectsToItsRectangleAndDepth) {
   const Camera cam = makeCamera(kStandard);
@@ -206,9 +205,8 @@ TEST(ProjectionTest, MarginsScaleWithFormatAndDistanceFromTheRenderOrigin) {
   // camera-relative one (render_origin = eye) the same as at the origin.
   const double off = 1e5;
   Camera far_cam = makeCamera(kStandard);
-  far_cam.view_projection =
-      multiply(perspective(M_PI / 3, 640.0 / 480, 0.1, 1000, kStandard),
-               lookAt({0, 0, off}, {0, 0, off - 1}, {0, 1, 0}));
+  far_cam.view_projection = multiply(perspective(M_PI / 3, 640.0 / 480, 0.1, 1000, kStandard),
+                                     lookAt({0, 0, off}, {0, 0, off - 1}, {0, 1, 0}));
   const Aabb far_box{{-0.5f, -0.5f, float(off) - 10.5f}, {0.5f, 0.5f, float(off) - 9.5f}};
   const BoxProjection world = Projector(far_cam).project(far_box);
   far_cam.render_origin = {0, 0, off};

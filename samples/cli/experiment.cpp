@@ -1,0 +1,82 @@
+#include "cli/experiment.hpp"
+
+#include <algorithm>
+#include <memory>
+
+#include "cli/common.hpp"
+#include "cli/report.hpp"
+
+namespace logrid::samples {
+
+double ConfigResult::avg_ms() const {
+  double sum = 0;
+  for (double v : frame_ms) sum += v;
+  return frame_ms.empty() ? 0 : sum / double(frame_ms.size());
+}
+
+double ConfigResult::spread() const {
+  if (repetition_ms.size() < 2) return 0;
+  const auto [lo, hi] = std::minmax_element(repetition_ms.begin(), repetition_ms.end());
+  const double mid = median(repetition_ms);
+  return mid > 0 ? (*hi - *lo) / mid : 0;
+}
+
+std::vector<ConfigResult> runInterleaved(const PreparedScene& scene, gl::MeshRenderer& renderer,
+                                         const std::vector<RunConfig>& configs, std::size_t repeats,
+                                         const std::string& label, std::size_t warmup) {
+  const std::size_t frames = configs.front().frames;
+  std::vector<std::unique_ptr<FrameRunner>> runners;
+  std::vector<ConfigResult> results(configs.size());
+  for (std::size_t c = 0; c < configs.size(); ++c) {
+    RunConfig timed = configs[c];
+    timed.frames = frames;
+    runners.push_back(std::make_unique<FrameRunner>(scene, renderer, timed));
+    results[c].config = timed;
+  }
+  for (std::size_t w = 0; w < warmup; ++w) {
+    for (auto& runner : runners) runner->renderFrame(w * frames / std::max<std::size_t>(warmup, 1));
+  }
+  std::vector<std::vector<double>> times(configs.size(), std::vector<double>(frames * repeats));
+  Progress progress(label, frames * repeats);
+  for (std::size_t rep = 0; rep < repeats; ++rep) {
+    for (std::size_t f = 0; f < frames; ++f) {
+      double round_ms = 0;
+      for (std::size_t c = 0; c < runners.size(); ++c) {
+        // Only the first repetition pays for the oracle check (it is not timed anyway).
+        FrameRecord rec = runners[c]->renderFrame(f);
+        times[c][rep * frames + f] = rec.ms;
+        round_ms += rec.ms;
+        if (rep == 0) results[c].records.push_back(std::move(rec));
+      }
+      progress.update(rep * frames + f + 1, round_ms);
+    }
+    if (rep == 0) {
+      // Later repetitions skip the ID pass: rebuild runners without verification.
+      for (std::size_t c = 0; c < runners.size(); ++c) {
+        if (!configs[c].verify) continue;
+        RunConfig quiet = results[c].config;
+        quiet.verify = false;
+        runners[c] = std::make_unique<FrameRunner>(scene, renderer, quiet);
+        runners[c]->renderFrame(0);  // warm the new framebuffer's state
+      }
+    }
+  }
+  progress.finish();
+  for (std::size_t c = 0; c < configs.size(); ++c) {
+    ConfigResult& r = results[c];
+    r.frame_ms.resize(frames);
+    for (std::size_t f = 0; f < frames; ++f) {
+      std::vector<double> samples;
+      for (std::size_t rep = 0; rep < repeats; ++rep) samples.push_back(times[c][rep * frames + f]);
+      r.frame_ms[f] = median(samples);
+    }
+    for (std::size_t rep = 0; rep < repeats; ++rep) {
+      double sum = 0;
+      for (std::size_t f = 0; f < frames; ++f) sum += times[c][rep * frames + f];
+      r.repetition_ms.push_back(sum / double(frames));
+    }
+  }
+  return results;
+}
+
+}  // namespace logrid::samples
