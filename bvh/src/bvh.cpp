@@ -18,7 +18,8 @@ std::string validateBuildArgs(const BuildArgs& args) {
   } else if (args.max_children != 2 && args.max_children != 4 && args.max_children != 8) {
     out << "bvh: max_children " << args.max_children << " is invalid; use 2, 4 or 8";
   } else if (args.threads > 1024) {
-    out << "bvh: threads " << args.threads << " is out of range";
+    out << "bvh: threads " << args.threads
+        << " is out of range; use 0 (one per hardware thread) up to 1024";
   }
   return out.str();
 }
@@ -165,6 +166,18 @@ void computeBoxes(std::vector<FlatHierarchy::Node>& nodes, LeafBox leafBox) {
 
 void throwBad(const std::string& what) { throw Error(ErrorCode::BadInput, what); }
 
+// Throws naming `who` and object `id` unless `b` is finite with min <= max.
+void checkBox(const char* who, std::size_t id, const Aabb& b) {
+  const bool finite = std::isfinite(b.min.x) && std::isfinite(b.min.y) && std::isfinite(b.min.z) &&
+                      std::isfinite(b.max.x) && std::isfinite(b.max.y) && std::isfinite(b.max.z);
+  if (finite && b.min.x <= b.max.x && b.min.y <= b.max.y && b.min.z <= b.max.z) return;
+  std::ostringstream out;
+  out << who << ": object " << id << " has an invalid box (min " << b.min.x << " " << b.min.y << " "
+      << b.min.z << ", max " << b.max.x << " " << b.max.y << " " << b.max.z
+      << "); boxes must be finite with min <= max";
+  throwBad(out.str());
+}
+
 }  // namespace
 
 std::size_t FlatHierarchy::memoryBytes() const {
@@ -193,6 +206,9 @@ void FlatHierarchy::refit(const std::vector<Aabb>& object_boxes) {
       throw Error(ErrorCode::InvalidArgument, out.str());
     }
   }
+  // Checked before anything changes: a NaN box would otherwise vanish from the union
+  // (std::min and std::max skip NaN) and its object could be culled with its leaf.
+  for (ObjectId id : objects_) checkBox("FlatHierarchy::refit", id, object_boxes[id]);
   computeBoxes(nodes_, [&](std::size_t n) {
     Aabb box = emptyBox();
     for (std::uint32_t i = 0; i < nodes_[n].object_count; ++i) {
@@ -211,16 +227,7 @@ FlatHierarchy buildOverBoxes(const std::vector<Aabb>& boxes, const BuildArgs& ar
   std::vector<float> centroids(boxes.size() * 3);
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     const Aabb& b = boxes[i];
-    const bool finite = std::isfinite(b.min.x) && std::isfinite(b.min.y) &&
-                        std::isfinite(b.min.z) && std::isfinite(b.max.x) &&
-                        std::isfinite(b.max.y) && std::isfinite(b.max.z);
-    if (!finite || b.min.x > b.max.x || b.min.y > b.max.y || b.min.z > b.max.z) {
-      std::ostringstream out;
-      out << "bvh: object " << i << " has an invalid box (min " << b.min.x << " " << b.min.y
-          << " " << b.min.z << ", max " << b.max.x << " " << b.max.y << " " << b.max.z
-          << "); boxes must be finite with min <= max";
-      throwBad(out.str());
-    }
+    checkBox("bvh", i, b);
     centroids[i * 3 + 0] = 0.5f * b.min.x + 0.5f * b.max.x;
     centroids[i * 3 + 1] = 0.5f * b.min.y + 0.5f * b.max.y;
     centroids[i * 3 + 2] = 0.5f * b.min.z + 0.5f * b.max.z;
@@ -261,7 +268,9 @@ TriangleHierarchy buildOverTriangles(const std::vector<float>& positions,
   for (std::size_t v = 0; v < positions.size(); ++v) {
     if (!std::isfinite(positions[v])) {
       std::ostringstream out;
-      out << "bvh: vertex " << v / 3 << " has a non-finite coordinate (" << positions[v] << ")";
+      out << "bvh: vertex " << v / 3 << " has a non-finite coordinate ("
+          << "xyz"[v % 3] << " = " << positions[v]
+          << "); positions must be finite: fix or drop the triangles using it";
       throwBad(out.str());
     }
   }

@@ -120,6 +120,18 @@ struct Context::Impl {
 };
 
 Context::Context(const ContextDesc& desc) : impl_(std::make_unique<Impl>()) {
+  if (desc.platform != Platform::Auto && desc.platform != Platform::Surfaceless &&
+      desc.platform != Platform::Device) {
+    std::ostringstream out;
+    out << "EGL: unknown platform " << int(desc.platform) << "; use auto, surfaceless or device";
+    fail(ErrorCode::InvalidArgument, out.str());
+  }
+  if (desc.device_index < -1) {
+    std::ostringstream out;
+    out << "EGL: device index " << desc.device_index
+        << " is invalid; use -1 (the first GPU) or an index from 0";
+    fail(ErrorCode::InvalidArgument, out.str());
+  }
   requireLibEgl();
   const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
   if (!client) {

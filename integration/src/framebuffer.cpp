@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <sstream>
+#include <string>
 
 #include "logrid/error.hpp"
 #include "logrid/gl/context.hpp"
@@ -62,11 +63,28 @@ Framebuffer::Framebuffer(const FramebufferDesc& desc) : desc_(desc) {
   if (desc.width < 1 || desc.height < 1 || GLint(desc.width) > max_w ||
       GLint(desc.height) > max_h || desc.width > kMaxViewportSide ||
       desc.height > kMaxViewportSide) {
+    const std::uint32_t limit_w = std::min(std::uint32_t(std::max(max_w, 1)), kMaxViewportSide);
+    const std::uint32_t limit_h = std::min(std::uint32_t(std::max(max_h, 1)), kMaxViewportSide);
     throw Error(ErrorCode::InvalidArgument,
                 "framebuffer: size " + sizeText(desc.width, desc.height) +
                     " is not possible on this driver; each side must be between 1 and " +
-                    sizeText(std::uint32_t(max_w), std::uint32_t(max_h)) +
-                    " (GL_MAX_TEXTURE_SIZE / GL_MAX_FRAMEBUFFER_*). Choose a smaller size.");
+                    sizeText(limit_w, limit_h) +
+                    " (GL_MAX_TEXTURE_SIZE / GL_MAX_FRAMEBUFFER_*, and logrid's " +
+                    std::to_string(kMaxViewportSide) + "). " +
+                    (desc.width < 1 || desc.height < 1 ? "Pass the size in pixels, at least 1x1."
+                                                       : "Choose a smaller size."));
+  }
+  const DepthSetup& d = desc.depth;
+  if ((d.format != DepthFormat::D16 && d.format != DepthFormat::D24 &&
+       d.format != DepthFormat::D32F) ||
+      (d.convention != DepthConvention::Standard && d.convention != DepthConvention::Reversed) ||
+      (d.clip_range != ClipDepthRange::NegativeOneToOne &&
+       d.clip_range != ClipDepthRange::ZeroToOne)) {
+    std::ostringstream out;
+    out << "framebuffer: unknown depth set-up (format " << int(d.format) << ", convention "
+        << int(d.convention) << ", clip range " << int(d.clip_range)
+        << "); use the DepthFormat, DepthConvention and ClipDepthRange enumerators";
+    throw Error(ErrorCode::InvalidArgument, out.str());
   }
   checkGlErrors("framebuffer: before creation");
   const GLsizei w = GLsizei(desc.width), h = GLsizei(desc.height);

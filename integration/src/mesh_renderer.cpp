@@ -2,6 +2,7 @@
 
 #include <epoxy/gl.h>
 
+#include <cmath>
 #include <sstream>
 
 #include "logrid/error.hpp"
@@ -53,6 +54,17 @@ uniform uint u_object;
 layout(location = 1) out uint o_id;
 void main() { o_id = u_object; }
 )";
+
+// x rounded to the nearest float (ties to even, as a conversion rounds), in double
+// arithmetic. Not double(float(x)): GCC 12.2 at -O2 folds that round trip away when it
+// vectorises two of them side by side (the SLP vectoriser), leaving x unrounded.
+double roundToFloat(double x) {
+  if (x == 0 || !std::isfinite(x)) return x;
+  int exponent = 0;
+  std::frexp(x, &exponent);                             // |x| = m 2^exponent, 0.5 <= m < 1
+  const double scale = std::ldexp(1.0, 24 - exponent);  // 24 significant bits, as a float has
+  return std::nearbyint(x * scale) / scale;             // exact scaling by powers of two
+}
 
 constexpr const char* kDepthOnly = R"(#version 450 core
 void main() {}
@@ -141,12 +153,19 @@ void MeshRenderer::begin(Pass pass, const Camera& camera) {
                                   : pass == Pass::ObjectIds ? programs_->ids
                                                             : programs_->depth;
   program.use();
-  const Mat4d vp = multiply(camera.view_projection, translation(camera.render_origin));
+  // The shader subtracts the origin in float, i.e. the origin rounded to float: far from
+  // zero that is up to half a float ulp away from render_origin (4 units at 1e8).
+  // Translate the matrix by the same rounded origin, so that the two cancel exactly and
+  // the drawn geometry does not shift against what the culler projects.
+  const DVec3 origin{roundToFloat(camera.render_origin.x), roundToFloat(camera.render_origin.y),
+                     roundToFloat(camera.render_origin.z)};
+  const Mat4d vp = multiply(camera.view_projection, translation(origin));
   float m[16];
   for (int i = 0; i < 16; ++i) m[i] = static_cast<float>(vp.m[i]);
   glUniformMatrix4fv(program.uniform("u_vp"), 1, GL_FALSE, m);
-  glUniform3f(program.uniform("u_offset"), float(-camera.render_origin.x),
-              float(-camera.render_origin.y), float(-camera.render_origin.z));
+  // Exact: each value is a float already.
+  glUniform3f(program.uniform("u_offset"), static_cast<float>(-origin.x),
+              static_cast<float>(-origin.y), static_cast<float>(-origin.z));
   id_location_ = pass == Pass::ObjectIds ? program.uniform("u_object") : -1;
   const GLboolean color_writes = pass == Pass::DepthOnly ? GL_FALSE : GL_TRUE;
   glColorMask(color_writes, color_writes, color_writes, color_writes);

@@ -66,7 +66,25 @@ std::string validateCamera(const Camera& camera) {
     out << "camera: render_origin (" << o.x << ", " << o.y << ", " << o.z << ") must be finite";
     return out.str();
   }
-  return {};
+  const DepthSetup& d = camera.depth;
+  if (d.convention != DepthConvention::Standard && d.convention != DepthConvention::Reversed) {
+    out << "camera: depth.convention has the unknown value " << int(d.convention)
+        << "; use DepthConvention::Standard or Reversed";
+  } else if (d.clip_range != ClipDepthRange::NegativeOneToOne &&
+             d.clip_range != ClipDepthRange::ZeroToOne) {
+    out << "camera: depth.clip_range has the unknown value " << int(d.clip_range)
+        << "; use ClipDepthRange::NegativeOneToOne or ZeroToOne";
+  } else if (d.format != DepthFormat::D16 && d.format != DepthFormat::D24 &&
+             d.format != DepthFormat::D32F) {
+    out << "camera: depth.format has the unknown value " << int(d.format)
+        << "; use DepthFormat::D16, D24 or D32F, as the depth buffer is";
+  } else if (d.convention == DepthConvention::Reversed &&
+             d.clip_range != ClipDepthRange::ZeroToOne) {
+    out << "camera: reversed depth needs the zero-to-one clip range; set depth.clip_range to "
+           "ClipDepthRange::ZeroToOne (glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE)) and build "
+           "the projection for it";
+  }
+  return out.str();
 }
 
 Mat4d multiply(const Mat4d& a, const Mat4d& b) {

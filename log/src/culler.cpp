@@ -31,11 +31,32 @@ std::optional<Method> parseMethod(const std::string& name) {
 }
 
 std::string validateCullerDesc(const CullerDesc& desc) {
-  if (!parseMethod(toString(desc.method))) return "culler: unknown method";
+  if (!parseMethod(toString(desc.method))) {
+    return "culler: method " + std::to_string(int(desc.method)) +
+           " is unknown; use log-state, log-zfar, bog, hzb, pq or vfc";
+  }
+  const std::string projection = validateProjectionSettings(desc.projection);
+  if (!projection.empty()) return "culler: " + projection;
   if (desc.tile_size < 1) {
     std::ostringstream out;
     out << "culler: tile size " << desc.tile_size << " is invalid; use 1 pixel or more";
     return out.str();
+  }
+  const GridApproximation& a = desc.approximation;
+  const std::string method = toString(desc.method);
+  if (!a.exact() && (desc.method == Method::Hzb || desc.method == Method::Vfc)) {
+    return "culler: method " + method + " takes no approximation settings";
+  }
+  if (desc.method == Method::Pq && (a.full_free_fraction != 0 || a.row_stride != 1)) {
+    return "culler: method pq takes only the visible-pixel threshold (it has no tiles)";
+  }
+  if (desc.method == Method::LogState || desc.method == Method::LogZfar ||
+      desc.method == Method::Bog) {
+    // The grid's own checks, with a viewport that is always valid.
+    const GridVariant variant =
+        desc.method == Method::LogZfar ? GridVariant::Zfar : GridVariant::OcclusionState;
+    const std::string problem = validateGridDesc({1, 1, desc.tile_size, variant}, a);
+    if (!problem.empty()) return "culler: " + problem;
   }
   return {};
 }
@@ -77,7 +98,7 @@ void Culler::prepare(const Camera& camera) {
         desc_.method == Method::LogZfar ? GridVariant::Zfar : GridVariant::OcclusionState};
     if (!grid_ || grid_->desc().width != want.width || grid_->desc().height != want.height ||
         grid_->desc().tile_size != want.tile_size || grid_->desc().variant != want.variant) {
-      grid_.emplace(want);
+      grid_.emplace(want, desc_.approximation);
     }
     grid_->reset(projector_->clearKey());
   }
@@ -209,7 +230,7 @@ Visibility Culler::testEntry(const Entry& entry, DepthSource& depth) {
       std::uint32_t count = 0;
       depth.countAtOrBeyond(&query, 1, &count);
       ++grid_counts_.tiles_tested;
-      v = count > 0 ? Visibility::Visible : Visibility::Occluded;
+      v = count > desc_.approximation.visible_pixels ? Visibility::Visible : Visibility::Occluded;
       break;
     }
     case Method::Vfc: break;

@@ -13,7 +13,15 @@ namespace logrid {
 
 const char* toString(GridVariant v) { return v == GridVariant::Zfar ? "zfar" : "occlusion-state"; }
 
-std::string validateGridDesc(const GridDesc& desc) {
+namespace {
+
+std::uint64_t tileCount(std::uint64_t width, std::uint64_t height, std::uint64_t tile) {
+  return ((width + tile - 1) / tile) * ((height + tile - 1) / tile);
+}
+
+}  // namespace
+
+std::string validateGridDesc(const GridDesc& desc, const GridApproximation& approximation) {
   std::ostringstream out;
   if (desc.width < 1 || desc.height < 1 || desc.width > kMaxViewportSide ||
       desc.height > kMaxViewportSide) {
@@ -21,14 +29,30 @@ std::string validateGridDesc(const GridDesc& desc) {
         << " is out of range; each side must be between 1 and " << kMaxViewportSide;
   } else if (desc.tile_size < 1) {
     out << "grid: tile size " << desc.tile_size << " is invalid; use 1 pixel or more";
+  } else if (tileCount(desc.width, desc.height, desc.tile_size) > kMaxGridTiles) {
+    std::uint32_t smallest = desc.tile_size;
+    while (tileCount(desc.width, desc.height, smallest) > kMaxGridTiles) ++smallest;
+    out << "grid: a " << desc.width << "x" << desc.height << " viewport with tile size "
+        << desc.tile_size << " has " << tileCount(desc.width, desc.height, desc.tile_size)
+        << " tiles, more than the " << kMaxGridTiles << " a grid may hold; use a tile size of "
+        << smallest << " or more";
   } else if (desc.variant != GridVariant::OcclusionState && desc.variant != GridVariant::Zfar) {
     out << "grid: unknown variant " << int(desc.variant);
+  } else if (!(approximation.full_free_fraction >= 0 && approximation.full_free_fraction < 1)) {
+    out << "grid: full-tile free fraction " << approximation.full_free_fraction
+        << " is invalid; use 0 (exact) up to but not including 1";
+  } else if (approximation.full_free_fraction > 0 && desc.variant == GridVariant::Zfar) {
+    out << "grid: the full-tile free fraction applies to the occlusion-state variant only";
+  } else if (approximation.row_stride < 1 || approximation.row_stride > desc.tile_size) {
+    out << "grid: row stride " << approximation.row_stride
+        << " is invalid; use 1 (every row) up to the tile size " << desc.tile_size;
   }
   return out.str();
 }
 
-OcclusionGrid::OcclusionGrid(const GridDesc& desc) : desc_(desc) {
-  const std::string problem = validateGridDesc(desc);
+OcclusionGrid::OcclusionGrid(const GridDesc& desc, const GridApproximation& approximation)
+    : desc_(desc), approx_(approximation) {
+  const std::string problem = validateGridDesc(desc, approximation);
   if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
   const std::uint64_t ts = desc.tile_size;
   tiles_x_ = static_cast<std::uint32_t>((desc.width + ts - 1) / ts);
@@ -39,6 +63,7 @@ OcclusionGrid::OcclusionGrid(const GridDesc& desc) : desc_(desc) {
   outdated_.assign(n, 0);
   pending_.reserve(n);
   rects_.reserve(n);
+  owners_.reserve(n);
   areas_.reserve(n);
   queries_.reserve(n);
   counts_.reserve(n);
@@ -128,19 +153,23 @@ OcclusionGrid::Decision OcclusionGrid::decideFromRecord(std::size_t i, bool inte
   return Decision::Undecided;
 }
 
-void OcclusionGrid::applySummary(std::size_t i, const AreaDepth& area) {
+void OcclusionGrid::applySummary(std::size_t i, const AreaDepth& area, std::uint32_t sampled) {
   near_[i] = area.min_key;
   far_[i] = area.max_key;
   outdated_[i] = 0;
+  if (desc_.variant == GridVariant::OcclusionState && far_[i] >= clear_key_ &&
+      !countShows(area.free_pixels, sampled)) {
+    far_[i] = below(clear_key_);  // approximation: few enough free pixels count as full
+  }
 }
 
-void OcclusionGrid::applyCount(std::size_t i, std::uint32_t count, std::uint32_t area,
+void OcclusionGrid::applyCount(std::size_t i, std::uint32_t count, std::uint32_t sampled,
                                float threshold) {
   if (desc_.variant == GridVariant::OcclusionState) {
     // Counted at the clear key, so `count` is the number of free pixels: an exact state.
     assert(threshold == clear_key_ && "OcclusionGrid: state tests count at the clear key");
-    far_[i] = count > 0 ? clear_key_ : below(clear_key_);
-    near_[i] = count == area ? clear_key_ : -std::numeric_limits<float>::infinity();
+    far_[i] = countShows(count, sampled) ? clear_key_ : below(clear_key_);
+    near_[i] = count == sampled ? clear_key_ : -std::numeric_limits<float>::infinity();
     outdated_[i] = 0;
   } else if (count == 0) {
     // Only a bound: every pixel is in front of the threshold.
@@ -150,12 +179,31 @@ void OcclusionGrid::applyCount(std::size_t i, std::uint32_t count, std::uint32_t
   }
 }
 
+bool OcclusionGrid::countShows(std::uint32_t count, std::uint32_t sampled) const {
+  // Exact: any pixel shows. Approximate: more than the allowed fraction of them.
+  return count > 0 && double(count) > double(approx_.full_free_fraction) * sampled;
+}
+
+void OcclusionGrid::appendSampledRows(const PixelRect& area, std::uint32_t owner) {
+  const std::int32_t stride = std::int32_t(approx_.row_stride);
+  if (stride == 1) {
+    rects_.push_back(area);
+    owners_.push_back(owner);
+    return;
+  }
+  for (std::int32_t y = area.y0; y < area.y1; y += stride) {
+    rects_.push_back({area.x0, y, area.x1, y + 1});
+    owners_.push_back(owner);
+  }
+}
+
 Visibility OcclusionGrid::test(const PixelRect& rect, float threshold, DepthSource& source,
                                GridTestCounts& counts) {
   assert(!rect.empty() && rect.x0 >= 0 && rect.y0 >= 0 && rect.x1 <= std::int32_t(desc_.width) &&
          rect.y1 <= std::int32_t(desc_.height) &&
          "OcclusionGrid::test: rect must be non-empty and inside the viewport");
   exact_records_ = source.traits().reads_pixels;
+  if (approx_.visible_pixels > 0) return testCounting(rect, threshold, source, counts);
   const TileSpan s = tileSpan(rect, desc_.tile_size, desc_.width, desc_.height);
 
   // Steps 1 and 2 (§3): records of up-to-date tiles, internal ones first.
@@ -217,34 +265,66 @@ Visibility OcclusionGrid::readPending(const PixelRect& rect, float threshold, bo
     const std::uint32_t* tiles = pending_.data() + first;
     counts.tiles_tested += n;
     counts.tiles_read += n;
-    bool visible = false;
-    if (internal && traits.reads_pixels) {
-      rects_.clear();
-      for (std::size_t k = 0; k < n; ++k) rects_.push_back(tileRectOf(tiles[k]));
-      areas_.resize(n);
-      source.summarize(rects_.data(), n, areas_.data());
-      for (std::size_t k = 0; k < n; ++k) {
-        applySummary(tiles[k], areas_[k]);
-        visible |= areas_[k].max_key >= threshold;
-      }
-    } else {
-      queries_.clear();
-      for (std::size_t k = 0; k < n; ++k) {
-        const PixelRect tile = tileRectOf(tiles[k]);
-        queries_.push_back({internal ? tile : intersect(tile, rect), threshold});
-      }
-      counts_.resize(n);
-      source.countAtOrBeyond(queries_.data(), n, counts_.data());
-      for (std::size_t k = 0; k < n; ++k) {
-        if (internal) {
-          applyCount(tiles[k], counts_[k], std::uint32_t(queries_[k].rect.area()), threshold);
-        }
-        visible |= counts_[k] > 0;
-      }
-    }
+    const bool visible =
+        internal && traits.reads_pixels
+            ? summarizeTiles(tiles, n, threshold, source)
+            : countTiles(tiles, n, internal ? nullptr : &rect, threshold, source).shows;
     if (visible) return Visibility::Visible;
   }
   return Visibility::Occluded;
+}
+
+bool OcclusionGrid::summarizeTiles(const std::uint32_t* tiles, std::size_t n, float threshold,
+                                   DepthSource& source) {
+  rects_.clear();
+  owners_.clear();
+  for (std::size_t k = 0; k < n; ++k) appendSampledRows(tileRectOf(tiles[k]), std::uint32_t(k));
+  areas_.resize(rects_.size());
+  source.summarize(rects_.data(), rects_.size(), areas_.data());
+  bool shows = false;
+  std::size_t r = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    AreaDepth merged{std::numeric_limits<float>::infinity(),
+                     -std::numeric_limits<float>::infinity(), 0};
+    std::uint32_t sampled = 0;
+    for (; r < rects_.size() && owners_[r] == k; ++r) {
+      merged.min_key = std::min(merged.min_key, areas_[r].min_key);
+      merged.max_key = std::max(merged.max_key, areas_[r].max_key);
+      merged.free_pixels += areas_[r].free_pixels;
+      sampled += std::uint32_t(rects_[r].area());
+    }
+    applySummary(tiles[k], merged, sampled);
+    shows |= far_[tiles[k]] >= threshold;
+  }
+  return shows;
+}
+
+OcclusionGrid::CountResult OcclusionGrid::countTiles(const std::uint32_t* tiles, std::size_t n,
+                                                     const PixelRect* clip, float threshold,
+                                                     DepthSource& source) {
+  rects_.clear();
+  owners_.clear();
+  for (std::size_t k = 0; k < n; ++k) {
+    const PixelRect tile = tileRectOf(tiles[k]);
+    appendSampledRows(clip ? intersect(tile, *clip) : tile, std::uint32_t(k));
+  }
+  queries_.clear();
+  for (const PixelRect& r : rects_) queries_.push_back({r, threshold});
+  counts_.resize(queries_.size());
+  source.countAtOrBeyond(queries_.data(), queries_.size(), counts_.data());
+  CountResult result;
+  std::size_t r = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    std::uint32_t count = 0, sampled = 0;
+    for (; r < rects_.size() && owners_[r] == k; ++r) {
+      count += counts_[r];
+      sampled += std::uint32_t(rects_[r].area());
+    }
+    if (!clip) applyCount(tiles[k], count, sampled, threshold);
+    result.shows |= countShows(count, sampled);
+    result.pixels += std::uint64_t(count) * approx_.row_stride;
+  }
+  return result;
 }
 
 void OcclusionGrid::refreshNow(const PixelRect& rect, DepthSource& source) {
@@ -261,28 +341,45 @@ void OcclusionGrid::refreshNow(const PixelRect& rect, DepthSource& source) {
     }
   }
   if (pending_.empty()) return;
-  const std::size_t n = pending_.size();
   if (source.traits().reads_pixels) {
-    rects_.clear();
-    for (std::uint32_t i : pending_) rects_.push_back(tileRectOf(i));
-    areas_.resize(n);
-    source.summarize(rects_.data(), n, areas_.data());
-    for (std::size_t k = 0; k < n; ++k) applySummary(pending_[k], areas_[k]);
+    summarizeTiles(pending_.data(), pending_.size(), clear_key_, source);
   } else {
-    queries_.clear();
-    for (std::uint32_t i : pending_) queries_.push_back({tileRectOf(i), clear_key_});
-    counts_.resize(n);
-    source.countAtOrBeyond(queries_.data(), n, counts_.data());
-    for (std::size_t k = 0; k < n; ++k) {
-      const std::uint32_t area = std::uint32_t(queries_[k].rect.area());
-      if (desc_.variant == GridVariant::OcclusionState) {
-        applyCount(pending_[k], counts_[k], area, clear_key_);
-      } else {
-        // A free-pixel count bounds zfar only when nothing is free.
-        if (counts_[k] == 0) applyCount(pending_[k], 0, area, clear_key_);
+    // Free-pixel counts: exact states; for zfar a bound only when nothing is free.
+    countTiles(pending_.data(), pending_.size(), nullptr, clear_key_, source);
+  }
+}
+
+Visibility OcclusionGrid::testCounting(const PixelRect& rect, float threshold, DepthSource& source,
+                                       GridTestCounts& counts) {
+  const TileSpan s = tileSpan(rect, desc_.tile_size, desc_.width, desc_.height);
+  const std::uint64_t allowed = approx_.visible_pixels;
+  std::uint64_t seen = 0;
+  pending_.clear();
+  for (std::uint32_t ty = s.y0; ty <= s.y1; ++ty) {
+    for (std::uint32_t tx = s.x0; tx <= s.x1; ++tx) {
+      const std::size_t i = std::size_t(ty) * tiles_x_ + tx;
+      if (far_[i] < threshold) {
+        ++counts.tiles_tested;  // nothing of this tile shows
+        continue;
       }
+      if (!outdated_[i] && near_[i] >= threshold) {
+        ++counts.tiles_tested;  // every pixel under the box shows
+        seen += std::uint64_t(intersect(tileRectOf(i), rect).area());
+        if (seen > allowed) return Visibility::Visible;
+        continue;
+      }
+      pending_.push_back(static_cast<std::uint32_t>(i));
     }
   }
+  const std::size_t step = source.traits().batched ? pending_.size() : 1;
+  for (std::size_t first = 0; first < pending_.size(); first += step) {
+    const std::size_t n = std::min(step, pending_.size() - first);
+    counts.tiles_tested += n;
+    counts.tiles_read += n;
+    seen += countTiles(pending_.data() + first, n, &rect, threshold, source).pixels;
+    if (seen > allowed) return Visibility::Visible;
+  }
+  return Visibility::Occluded;
 }
 
 }  // namespace logrid

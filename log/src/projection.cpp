@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
+#include <string>
 
 #include "rounding.hpp"
 
@@ -42,15 +44,27 @@ double dot4(const double* plane, const double* c) {
 
 }  // namespace
 
+std::string validateProjectionSettings(const ProjectionSettings& settings) {
+  std::ostringstream out;
+  if (settings.subpixel_bits < 0 || settings.subpixel_bits > 16) {
+    out << "Projector: subpixel_bits " << settings.subpixel_bits
+        << " is out of range; use 0 to 16 (the default 4 is GL's minimum and safe everywhere)";
+  } else if (!(settings.render_error_ulps >= 0) || !std::isfinite(settings.render_error_ulps)) {
+    out << "Projector: render_error_ulps " << settings.render_error_ulps
+        << " is invalid; use a finite value >= 0 (the default " << kRenderErrorUlps << " is safe)";
+  } else if (!(settings.quantisation_scale >= 0) || !std::isfinite(settings.quantisation_scale)) {
+    out << "Projector: quantisation_scale " << settings.quantisation_scale
+        << " is invalid; use a finite value >= 0 (the default 1 is safe)";
+  }
+  return out.str();
+}
+
 Projector::Projector(const Camera& camera, const ProjectionSettings& settings)
     : camera_(camera), settings_(settings) {
   const std::string problem = validateCamera(camera);
   if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
-  if (settings.subpixel_bits < 0 || settings.subpixel_bits > 16 ||
-      !(settings.render_error_ulps >= 0) || !(settings.quantisation_scale >= 0)) {
-    throw Error(ErrorCode::InvalidArgument,
-                "Projector: settings out of range (subpixel_bits in [0, 16], error scales >= 0)");
-  }
+  const std::string bad_settings = validateProjectionSettings(settings);
+  if (!bad_settings.empty()) throw Error(ErrorCode::InvalidArgument, bad_settings);
 
   origin_ = camera.render_origin;
   const Mat4d render = multiply(camera.view_projection, translation(origin_));

@@ -1,6 +1,402 @@
-// logrid bench: placeholder until the benchmark lands.
+// logrid bench: every method on the same frames of the same walkthroughs, interleaved
+// frame by frame, per scene and viewport size: the paper's Table 1 on our frames, the
+// ratios that matter, the depth readers side by side, plots, and where the targets of
+// the benchmark issue stand. `--tradeoff` runs the speed-for-accuracy sweep instead
+// (tradeoff.cpp).
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
 #include "cli/commands.hpp"
+#include "cli/common.hpp"
+#include "cli/experiment.hpp"
+#include "cli/plot.hpp"
+#include "cli/report.hpp"
+#include "cli/tradeoff.hpp"
+#include "logrid/error.hpp"
 
 namespace logrid::samples {
-void addBenchCommand(CLI::App&) {}
+namespace {
+
+// Table 1 of the paper (LOG §5): per scene and size, LOG, BOG, HZB, PQ and no culling.
+struct PaperCell {
+  const char* scene;
+  std::uint32_t width;
+  double seconds[5];     // LOG BOG HZB PQ noOC
+  double pixels[4];      // LOG BOG HZB PQ
+  double tiles_per_box;  // LOG, 640x480 only (0: not given)
+};
+constexpr PaperCell kPaper[] = {
+    {"forest", 640, {0.018, 0.073, 0.162, 0.152, 0.045}, {198621, 2288217, 2682035, 5880310}, 14.6},
+    {"forest", 1280, {0.031, 0.216, 0.632, 0.611, 0.052}, {424713, 6844437, 10729627, 23495623}, 0},
+    {"city", 640, {0.021, 0.045, 0.087, 0.158, 0.741}, {283306, 1272965, 1361715, 6032486}, 17.7},
+    {"city", 1280, {0.033, 0.138, 0.328, 0.630, 0.742}, {312053, 4230168, 5417068, 24042029}, 0},
+};
+
+const PaperCell* paperCell(const std::string& scene, std::uint32_t width) {
+  for (const PaperCell& c : kPaper) {
+    if (scene == c.scene && width == c.width) return &c;
+  }
+  return nullptr;
+}
+
+// Paper column of a method (index into PaperCell arrays), -1 if the paper has none.
+int paperColumn(const std::string& method) {
+  if (method == "log-state") return 0;
+  if (method == "bog") return 1;
+  if (method == "hzb") return 2;
+  if (method == "pq") return 3;
+  if (method == "vfc") return 4;
+  return -1;
+}
+
+struct BenchOptions {
+  WalkOptions walk;
+  std::string scenes = "forest,city";
+  std::string sizes = "640x480,1280x960";
+  std::string methods = "log-state,log-zfar,bog,hzb,pq,vfc,oracle";
+  std::string readers = "pbo,query";  // log-state again with these readers
+  double forest_scale = 0;            // 0: --scale
+  double city_scale = 0;
+  std::size_t repeat = 3;
+  std::size_t warmup = 2;
+  bool no_verify = false;
+  std::string markdown;
+  std::string json;
+  std::string plots;
+  bool tradeoff = false;
+};
+
+std::vector<std::string> splitList(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+std::string fmt(double v, int decimals = 2) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+// 1234567 -> "1,234,567"
+std::string grouped(double v) {
+  std::string digits = std::to_string(static_cast<long long>(std::llround(v)));
+  for (int i = int(digits.size()) - 3; i > 0 && digits[std::size_t(i) - 1] != '-'; i -= 3) {
+    digits.insert(std::size_t(i), ",");
+  }
+  return digits;
+}
+
+std::string ratio(double a, double b) { return b > 0 ? fmt(a / b, 2) + "×" : "–"; }
+
+struct Row {
+  std::string label;
+  std::string method;
+  std::string reader;
+  double ms = 0;
+  double spread = 0;
+  double objects = 0;
+  double triangles = 0;
+  double pixels = 0;
+  double tiles_per_box = 0;
+  double read_share = 0;
+  double flushes = 0;
+  std::int64_t missed = -1;
+  bool conservative = true;
+};
+
+Row makeRow(const std::string& label, const ConfigResult& r) {
+  const nlohmann::json s = runSummary(r.records, r.config, false);
+  Row row;
+  row.label = label;
+  row.method = r.config.method.name();
+  row.reader = r.config.method.method ? toString(r.config.reader) : "–";
+  row.ms = r.avg_ms();
+  row.spread = r.spread();
+  row.objects = s["avg_drawn_objects"];
+  row.triangles = s["avg_drawn_triangles"];
+  row.pixels = s["avg_read_pixels"];
+  row.tiles_per_box = s["avg_tiles_per_box"];
+  row.read_share = row.ms > 0 ? s["avg_read_ms"].get<double>() / row.ms : 0;
+  double flushes = 0;
+  for (const FrameRecord& f : r.records) flushes += double(f.stats.flushes);
+  row.flushes = r.records.empty() ? 0 : flushes / double(r.records.size());
+  if (s.contains("missed_visible_objects")) row.missed = s["missed_visible_objects"];
+  row.conservative = r.config.method.method && *r.config.method.method != Method::Vfc
+                         ? r.config.culler.approximation.exact()
+                         : true;
+  return row;
+}
+
+const Row* findRow(const std::vector<Row>& rows, const std::string& label) {
+  for (const Row& r : rows) {
+    if (r.label == label) return &r;
+  }
+  return nullptr;
+}
+
+// The markdown of one scene × size cell: the measured table, the ratios beside the
+// paper's, and the targets.
+void writeCell(std::ostream& md, const std::string& scene, std::uint32_t width,
+               std::uint32_t height, const std::vector<Row>& rows, std::size_t frames,
+               std::size_t repeats, const std::string& plot_prefix) {
+  md << "\n### " << scene << " " << width << "×" << height << "\n\n";
+  md << frames << " frames along the walkthrough, " << repeats
+     << " interleaved repetitions; ms/frame is the average over frames of the per-frame median, "
+        "spread is (max − min) / median of the repetitions' averages.\n\n";
+  md << "| method | reader | ms/frame | spread | drawn objects | drawn triangles | pixels read "
+        "| tiles/box | read share | flushes | missed |\n";
+  md << "|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n";
+  for (const Row& r : rows) {
+    md << "| " << r.label << " | " << r.reader << " | " << fmt(r.ms) << " | "
+       << fmt(100 * r.spread, 0) << "% | " << grouped(r.objects) << " | " << grouped(r.triangles)
+       << " | " << grouped(r.pixels) << " | " << (r.tiles_per_box > 0 ? fmt(r.tiles_per_box) : "–")
+       << " | " << fmt(100 * r.read_share, 0) << "% | " << fmt(r.flushes, 1) << " | "
+       << (r.missed >= 0 ? std::to_string(r.missed) : "–") << " |\n";
+  }
+
+  const Row* log = findRow(rows, "log-state");
+  if (!log) return;
+  const PaperCell* paper = paperCell(scene, width);
+  md << "\nRatios against LOG (log-state, " << log->reader << ")"
+     << (paper ? ", beside the paper's Table 1" : "") << ":\n\n";
+  md << "| method | pixels read ÷ LOG | paper | time ÷ LOG | paper |\n|---|--:|--:|--:|--:|\n";
+  for (const Row& r : rows) {
+    if (r.label == "log-state") continue;
+    const int col = paperColumn(r.label);
+    md << "| " << r.label << " | " << (r.pixels > 0 ? ratio(r.pixels, log->pixels) : "–") << " | "
+       << (paper && col >= 1 && col <= 3 ? ratio(paper->pixels[col], paper->pixels[0]) : "")
+       << " | " << ratio(r.ms, log->ms) << " | "
+       << (paper && col >= 1 ? ratio(paper->seconds[col], paper->seconds[0]) : "") << " |\n";
+  }
+
+  md << "\nTargets (benchmark issue):\n\n";
+  auto target = [&](bool met, const std::string& what) {
+    md << "- " << (met ? "met" : "**not met**") << ": " << what << "\n";
+  };
+  if (paper) {
+    for (int col = 1; col <= 3; ++col) {
+      const char* names[] = {"", "bog", "hzb", "pq"};
+      const Row* other = findRow(rows, names[col]);
+      if (!other || log->pixels <= 0) continue;
+      const double ours = other->pixels / log->pixels;
+      const double theirs = paper->pixels[col] / paper->pixels[0];
+      target(ours >= theirs, std::string(names[col]) + " reads " + fmt(ours, 1) +
+                                 "× LOG's pixels (paper " + fmt(theirs, 1) + "×)");
+    }
+  }
+  for (const char* name : {"bog", "hzb", "pq", "vfc"}) {
+    if (const Row* other = findRow(rows, name)) {
+      target(log->ms < other->ms, std::string("LOG faster than ") + name + ": " + fmt(log->ms) +
+                                      " vs " + fmt(other->ms) + " ms (" +
+                                      ratio(other->ms, log->ms) + ")");
+    }
+  }
+  const Row* vfc = findRow(rows, "vfc");
+  if (scene == "city" && vfc) {
+    target(vfc->ms >= 20 * log->ms,
+           "city: LOG at least 20× faster than VFC: " + ratio(vfc->ms, log->ms));
+  }
+  if (const Row* oracle = findRow(rows, "oracle")) {
+    target(log->ms <= 1.15 * oracle->ms,
+           "LOG within 1.15× of the oracle: " + ratio(log->ms, oracle->ms));
+  }
+  if (paper && paper->tiles_per_box > 0) {
+    target(log->tiles_per_box <= paper->tiles_per_box, "tiles tested per box at most the paper's " +
+                                                           fmt(paper->tiles_per_box, 1) + ": " +
+                                                           fmt(log->tiles_per_box));
+  }
+  if (!plot_prefix.empty()) {
+    md << "\n![frame time](" << plot_prefix << "_ms.png) ![pixels read](" << plot_prefix
+       << "_pixels.png)\n";
+  }
+}
+
+int runBench(const BenchOptions& o) {
+  if (o.tradeoff)
+    return runTradeoff(o.walk, splitList(o.scenes), splitList(o.sizes), o.forest_scale,
+                       o.city_scale, o.repeat, o.markdown, o.json, o.plots);
+  if (o.repeat < 1) throw Error(ErrorCode::InvalidArgument, "--repeat must be at least 1");
+  const std::vector<std::string> scenes = splitList(o.scenes);
+  const std::vector<std::string> sizes = splitList(o.sizes);
+  const std::vector<std::string> methods = splitList(o.methods);
+  const std::vector<std::string> readers = splitList(o.readers);
+  if (scenes.empty() || sizes.empty() || methods.empty()) {
+    throw Error(ErrorCode::InvalidArgument, "bench: --scenes, --sizes and --methods need an entry");
+  }
+  for (const std::string& s : sizes) parseSize(s);  // bad sizes fail before any work
+  for (const std::string& m : methods) {
+    if (!parseMethodChoice(m)) {
+      throw Error(ErrorCode::InvalidArgument, "bench: method '" + m + "' is unknown");
+    }
+  }
+  if (!o.plots.empty()) std::filesystem::create_directories(o.plots);
+
+  gl::Context context(contextDesc(o.walk));
+  const nlohmann::json machine = machineInfo(context);
+  std::time_t now = std::time(nullptr);
+  char date[32];
+  std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+
+  std::ostringstream md;
+  md << "# logrid benchmark\n\n";
+  md << "Machine: " << machineLine(machine) << ". " << date << ".\n\n";
+  md << "Command: `" << commandLine() << "`\n\n";
+  md << "Every method renders the same frames in turn (interleaved per frame), through the "
+        "same traversal and renderer; frame time is clear + cull + draw + glFinish. The "
+        "oracle draws exactly the objects an untimed ID pass found visible: the floor no "
+        "culling method can beat. `missed` counts visible objects a method did not draw, "
+        "checked on every frame of the first repetition against the object-ID oracle.\n";
+
+  nlohmann::json report = {{"command", commandLine()},
+                           {"machine", machine},
+                           {"date", date},
+                           {"repeat", o.repeat},
+                           {"cells", nlohmann::json::array()}};
+  bool any_missed = false;
+  for (const std::string& scene_name : scenes) {
+    WalkOptions so = o.walk;
+    so.scene = scene_name;
+    if (scene_name == "forest" && o.forest_scale > 0) so.scale = o.forest_scale;
+    if (scene_name == "city" && o.city_scale > 0) so.scale = o.city_scale;
+    LoadedScene scene = loadScene(so);
+    const nlohmann::json described = scene.describe();
+    md << "\n## " << scene.prepared.name << "\n\n"
+       << grouped(double(scene.prepared.triangles)) << " triangles in "
+       << grouped(double(scene.prepared.mesh.draws.size())) << " objects (scale " << so.scale
+       << ", seed " << so.seed << "); hierarchy of " << scene.prepared.hierarchy.nodes().size()
+       << " nodes built in " << fmt(scene.prepared.bvh_build_ms, 0) << " ms; generated in "
+       << fmt(scene.generate_ms, 0) << " ms; peak memory "
+       << fmt(double(scene.peak_rss_bytes) / double(1 << 20), 0) << " MiB.\n";
+
+    for (const std::string& size : sizes) {
+      std::vector<RunConfig> configs;
+      std::vector<std::string> labels;
+      for (const std::string& m : methods) {
+        WalkOptions mo = so;
+        mo.method = m;
+        mo.size = size;
+        mo.verify = !o.no_verify;
+        configs.push_back(runConfig(mo, scene.prepared));
+        labels.push_back(m);
+      }
+      for (const std::string& reader : readers) {
+        if (reader == so.reader) continue;
+        WalkOptions mo = so;
+        mo.method = "log-state";
+        mo.reader = reader;
+        mo.size = size;
+        mo.verify = !o.no_verify;
+        configs.push_back(runConfig(mo, scene.prepared));
+        labels.push_back("log-state (" + reader + ")");
+      }
+      const auto [w, h] = parseSize(size);
+      const std::string label = "bench " + scene.prepared.name + " " + size;
+      const std::vector<ConfigResult> results =
+          runInterleaved(scene.prepared, *scene.renderer, configs, o.repeat, label, o.warmup);
+
+      std::vector<Row> rows;
+      nlohmann::json cell = described;
+      cell["width"] = w;
+      cell["height"] = h;
+      cell["configs"] = nlohmann::json::array();
+      for (std::size_t c = 0; c < results.size(); ++c) {
+        rows.push_back(makeRow(labels[c], results[c]));
+        nlohmann::json j = runSummary(results[c].records, results[c].config, false);
+        j["label"] = labels[c];
+        j["avg_frame_ms"] = results[c].avg_ms();
+        j["spread"] = results[c].spread();
+        j["repetition_ms"] = results[c].repetition_ms;
+        j["frame_ms"] = results[c].frame_ms;
+        std::vector<std::uint64_t> pixels;
+        for (const FrameRecord& f : results[c].records) pixels.push_back(f.stats.pixels_read);
+        j["frame_read_pixels"] = pixels;
+        cell["configs"].push_back(std::move(j));
+        if (rows.back().conservative && rows.back().missed > 0) any_missed = true;
+      }
+      if (const Row* log = findRow(rows, "log-state")) {
+        for (nlohmann::json& j : cell["configs"]) {
+          const Row* r = findRow(rows, j["label"]);
+          j["time_vs_log"] = log->ms > 0 ? r->ms / log->ms : 0;
+          j["pixels_vs_log"] = log->pixels > 0 ? r->pixels / log->pixels : 0;
+        }
+      }
+
+      std::string plot_prefix;
+      if (!o.plots.empty()) {
+        const std::string stem = scene.prepared.name + "_" + size;
+        std::vector<PlotSeries> ms, px;
+        for (std::size_t c = 0; c < results.size(); ++c) {
+          ms.push_back({labels[c], results[c].frame_ms, {}});
+          std::vector<double> p;
+          for (const FrameRecord& f : results[c].records) p.push_back(double(f.stats.pixels_read));
+          if (rows[c].pixels > 0) px.push_back({labels[c], p, {}});
+        }
+        const std::string title = scene.prepared.name + " " + size;
+        plotLines(o.plots + "/" + stem + "_ms", title + ": frame time", "frame", "ms (log scale)",
+                  ms, true);
+        plotLines(o.plots + "/" + stem + "_pixels", title + ": depth pixels read", "frame",
+                  "pixels (log scale)", px, true);
+        if (!o.markdown.empty()) {
+          const auto md_dir = std::filesystem::absolute(o.markdown).parent_path();
+          plot_prefix =
+              std::filesystem::relative(std::filesystem::absolute(o.plots), md_dir).string() + "/" +
+              stem;
+        }
+      }
+      writeCell(md, scene.prepared.name, w, h, rows, configs.front().frames, o.repeat, plot_prefix);
+      report["cells"].push_back(std::move(cell));
+    }
+  }
+  std::printf("%s", md.str().c_str());
+  if (!o.markdown.empty()) {
+    std::ofstream out(o.markdown);
+    out << md.str();
+    if (!out) throw Error(ErrorCode::Environment, "cannot write '" + o.markdown + "'");
+  }
+  if (!o.json.empty()) writeJson(o.json, report);
+  if (any_missed) {
+    std::fprintf(stderr,
+                 "bench: a conservative method missed visible objects (see 'missed'); "
+                 "that is a bug, please report it with the command line\n");
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+void addBenchCommand(CLI::App& app) {
+  auto o = std::make_shared<BenchOptions>();
+  o->walk.frames = 40;
+  CLI::App* bench = app.add_subcommand("bench", "every method on the same frames, side by side");
+  bench->add_option("--scenes", o->scenes, "comma-separated: forest, city, model files");
+  bench->add_option("--sizes", o->sizes, "comma-separated viewport sizes WIDTHxHEIGHT");
+  bench->add_option("--methods", o->methods,
+                    "comma-separated: log-state, log-zfar, bog, hzb, pq, vfc, oracle");
+  bench->add_option("--readers", o->readers,
+                    "log-state again with these depth readers (pbo, query, software; '' for none)");
+  addWalkthroughOptions(*bench, o->walk);
+  addViewOptions(*bench, o->walk);  // --tile, --reader, depth, projection, approximate knobs
+  bench->add_option("--forest-scale", o->forest_scale, "scale of the forest (default --scale)");
+  bench->add_option("--city-scale", o->city_scale, "scale of the city (default --scale)");
+  bench->add_option("--repeat", o->repeat, "interleaved repetitions; medians are reported");
+  bench->add_option("--warmup", o->warmup, "frames each method renders first, untimed");
+  bench->add_flag("--no-verify", o->no_verify, "skip the object-ID check of the first repetition");
+  bench->add_option("--markdown", o->markdown, "write the report as markdown");
+  bench->add_option("--json", o->json, "write every figure as JSON");
+  bench->add_option("--plots", o->plots, "write PNG plots (gnuplot) into this folder");
+  bench->add_flag("--tradeoff", o->tradeoff,
+                  "sweep the approximate knobs instead: time vs error, Pareto plot");
+  bench->final_callback([o] { throw CLI::RuntimeError(runBench(*o)); });
+}
+
 }  // namespace logrid::samples

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -16,12 +17,20 @@ namespace logrid::samples {
 
 void addSceneOptions(CLI::App& app, WalkOptions& o) {
   app.add_option("--scene", o.scene, "forest, city, or a model file assimp reads")->required();
+  addWalkthroughOptions(app, o);
+}
+
+void addWalkthroughOptions(CLI::App& app, WalkOptions& o) {
   app.add_option("--scale", o.scale, "scene size relative to the paper's (procedural scenes)");
   app.add_option("--seed", o.seed, "seed of the procedural scenes");
   app.add_option("--path", o.path_file, "camera path JSON (keys: position, look_at, time)");
   app.add_option("--frames", o.frames, "frames along the path")->check(CLI::Range(1, 10000000));
   app.add_option("--leaf", o.leaf, "objects (or triangles) per hierarchy leaf; 0: the scene's");
   app.add_option("--platform", o.platform, "EGL platform: auto, surfaceless or device");
+  app.add_option("--lp-threads", o.lp_threads,
+                 "llvmpipe raster threads (sets LP_NUM_THREADS; 0 makes each depth read's flush "
+                 "~10x cheaper but big frames slower)")
+      ->check(CLI::Range(0, 64));
 }
 
 void addViewOptions(CLI::App& app, WalkOptions& o) {
@@ -33,6 +42,13 @@ void addViewOptions(CLI::App& app, WalkOptions& o) {
   app.add_option("--far", o.far_plane, "far plane (default: the scene's)");
   auto* fov = app.add_option("--fov", o.fov, "vertical field of view in degrees");
   app.add_flag("--ortho", o.ortho, "orthographic projection")->excludes(fov);
+  app.add_option("--visible-pixels", o.approximation.visible_pixels,
+                 "approximate: cull boxes showing at most N pixels (default 0: exact)");
+  app.add_option(
+      "--full-fraction", o.approximation.full_free_fraction,
+      "approximate: tiles with at most this fraction free count as full (log-state, bog)");
+  app.add_option("--row-stride", o.approximation.row_stride,
+                 "approximate: read every k-th pixel row of a tile (default 1: every row)");
 }
 
 std::pair<std::uint32_t, std::uint32_t> parseSize(const std::string& text) {
@@ -52,7 +68,8 @@ DepthFormat parseDepthFormat(const std::string& text) {
   if (text == "16") return DepthFormat::D16;
   if (text == "24") return DepthFormat::D24;
   if (text == "32f" || text == "32F") return DepthFormat::D32F;
-  throw Error(ErrorCode::InvalidArgument, "depth format '" + text + "' is unknown; use 16, 24 or 32f");
+  throw Error(ErrorCode::InvalidArgument,
+              "depth format '" + text + "' is unknown; use 16, 24 or 32f");
 }
 
 DepthConvention parseDepthConvention(const std::string& text) {
@@ -65,7 +82,8 @@ DepthConvention parseDepthConvention(const std::string& text) {
 namespace {
 
 double msSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
 }
 
 }  // namespace
@@ -84,8 +102,8 @@ nlohmann::json LoadedScene::describe() const {
           {"cpu_bytes", p.memoryBytes()},
           {"gpu_bytes", renderer ? renderer->gpuBytes() : 0},
           {"peak_rss_bytes", peak_rss_bytes},
-          {"bytes_per_triangle",
-           p.triangles ? double(peak_rss_bytes) / double(p.triangles) : 0.0}};
+          {"prepare_peak_rss_bytes", prepare_peak_rss_bytes},
+          {"bytes_per_triangle", p.triangles ? double(peak_rss_bytes) / double(p.triangles) : 0.0}};
 }
 
 LoadedScene loadScene(const WalkOptions& o) {
@@ -104,6 +122,7 @@ LoadedScene loadScene(const WalkOptions& o) {
   bvh::BuildArgs args = defaultBuildArgs(scene);
   if (o.leaf) args.max_leaf_size = o.leaf;
   out.prepared = prepareScene(std::move(scene), args);
+  out.prepare_peak_rss_bytes = peakRssBytes();
   out.renderer = std::make_unique<gl::MeshRenderer>(out.prepared.mesh);
   out.peak_rss_bytes = peakRssBytes();
   return out;
@@ -125,14 +144,22 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
   }
   c.reader = *reader;
   c.culler.tile_size = o.tile;
-  if (o.tile < 1) throw Error(ErrorCode::InvalidArgument, "tile size 0 is invalid; use 1 pixel or more");
+  if (o.tile < 1)
+    throw Error(ErrorCode::InvalidArgument, "tile size 0 is invalid; use 1 pixel or more");
+  c.culler.approximation = o.approximation;
+  if (c.method.method) {
+    CullerDesc check = c.culler;
+    check.method = *c.method.method;
+    const std::string problem = validateCullerDesc(check);
+    if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
+  }
   const auto [w, h] = parseSize(o.size);
   c.view.width = w;
   c.view.height = h;
   c.view.fov_degrees = o.fov;
   if (!(o.fov > 0 && o.fov < 180)) {
-    throw Error(ErrorCode::InvalidArgument,
-                "field of view " + std::to_string(o.fov) + " is invalid; use 0 < fov < 180 degrees");
+    throw Error(ErrorCode::InvalidArgument, "field of view " + std::to_string(o.fov) +
+                                                " is invalid; use 0 < fov < 180 degrees");
   }
   c.view.orthographic = o.ortho;
   c.view.near_plane = o.near_plane > 0 ? o.near_plane : scene.near_plane;
@@ -142,7 +169,8 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
                                                 " must lie beyond the near plane " +
                                                 std::to_string(c.view.near_plane));
   }
-  c.view.depth = depthSetupFor(parseDepthConvention(o.depth_convention), parseDepthFormat(o.depth_format));
+  c.view.depth =
+      depthSetupFor(parseDepthConvention(o.depth_convention), parseDepthFormat(o.depth_format));
   c.frames = o.frames;
   c.verify = o.verify;
   c.images_dir = o.images;
@@ -158,8 +186,26 @@ gl::ContextDesc contextDesc(const WalkOptions& o) {
                 "platform '" + o.platform + "' is unknown; use auto, surfaceless or device");
   }
   d.platform = *platform;
+  // Mesa reads LP_NUM_THREADS when the driver starts, i.e. when the context is made.
+  if (o.lp_threads >= 0) setenv("LP_NUM_THREADS", std::to_string(o.lp_threads).c_str(), 1);
   return d;
 }
+
+namespace {
+std::string g_command_line;
+}
+
+void setCommandLine(int argc, char** argv) {
+  g_command_line.clear();
+  for (int i = 0; i < argc; ++i) {
+    if (i) g_command_line += ' ';
+    const std::string arg = i == 0 ? "logrid" : argv[i];
+    const bool quote = arg.find_first_of(" \t'\"") != std::string::npos;
+    g_command_line += quote ? "'" + arg + "'" : arg;
+  }
+}
+
+const std::string& commandLine() { return g_command_line; }
 
 nlohmann::json machineInfo(const gl::Context& context) {
   std::string cpu;
@@ -184,8 +230,8 @@ nlohmann::json machineInfo(const gl::Context& context) {
 
 std::string machineLine(const nlohmann::json& m) {
   std::ostringstream out;
-  out << m["gl_renderer"].get<std::string>() << " (" << m["gl_version"].get<std::string>()
-      << "), " << m["cores"].get<unsigned>() << " cores, " << m["cpu"].get<std::string>();
+  out << m["gl_renderer"].get<std::string>() << " (" << m["gl_version"].get<std::string>() << "), "
+      << m["cores"].get<unsigned>() << " cores, " << m["cpu"].get<std::string>();
   return out.str();
 }
 

@@ -35,11 +35,15 @@ struct WalkOptions {
   std::string images;
   bool overlay = false;
   std::string platform = "auto";
-  std::uint32_t leaf = 0;  // 0: the scene's default
+  int lp_threads = -1;              // >= 0: LP_NUM_THREADS for llvmpipe (PLATFORM.md); -1: leave it
+  std::uint32_t leaf = 0;           // 0: the scene's default
+  GridApproximation approximation;  // off by default
 };
 
 // Adds the options every walkthrough command has (--scene ... --platform).
 void addSceneOptions(CLI::App& app, WalkOptions& o);
+// The same without --scene (for commands that take several scenes).
+void addWalkthroughOptions(CLI::App& app, WalkOptions& o);
 void addViewOptions(CLI::App& app, WalkOptions& o);
 
 // Parses "WxH"; throws logrid::Error(InvalidArgument) naming the text.
@@ -51,8 +55,9 @@ DepthConvention parseDepthConvention(const std::string& text);
 struct LoadedScene {
   PreparedScene prepared;
   std::unique_ptr<gl::MeshRenderer> renderer;
-  double generate_ms = 0;  // generating or loading
-  std::uint64_t peak_rss_bytes = 0;
+  double generate_ms = 0;                    // generating or loading
+  std::uint64_t peak_rss_bytes = 0;          // after uploading to GL
+  std::uint64_t prepare_peak_rss_bytes = 0;  // after generating and preparing, before GL
   nlohmann::json describe() const;
 };
 
@@ -63,6 +68,10 @@ LoadedScene loadScene(const WalkOptions& o);
 RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene);
 
 gl::ContextDesc contextDesc(const WalkOptions& o);
+
+// The command line as typed (quoted where needed), recorded by main() for reports.
+void setCommandLine(int argc, char** argv);
+const std::string& commandLine();
 
 // GL renderer, cores, CPU model, LP_NUM_THREADS.
 nlohmann::json machineInfo(const gl::Context& context);

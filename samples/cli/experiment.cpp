@@ -7,6 +7,16 @@
 #include "cli/report.hpp"
 
 namespace logrid::samples {
+namespace {
+
+bool sameView(const ViewSettings& a, const ViewSettings& b) {
+  return a.width == b.width && a.height == b.height && a.fov_degrees == b.fov_degrees &&
+         a.orthographic == b.orthographic && a.near_plane == b.near_plane &&
+         a.far_plane == b.far_plane && a.depth.convention == b.depth.convention &&
+         a.depth.format == b.depth.format && a.depth.clip_range == b.depth.clip_range;
+}
+
+}  // namespace
 
 double ConfigResult::avg_ms() const {
   double sum = 0;
@@ -27,10 +37,20 @@ std::vector<ConfigResult> runInterleaved(const PreparedScene& scene, gl::MeshRen
   const std::size_t frames = configs.front().frames;
   std::vector<std::unique_ptr<FrameRunner>> runners;
   std::vector<ConfigResult> results(configs.size());
+  // One ID pass per frame for all configurations with the same view.
+  std::vector<std::pair<ViewSettings, std::shared_ptr<OracleCache>>> caches;
+  auto cacheFor = [&](const ViewSettings& v) {
+    for (auto& [view, cache] : caches) {
+      if (sameView(view, v)) return cache;
+    }
+    caches.emplace_back(v, std::make_shared<OracleCache>());
+    return caches.back().second;
+  };
   for (std::size_t c = 0; c < configs.size(); ++c) {
     RunConfig timed = configs[c];
     timed.frames = frames;
     runners.push_back(std::make_unique<FrameRunner>(scene, renderer, timed));
+    runners.back()->shareOracle(cacheFor(timed.view));
     results[c].config = timed;
   }
   for (std::size_t w = 0; w < warmup; ++w) {
@@ -57,6 +77,7 @@ std::vector<ConfigResult> runInterleaved(const PreparedScene& scene, gl::MeshRen
         RunConfig quiet = results[c].config;
         quiet.verify = false;
         runners[c] = std::make_unique<FrameRunner>(scene, renderer, quiet);
+        runners[c]->shareOracle(cacheFor(quiet.view));
         runners[c]->renderFrame(0);  // warm the new framebuffer's state
       }
     }

@@ -99,8 +99,8 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
       case Reader::Pbo: source_ = std::make_unique<zread::PboSource>(handle); break;
       case Reader::Query: source_ = std::make_unique<zread::QuerySource>(handle); break;
       case Reader::Software:
-        software_ = std::make_unique<zread::SoftwareDepthBuffer>(fb.width, fb.height,
-                                                                 fb.depth.convention);
+        software_ =
+            std::make_unique<zread::SoftwareDepthBuffer>(fb.width, fb.height, fb.depth.convention);
         break;
     }
     if (config.reader == Reader::Query && desc.method == Method::Hzb) {
@@ -108,7 +108,10 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
                   "method hzb needs depth values; use --reader readpixels, pbo or software");
     }
   }
-  vfc_ = std::make_unique<Culler>(CullerDesc{Method::Vfc, 32, config.culler.projection});
+  CullerDesc vfc;
+  vfc.method = Method::Vfc;
+  vfc.projection = config.culler.projection;
+  vfc_ = std::make_unique<Culler>(vfc);
   drawn_.assign(scene.mesh.draws.size(), 0);
   if (!config.images_dir.empty()) std::filesystem::create_directories(config.images_dir);
   gl::checkGlErrors("FrameRunner");
@@ -140,13 +143,22 @@ std::vector<ObjectId> FrameRunner::idPass(const Camera& camera) {
   return visible;
 }
 
+std::vector<ObjectId> FrameRunner::visibleSet(std::size_t frame, const Camera& camera) {
+  if (!oracle_cache_) return idPass(camera);
+  auto& frames = oracle_cache_->frames;
+  if (frames.size() <= frame) frames.resize(frame + 1);
+  if (!frames[frame]) frames[frame] = idPass(camera);
+  return *frames[frame];
+}
+
 void FrameRunner::rasterizeObject(ObjectId id, zread::SoftwareRasterizer& raster) {
   const gl::RenderMesh& mesh = scene_.mesh;
   const gl::RenderMesh::Draw& d = mesh.draws[id];
   for (std::uint32_t i = d.first_index; i < d.first_index + d.index_count; i += 3) {
     const float* v[3];
     for (std::uint32_t k = 0; k < 3; ++k) {
-      const std::uint32_t local = mesh.indices16.empty() ? mesh.indices32[i + k] : mesh.indices16[i + k];
+      const std::uint32_t local =
+          mesh.indices16.empty() ? mesh.indices32[i + k] : mesh.indices16[i + k];
       v[k] = &mesh.positions[(std::size_t(d.base_vertex) + local) * 3];
     }
     raster.drawTriangle(v[0], v[1], v[2], id);
@@ -158,7 +170,7 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
   rec.frame = frame;
   const Camera camera = cameraFor(frame);
   std::vector<ObjectId> oracle_visible;
-  if (!config_.method.method) oracle_visible = idPass(camera);  // not timed
+  if (!config_.method.method) oracle_visible = visibleSet(frame, camera);  // not timed
   for (ObjectId id : drawn_list_) drawn_[id] = 0;
   drawn_list_.clear();
   observer_->clear();
@@ -191,11 +203,13 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
   }
   renderer_.end();
   glFinish();
-  rec.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  rec.ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
   if (!config_.images_dir.empty()) writeImages(frame, camera);
   if (config_.verify || !config_.method.method) {
-    const std::vector<ObjectId> visible = config_.method.method ? idPass(camera) : oracle_visible;
+    const std::vector<ObjectId> visible =
+        config_.method.method ? visibleSet(frame, camera) : oracle_visible;
     rec.visible = std::int64_t(visible.size());
     rec.missed = 0;
     for (ObjectId id : visible) {
@@ -212,15 +226,16 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
 void FrameRunner::writeImages(std::size_t frame, const Camera& camera) {
   const std::vector<std::uint8_t> color = framebuffer_->readColor();
   char stem[512];
-  std::snprintf(stem, sizeof stem, "%s/%s_%s_%04zu", config_.images_dir.c_str(), scene_.name.c_str(),
-                config_.method.name().c_str(), frame);
+  std::snprintf(stem, sizeof stem, "%s/%s_%s_%04zu", config_.images_dir.c_str(),
+                scene_.name.c_str(), config_.method.name().c_str(), frame);
   writePng(std::string(stem) + ".png", color, camera.width, camera.height);
   if (config_.overlay && culler_) {
     OverlayData overlay;
     overlay.grid = culler_->grid();
     overlay.occluded = observer_->occluded;
     overlay.tested_visible = observer_->tested_visible;
-    for (NodeId n : observer_->drawn_nodes) overlay.drawn_boxes.push_back(scene_.hierarchy.bounds(n));
+    for (NodeId n : observer_->drawn_nodes)
+      overlay.drawn_boxes.push_back(scene_.hierarchy.bounds(n));
     writePng(std::string(stem) + "_overlay.png", drawOverlay(color, camera, overlay), camera.width,
              camera.height);
   }

@@ -35,23 +35,29 @@ std::optional<MethodChoice> parseMethodChoice(const std::string& name);
 
 struct RunConfig {
   MethodChoice method{Method::LogState};
-  CullerDesc culler;          // method is taken from `method`
+  CullerDesc culler;  // method is taken from `method`
   Reader reader = Reader::ReadPixels;
   ViewSettings view;
-  std::size_t frames = 100;   // frames spread over the whole path
-  bool verify = false;        // object-ID check after each frame
-  std::string images_dir;     // write PNG frames here when set
-  bool overlay = false;       // and overlay pictures (tile grid, boxes)
+  std::size_t frames = 100;  // frames spread over the whole path
+  bool verify = false;       // object-ID check after each frame
+  std::string images_dir;    // write PNG frames here when set
+  bool overlay = false;      // and overlay pictures (tile grid, boxes)
 };
 
 struct FrameRecord {
   std::size_t frame = 0;
-  double ms = 0;                  // clear + cull + draw + glFinish
+  double ms = 0;  // clear + cull + draw + glFinish
   FrameStats stats;
-  std::uint64_t triangles = 0;    // triangles drawn
-  std::int64_t visible = -1;      // objects in the ID buffer (with verify or oracle)
-  std::int64_t missed = -1;       // visible objects not drawn (with verify)
+  std::uint64_t triangles = 0;       // triangles drawn
+  std::int64_t visible = -1;         // objects in the ID buffer (with verify or oracle)
+  std::int64_t missed = -1;          // visible objects not drawn (with verify)
   std::vector<ObjectId> missed_ids;  // the first few
+};
+
+// The visible set of each frame found by the ID pass, shared by runners that render
+// the same frames with the same view (bench cells), so the pass runs once per frame.
+struct OracleCache {
+  std::vector<std::optional<std::vector<ObjectId>>> frames;
 };
 
 class FrameRunner {
@@ -65,11 +71,15 @@ class FrameRunner {
   FrameRecord renderFrame(std::size_t frame);
   // The camera of a frame (for callers that need it, e.g. overlays and tests).
   Camera cameraFor(std::size_t frame) const;
+  // Share ID-pass results with other runners of the same frames and view.
+  void shareOracle(std::shared_ptr<OracleCache> cache) { oracle_cache_ = std::move(cache); }
   // Last frame's colour image (RGBA8, bottom-up rows).
   std::vector<std::uint8_t> readColor() const { return framebuffer_->readColor(); }
 
  private:
   std::vector<ObjectId> idPass(const Camera& camera);
+  // The ID pass of a frame, from the shared cache when another runner did it.
+  std::vector<ObjectId> visibleSet(std::size_t frame, const Camera& camera);
   void writeImages(std::size_t frame, const Camera& camera);
   void rasterizeObject(ObjectId id, zread::SoftwareRasterizer& raster);
 
@@ -85,6 +95,7 @@ class FrameRunner {
   std::unique_ptr<Observer> observer_;
   std::vector<std::uint8_t> drawn_;  // per object, this frame
   std::vector<ObjectId> drawn_list_;
+  std::shared_ptr<OracleCache> oracle_cache_;
 };
 
 }  // namespace logrid::samples

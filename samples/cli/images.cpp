@@ -16,11 +16,12 @@ void writePng(const std::string& path, const std::vector<std::uint8_t>& rgba, st
   const auto row = OIIO::stride_t(width) * 4;
   // GL rows are bottom-up: start at the last row and step backwards.
   if (!out || !out->open(path, spec) ||
-      !out->write_image(OIIO::TypeDesc::UINT8, rgba.data() + std::size_t(height - 1) * std::size_t(row),
-                        OIIO::AutoStride, -row) ||
+      !out->write_image(OIIO::TypeDesc::UINT8,
+                        rgba.data() + std::size_t(height - 1) * std::size_t(row), OIIO::AutoStride,
+                        -row) ||
       !out->close()) {
-    throw Error(ErrorCode::Environment, "cannot write image '" + path + "': " +
-                                            (out ? out->geterror() : OIIO::geterror()) +
+    throw Error(ErrorCode::Environment, "cannot write image '" + path +
+                                            "': " + (out ? out->geterror() : OIIO::geterror()) +
                                             " (check that the folder exists and is writable)");
   }
 }
@@ -29,7 +30,8 @@ namespace {
 
 class Canvas {
  public:
-  Canvas(std::vector<std::uint8_t>& rgba, std::int32_t w, std::int32_t h) : px_(rgba), w_(w), h_(h) {}
+  Canvas(std::vector<std::uint8_t>& rgba, std::int32_t w, std::int32_t h)
+      : px_(rgba), w_(w), h_(h) {}
 
   void blend(std::int32_t x, std::int32_t y, const std::uint8_t c[3], float a) {
     if (x < 0 || y < 0 || x >= w_ || y >= h_) return;
@@ -50,7 +52,8 @@ class Canvas {
     if (!(steps < 1e5)) return;  // off-screen or degenerate
     for (double i = 0; i <= steps; ++i) {
       const double t = steps > 0 ? i / steps : 0;
-      blend(std::int32_t(std::floor(x0 + t * (x1 - x0))), std::int32_t(std::floor(y0 + t * (y1 - y0))), c, 1);
+      blend(std::int32_t(std::floor(x0 + t * (x1 - x0))),
+            std::int32_t(std::floor(y0 + t * (y1 - y0))), c, 1);
     }
   }
 
@@ -59,8 +62,9 @@ class Canvas {
   std::int32_t w_, h_;
 };
 
-constexpr std::uint8_t kRed[3] = {230, 40, 40}, kYellow[3] = {240, 210, 40}, kBlue[3] = {40, 110, 240},
-                       kGreen[3] = {40, 220, 60}, kDark[3] = {60, 60, 60}, kLight[3] = {200, 200, 200};
+constexpr std::uint8_t kRed[3] = {230, 40, 40}, kYellow[3] = {240, 210, 40},
+                       kBlue[3] = {40, 110, 240}, kGreen[3] = {40, 220, 60},
+                       kDark[3] = {60, 60, 60}, kLight[3] = {200, 200, 200};
 
 void wireBox(Canvas& canvas, const Camera& camera, const Aabb& box) {
   const Mat4d& m = camera.view_projection;
@@ -68,7 +72,8 @@ void wireBox(Canvas& canvas, const Camera& camera, const Aabb& box) {
   for (int i = 0; i < 8; ++i) {
     const double p[3] = {(i & 1) ? box.max.x : box.min.x, (i & 2) ? box.max.y : box.min.y,
                          (i & 4) ? box.max.z : box.min.z};
-    for (int r = 0; r < 4; ++r) clip[i][r] = m(r, 0) * p[0] + m(r, 1) * p[1] + m(r, 2) * p[2] + m(r, 3);
+    for (int r = 0; r < 4; ++r)
+      clip[i][r] = m(r, 0) * p[0] + m(r, 1) * p[1] + m(r, 2) * p[2] + m(r, 3);
   }
   static const int edges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
                                    {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
@@ -97,7 +102,8 @@ std::vector<std::uint8_t> drawOverlay(const std::vector<std::uint8_t>& rgba, con
                                       const OverlayData& data) {
   std::vector<std::uint8_t> out = rgba;
   for (std::size_t i = 0; i < out.size(); i += 4) {
-    for (int k = 0; k < 3; ++k) out[i + std::size_t(k)] = std::uint8_t(out[i + std::size_t(k)] * 0.55);
+    for (int k = 0; k < 3; ++k)
+      out[i + std::size_t(k)] = std::uint8_t(out[i + std::size_t(k)] * 0.55);
   }
   Canvas canvas(out, std::int32_t(camera.width), std::int32_t(camera.height));
   if (const OcclusionGrid* grid = data.grid) {

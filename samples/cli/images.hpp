@@ -19,10 +19,10 @@ void writePng(const std::string& path, const std::vector<std::uint8_t>& rgba, st
               std::uint32_t height);
 
 struct OverlayData {
-  const OcclusionGrid* grid = nullptr;       // the grid at the end of the frame
-  std::vector<BoxProjection> occluded;       // boxes the tests culled
-  std::vector<BoxProjection> tested_visible; // boxes the tests let through
-  std::vector<Aabb> drawn_boxes;             // leaf boxes whose objects were drawn
+  const OcclusionGrid* grid = nullptr;        // the grid at the end of the frame
+  std::vector<BoxProjection> occluded;        // boxes the tests culled
+  std::vector<BoxProjection> tested_visible;  // boxes the tests let through
+  std::vector<Aabb> drawn_boxes;              // leaf boxes whose objects were drawn
 };
 
 // The frame, dimmed, with: tiles tinted red (full), yellow (partial) or left clear

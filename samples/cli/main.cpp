@@ -5,10 +5,12 @@
 #include <exception>
 
 #include "cli/commands.hpp"
+#include "cli/common.hpp"
 #include "logrid/error.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"logrid: conservative occlusion culling with a lazy occlusion grid"};
+  logrid::samples::setCommandLine(argc, argv);
   app.require_subcommand(1);
   logrid::samples::addWalkCommand(app);
   logrid::samples::addBenchCommand(app);
@@ -21,8 +23,8 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;
   } catch (const logrid::Error& e) {
     std::fprintf(stderr, "logrid: %s\n", e.what());
-    const bool input = e.code() == logrid::ErrorCode::InvalidArgument ||
-                       e.code() == logrid::ErrorCode::BadInput;
+    const bool input =
+        e.code() == logrid::ErrorCode::InvalidArgument || e.code() == logrid::ErrorCode::BadInput;
     return input ? 2 : 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "logrid: %s\n", e.what());

@@ -83,6 +83,13 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
                       {"avg_read_ms", read_ms / n},
                       {"read_share", ms > 0 ? read_ms / ms : 0.0},
                       {"avg_tiles_per_box", boxes > 0 ? tiles / boxes : 0.0}};
+  const GridApproximation& a = config.culler.approximation;
+  j["conservative"] = a.exact();
+  if (!a.exact()) {
+    j["approximation"] = {{"visible_pixels", a.visible_pixels},
+                          {"full_free_fraction", a.full_free_fraction},
+                          {"row_stride", a.row_stride}};
+  }
   if (verified) {
     j["visible_objects"] = visible;
     j["missed_visible_objects"] = missed;

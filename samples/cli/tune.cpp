@@ -1,6 +1,108 @@
-// logrid tune: placeholder until the tuning tool lands.
+// logrid tune: sweeps the tile size on a scene and path (procedural or a user's file),
+// every size on the same frames (interleaved), and recommends the fastest.
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
 #include "cli/commands.hpp"
+#include "cli/common.hpp"
+#include "cli/experiment.hpp"
+#include "cli/plot.hpp"
+#include "cli/report.hpp"
+#include "logrid/error.hpp"
 
 namespace logrid::samples {
-void addTuneCommand(CLI::App&) {}
+namespace {
+
+struct TuneOptions {
+  WalkOptions walk;
+  std::vector<std::uint32_t> tiles{4, 8, 16, 32, 64, 128};
+  std::size_t repeat = 3;
+  std::string json;
+  std::string plot;  // PNG path stem
+};
+
+int runTune(const TuneOptions& o) {
+  if (o.tiles.empty()) throw Error(ErrorCode::InvalidArgument, "tune: --tiles needs a size");
+  if (o.repeat < 1) throw Error(ErrorCode::InvalidArgument, "tune: --repeat must be at least 1");
+  gl::Context context(contextDesc(o.walk));
+  LoadedScene scene = loadScene(o.walk);
+  std::vector<RunConfig> configs;
+  for (std::uint32_t tile : o.tiles) {
+    WalkOptions t = o.walk;
+    t.tile = tile;
+    configs.push_back(runConfig(t, scene.prepared));
+  }
+  const std::vector<ConfigResult> results =
+      runInterleaved(scene.prepared, *scene.renderer, configs, o.repeat,
+                     "tune " + scene.prepared.name + " " + o.walk.method);
+
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < results.size(); ++i) {
+    if (results[i].avg_ms() < results[best].avg_ms()) best = i;
+  }
+  std::printf("%s, %s, %s, %s reader, %zu frames x %zu repetitions\n", scene.prepared.name.c_str(),
+              o.walk.method.c_str(), o.walk.size.c_str(), o.walk.reader.c_str(),
+              configs.front().frames, o.repeat);
+  std::printf("%6s %10s %8s %14s %10s %8s\n", "tile", "ms/frame", "spread", "pixels read",
+              "tiles/box", "missed");
+  nlohmann::json report = scene.describe();
+  report["command"] = commandLine();
+  report["machine"] = machineInfo(context);
+  report["sizes"] = nlohmann::json::array();
+  PlotSeries ms{"ms/frame", {}, {}}, px{"pixels read / 10,000", {}, {}};
+  bool missed = false;
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const ConfigResult& r = results[i];
+    nlohmann::json s = runSummary(r.records, r.config, false);
+    s["avg_frame_ms"] = r.avg_ms();
+    s["spread"] = r.spread();
+    const std::int64_t miss = s.value("missed_visible_objects", std::int64_t{-1});
+    missed |= miss > 0;
+    std::printf("%6u %10.2f %7.0f%% %14.0f %10.2f %8s%s\n", r.config.culler.tile_size, r.avg_ms(),
+                100 * r.spread(), s["avg_read_pixels"].get<double>(),
+                s["avg_tiles_per_box"].get<double>(),
+                miss >= 0 ? std::to_string(miss).c_str() : "–", i == best ? "   <- best" : "");
+    ms.x.push_back(r.config.culler.tile_size);
+    ms.y.push_back(r.avg_ms());
+    px.x.push_back(r.config.culler.tile_size);
+    px.y.push_back(s["avg_read_pixels"].get<double>() / 1e4);
+    report["sizes"].push_back(std::move(s));
+  }
+  report["recommended_tile"] = results[best].config.culler.tile_size;
+  std::printf("recommended: --tile %u (%.2f ms/frame)\n", results[best].config.culler.tile_size,
+              results[best].avg_ms());
+  if (!o.plot.empty()) {
+    plotLines(o.plot,
+              scene.prepared.name + " " + o.walk.method + " " + o.walk.size + ": tile size sweep",
+              "tile size (pixels)", "ms/frame, pixels read / 10,000 (log scale)", {ms, px}, true);
+  }
+  if (!o.json.empty()) writeJson(o.json, report);
+  if (missed) {
+    std::fprintf(stderr, "tune: a conservative run missed visible objects: a bug\n");
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+void addTuneCommand(CLI::App& app) {
+  auto o = std::make_shared<TuneOptions>();
+  o->walk.frames = 30;
+  CLI::App* tune = app.add_subcommand("tune", "sweep tile sizes on a scene and recommend one");
+  addSceneOptions(*tune, o->walk);
+  tune->add_option("--method", o->walk.method, "log-state, log-zfar or bog");
+  tune->add_option("--size", o->walk.size, "viewport WIDTHxHEIGHT");
+  addViewOptions(*tune, o->walk);
+  tune->add_option("--tiles", o->tiles, "tile sizes to try (default 4 8 16 32 64 128)")
+      ->delimiter(',');
+  tune->add_option("--repeat", o->repeat, "interleaved repetitions; medians are reported");
+  tune->add_flag("--verify", o->walk.verify, "check the first repetition against the oracle");
+  tune->add_option("--json", o->json, "write the sweep as JSON");
+  tune->add_option("--plot", o->plot, "write STEM.png (and .dat/.gp) with gnuplot");
+  tune->final_callback([o] { throw CLI::RuntimeError(runTune(*o)); });
+}
+
 }  // namespace logrid::samples

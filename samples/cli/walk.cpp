@@ -28,14 +28,16 @@ int runWalk(const WalkOptions& o) {
   nlohmann::json summary = scene.describe();
   summary.update(runSummary(records, config, true));
   summary["machine"] = machineInfo(context);
-  std::printf("%s %s %ux%u tile %u: %.2f ms/frame, %.0f objects, %.0f triangles, %.0f pixels read, "
-              "%.2f tiles/box",
-              scene.prepared.name.c_str(), config.method.name().c_str(), config.view.width,
-              config.view.height, config.culler.tile_size, summary["avg_frame_ms"].get<double>(),
-              summary["avg_drawn_objects"].get<double>(), summary["avg_drawn_triangles"].get<double>(),
-              summary["avg_read_pixels"].get<double>(), summary["avg_tiles_per_box"].get<double>());
+  std::printf(
+      "%s %s %ux%u tile %u: %.2f ms/frame, %.0f objects, %.0f triangles, %.0f pixels read, "
+      "%.2f tiles/box",
+      scene.prepared.name.c_str(), config.method.name().c_str(), config.view.width,
+      config.view.height, config.culler.tile_size, summary["avg_frame_ms"].get<double>(),
+      summary["avg_drawn_objects"].get<double>(), summary["avg_drawn_triangles"].get<double>(),
+      summary["avg_read_pixels"].get<double>(), summary["avg_tiles_per_box"].get<double>());
   if (summary.contains("visible_objects")) {
-    std::printf(", %lld visible, %lld missed", (long long)summary["visible_objects"].get<std::int64_t>(),
+    std::printf(", %lld visible, %lld missed",
+                (long long)summary["visible_objects"].get<std::int64_t>(),
                 (long long)summary["missed_visible_objects"].get<std::int64_t>());
   }
   std::printf("\n");
@@ -48,8 +50,9 @@ int runWalk(const WalkOptions& o) {
                      r.frame, (long long)r.missed, r.missed_ids.front());
       }
     }
-    std::fprintf(stderr, "walk: %s missed visible objects: a conservative method must never do "
-                         "that; please report it with the command line\n",
+    std::fprintf(stderr,
+                 "walk: %s missed visible objects: a conservative method must never do "
+                 "that; please report it with the command line\n",
                  config.method.name().c_str());
     return 1;
   }
@@ -62,8 +65,7 @@ void addWalkCommand(CLI::App& app) {
   auto options = std::make_shared<WalkOptions>();
   CLI::App* walk = app.add_subcommand("walk", "render a walkthrough with one culling method");
   addSceneOptions(*walk, *options);
-  walk->add_option("--method", options->method,
-                   "log-state, log-zfar, bog, hzb, pq, vfc or oracle");
+  walk->add_option("--method", options->method, "log-state, log-zfar, bog, hzb, pq, vfc or oracle");
   walk->add_option("--size", options->size, "viewport WIDTHxHEIGHT");
   addViewOptions(*walk, *options);
   walk->add_flag("--verify", options->verify, "check every frame against the object-ID oracle");

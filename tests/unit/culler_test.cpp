@@ -109,14 +109,14 @@ TEST_P(CullerOracleTest, NeverMissesAVisibleObject) {
     for (auto [w, h] : {std::pair<std::uint32_t, std::uint32_t>{64, 48}, {161, 97}}) {
       for (double yaw : {-0.6, 0.0, 0.4}) {
         const Camera cam = makeCamera(w, h, c.convention, yaw);
-        const Outcome o = runFrame(scene, cam, {c.method, tile, {}}, false);
+        const Outcome o = runFrame(scene, cam, {c.method, tile, {}, {}}, false);
         for (ObjectId id : o.visible) {
           EXPECT_TRUE(o.drawn.count(id)) << "visible object " << id << " was culled (tile " << tile
                                          << ", " << w << "x" << h << ", yaw " << yaw << ")";
         }
         drawn += o.drawn.size();
         visible += o.visible.size();
-        vfc_drawn += runFrame(scene, cam, {Method::Vfc, tile, {}}, false).drawn.size();
+        vfc_drawn += runFrame(scene, cam, {Method::Vfc, tile, {}, {}}, false).drawn.size();
       }
     }
   }
@@ -133,7 +133,7 @@ TEST_P(CullerOracleTest, PredicateOnlySourceNeverMissesEither) {
   const Scene scene = makeScene(12);
   for (double yaw : {-0.3, 0.2}) {
     const Camera cam = makeCamera(120, 90, c.convention, yaw);
-    const Outcome o = runFrame(scene, cam, {c.method, 16, {}}, true);
+    const Outcome o = runFrame(scene, cam, {c.method, 16, {}, {}}, true);
     for (ObjectId id : o.visible) EXPECT_TRUE(o.drawn.count(id)) << "object " << id;
   }
 }
@@ -176,7 +176,7 @@ class BrokenHierarchy : public Hierarchy {
 TEST(CullerTest, InvalidBoxesAreDrawnAndCounted) {
   const Camera cam = makeCamera(64, 48, DepthConvention::Standard, 0);
   zread::SoftwareDepthBuffer depth(64, 48, DepthConvention::Standard);
-  Culler culler({Method::LogState, 8, {}});
+  Culler culler({Method::LogState, 8, {}, {}});
   std::set<ObjectId> drawn;
   const FrameStats s =
       culler.cullFrame(cam, BrokenHierarchy(), depth, [&](ObjectId id) { drawn.insert(id); });
@@ -193,7 +193,7 @@ TEST(CullerTest, BadCameraAndBadDescriptorsThrow) {
   EXPECT_THROW(culler.cullFrame(cam, h, depth, [](ObjectId) {}), Error);
   cam = makeCamera(32, 48, DepthConvention::Standard, 0);  // buffer is 64x48
   EXPECT_THROW(culler.cullFrame(cam, h, depth, [](ObjectId) {}), Error);
-  EXPECT_THROW(Culler({Method::LogZfar, 0, {}}), Error);
+  EXPECT_THROW(Culler({Method::LogZfar, 0, {}, {}}), Error);
   EXPECT_EQ(parseMethod("log-zfar"), Method::LogZfar);
   EXPECT_FALSE(parseMethod("fast").has_value());
 }
@@ -202,7 +202,7 @@ TEST(CullerTest, HzbRefusesAPredicateOnlySource) {
   const Camera cam = makeCamera(64, 48, DepthConvention::Standard, 0);
   zread::SoftwareDepthBuffer depth(64, 48, DepthConvention::Standard);
   test::CountOnlySource queries(depth);
-  Culler culler({Method::Hzb, 8, {}});
+  Culler culler({Method::Hzb, 8, {}, {}});
   const bvh::FlatHierarchy h = bvh::buildOverBoxes({{{-1, -1, -11}, {1, 1, -9}}});
   EXPECT_THROW(culler.cullFrame(cam, h, queries, [](ObjectId) {}), Error);
 }

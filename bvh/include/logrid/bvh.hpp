@@ -58,7 +58,8 @@ class FlatHierarchy : public Hierarchy {
   // Recomputes every box after objects moved: a leaf's box becomes the union of its
   // objects' boxes (object_boxes indexed by ObjectId), an inner node's the union of its
   // children's. The topology stays; quality degrades if objects move far (rebuild then).
-  // Throws logrid::Error if an object id is out of range of object_boxes.
+  // Throws logrid::Error, leaving the boxes unchanged, if an object id is out of range of
+  // object_boxes or an object's box is not finite with min <= max (naming the first).
   void refit(const std::vector<Aabb>& object_boxes);
 
   // Construction (used by the builders; also for tests and adapters).

@@ -40,8 +40,13 @@ struct Camera {
 inline constexpr std::uint32_t kMaxViewportSide = 32768;
 
 // Returns an empty string if the camera can be culled for, otherwise a message that
-// names the bad field and its value (NaN or infinite matrix, zero or too large
-// viewport, reversed depth without a zero-to-one clip range, a singular matrix).
+// names the bad field and its value: a NaN or infinite matrix element, a matrix whose
+// bottom row is zero (every clip w is 0), a zero or too large viewport, a non-finite
+// render origin, an unknown depth enum value, reversed depth without the zero-to-one
+// clip range. Not caught, because the camera alone does not show them: a singular
+// matrix (accepted: logrid then projects as degenerately as the renderer draws), and a
+// projection built for another depth set-up than `depth` (wrong answers: build both
+// from the same DepthSetup, as perspective() and orthographic() take it).
 std::string validateCamera(const Camera& camera);
 
 // ---------------------------------------------------------------------------

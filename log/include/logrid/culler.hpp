@@ -57,6 +57,18 @@ struct CullerDesc {
   Method method = Method::LogState;
   std::uint32_t tile_size = 32;  // pixels per tile side (LOG §5 uses 32)
   ProjectionSettings projection;
+
+  // Speed for accuracy (grid.hpp, GridApproximation). Off by default. What each knob
+  // gives up, measured on the forest and the city, is in docs/TRADEOFF.md:
+  //   visible_pixels      boxes showing at most N pixels are culled: objects whose
+  //                       visible part is that small vanish (log-*, bog, pq; with the
+  //                       query reader the count comes from GL_SAMPLES_PASSED);
+  //   full_free_fraction  tiles with at most this fraction of free pixels count as full:
+  //                       objects seen only through such gaps vanish (log-state, bog);
+  //   row_stride          reads sample every k-th row: objects seen only through rows
+  //                       that were skipped vanish (log-*, bog).
+  // HZB and VFC take none of them.
+  GridApproximation approximation;
 };
 
 // Returns an empty string if the descriptor is usable, else a message naming the field.

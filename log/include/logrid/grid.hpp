@@ -46,6 +46,23 @@ enum class GridVariant : std::uint8_t {
 
 const char* toString(GridVariant);
 
+// Settings that trade accuracy for speed. All off by default; with any of them on the
+// grid is no longer conservative (a box with a few visible pixels may be culled).
+// culler.hpp (ApproximateSettings) documents what each gives up.
+struct GridApproximation {
+  // A test answers occluded when at most this many pixels of the box's rectangle are
+  // at or beyond the threshold (0: exact).
+  std::uint32_t visible_pixels = 0;
+  // Occlusion-state variant: a tile, or the part of a border tile under a box, counts
+  // as full when at most this fraction of its (sampled) pixels are free (0: exact).
+  float full_free_fraction = 0;
+  // Reads sample every k-th pixel row of a tile or area, starting with its first row
+  // (1: every row). Counts are scaled back by k.
+  std::uint32_t row_stride = 1;
+
+  bool exact() const { return visible_pixels == 0 && full_free_fraction == 0 && row_stride == 1; }
+};
+
 struct GridDesc {
   std::uint32_t width = 0;  // viewport in pixels, >= 1
   std::uint32_t height = 0;
@@ -53,8 +70,12 @@ struct GridDesc {
   GridVariant variant = GridVariant::OcclusionState;
 };
 
+// The most tiles a grid may have (about 60 bytes each with the scratch of a test):
+// 2^24, e.g. an 8192x8192 viewport with 2-pixel tiles.
+inline constexpr std::uint64_t kMaxGridTiles = std::uint64_t{1} << 24;
+
 // Returns an empty string if the descriptor is usable, else a message naming the field.
-std::string validateGridDesc(const GridDesc& desc);
+std::string validateGridDesc(const GridDesc& desc, const GridApproximation& approximation = {});
 
 struct TileRecord {
   float near_key = 0;
@@ -71,9 +92,10 @@ struct GridTestCounts {
 class OcclusionGrid {
  public:
   // Throws logrid::Error if validateGridDesc() finds a problem.
-  explicit OcclusionGrid(const GridDesc& desc);
+  explicit OcclusionGrid(const GridDesc& desc, const GridApproximation& approximation = {});
 
   const GridDesc& desc() const { return desc_; }
+  const GridApproximation& approximation() const { return approx_; }
   std::uint32_t tilesX() const { return tiles_x_; }
   std::uint32_t tilesY() const { return tiles_y_; }
   PixelRect tileRect(std::uint32_t tx, std::uint32_t ty) const;
@@ -98,15 +120,35 @@ class OcclusionGrid {
  private:
   enum class Decision : std::uint8_t { Occluded, Visible, Undecided };
   Decision decideFromRecord(std::size_t index, bool internal, float threshold) const;
-  void applySummary(std::size_t index, const AreaDepth& area);
-  void applyCount(std::size_t index, std::uint32_t count, std::uint32_t area, float threshold);
+  void applySummary(std::size_t index, const AreaDepth& area, std::uint32_t sampled);
+  void applyCount(std::size_t index, std::uint32_t count, std::uint32_t sampled, float threshold);
   PixelRect tileRectOf(std::size_t index) const;
+  // The rectangles a read of `area` covers: the area itself, or every row_stride-th row.
+  void appendSampledRows(const PixelRect& area, std::uint32_t owner);
+  // Is a counted area (count of `sampled` pixels at or beyond the threshold) visible?
+  bool countShows(std::uint32_t count, std::uint32_t sampled) const;
+  // The counting test used when approximation.visible_pixels > 0.
+  Visibility testCounting(const PixelRect& rect, float threshold, DepthSource& source,
+                          GridTestCounts& counts);
   // Reads the tiles in pending_ (whole tiles if internal, else their intersection with
   // rect) and returns Visible as soon as one shows pixels at or beyond threshold.
   Visibility readPending(const PixelRect& rect, float threshold, bool internal, DepthSource& source,
                          GridTestCounts& counts);
+  // Summarises whole tiles and refreshes their records; true if any shows pixels at or
+  // beyond threshold.
+  bool summarizeTiles(const std::uint32_t* tiles, std::size_t n, float threshold,
+                      DepthSource& source);
+  // Counts pixels at or beyond threshold in each tile (clipped to *clip when given;
+  // whole tiles also refresh their records). Returns the estimated pixel total.
+  struct CountResult {
+    bool shows = false;        // some tile shows the box
+    std::uint64_t pixels = 0;  // pixels at or beyond threshold, scaled by the row stride
+  };
+  CountResult countTiles(const std::uint32_t* tiles, std::size_t n, const PixelRect* clip,
+                         float threshold, DepthSource& source);
 
   GridDesc desc_;
+  GridApproximation approx_;
   std::uint32_t tiles_x_ = 0;
   std::uint32_t tiles_y_ = 0;
   float clear_key_ = 1.0f;
@@ -118,6 +160,7 @@ class OcclusionGrid {
   // Scratch reused across tests so that a test never allocates once warmed up.
   std::vector<std::uint32_t> pending_;
   std::vector<PixelRect> rects_;
+  std::vector<std::uint32_t> owners_;  // per entry of rects_/queries_: index into pending_
   std::vector<AreaDepth> areas_;
   std::vector<AreaQuery> queries_;
   std::vector<std::uint32_t> counts_;

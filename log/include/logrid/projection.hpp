@@ -16,7 +16,7 @@
 //
 //   u = 2^-24, the unit roundoff of float.
 //
-// 1. Depth quantisation (`kQuantisationStep`): a unorm buffer stores round(d * (2^n - 1))
+// 1. Depth quantisation (`quantisationStep()`): a unorm buffer stores round(d * (2^n - 1))
 //    (or a truncation; GL allows either), so a stored value can sit one step on either
 //    side of the fragment depth: one step is 1/65535 for D16 and 1/16777215 for D24.
 //    D32F stores the float fragment depth exactly: no step. Reading a D24 value back as
@@ -41,14 +41,45 @@
 // about 17 u; 32 leaves a factor of two for renderers that multiply model, view and
 // projection separately. The resulting margin is
 //
-//   margin = kQuantisationStep(format) + kRenderErrorUlps * u * (E + max|key|)
+//   margin = quantisationStep(format) + kRenderErrorUlps * u * (E + max|key|)
 //   E      = max over the box corners of (S_z + |z_ndc| S_w) / w * window scale
 //
-// which is about 1e-6 for 32F standard depth at unit scale and about 1.6e-5 for D16.
-// tests/unit/margin_test.cpp shows that each term is needed.
+// which is about 3.8e-6 for 32F standard depth at unit scale (E and the key both about
+// 1), 6e-8 for reversed 32F at the same distance (keys and E shrink with distance), and
+// 1.9e-5 for D16 (the step, 1.53e-5, plus the same render error).
+//
+// Each term is needed. tests/unit/margin_test.cpp (exact arithmetic, and the software
+// rasteriser's float pipeline) and tests/gl/margin_gl_test.cpp (the GL rasteriser) shrink
+// one term at a time and find a box that the renderer shows but logrid then culls; with
+// the defaults the same box is drawn. The box always passes the depth test because of
+// what is already in the buffer at its own depth: a face coplanar with an occluder, or a
+// hair behind it but stored as the same value, drawn with GL_LEQUAL (GL_GEQUAL reversed).
+//   (1) quantisation_scale = 0. D16: a wall stored as 30000 / 65535 and a box 0.9 step
+//       behind it, stored as the same value; the box's nearest key lies 0.45 step
+//       (6.9e-6) beyond the stored value, more than the rest of the margin (4.1e-6), and
+//       every method culls it. D24 shows it with reversed depth far away (window depth
+//       1e-3: the rest of the margin is 6e-9, a step 6e-8). A D24 step is about u, so it
+//       matters only where E and the key are both small: reversed depth far away, or a
+//       zero-to-one orthographic projection right at its near plane. With a standard
+//       perspective E is at least about 1/2 and the render-error term alone is 16 D24
+//       steps or more (4e-6 and up): there shrinking the D24 term changes no answer.
+//   (2) render_error_ulps = 0. Coplanar duplicates of walls at 64 depths: the float
+//       pipeline puts 3 or 4 of the walls in front of their exact depth (by one float step,
+//       6e-8, camera-relative; by up to 9e-7 in world space 1e4 from the origin), and their
+//       duplicates are culled. On llvmpipe 0.5 ulps would have kept them all.
+//   (3) is not shown apart from (2): the one setting render_error_ulps covers both, and
+//       the planes above have constant depth, which llvmpipe interpolates exactly; the
+//       errors found are (2)'s.
+//   (4) subpixel_bits = 16 (no widening). A left edge 3/8 of a sub-pixel step right of a
+//       column of pixel centres snaps onto them and covers them (the top-left fill rule
+//       of llvmpipe and GPUs: a left edge includes the centres it passes through), while
+//       the exact footprint does not: a box seen only through that column, the rest being
+//       behind an occluder, is culled. The default, 1/32 pixel, covers every rasteriser GL
+//       allows; llvmpipe (8 bits) needs 1/512.
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 #include "logrid/camera.hpp"
 #include "logrid/types.hpp"
@@ -73,8 +104,13 @@ inline constexpr double quantisationStep(DepthFormat format) {
 struct ProjectionSettings {
   double render_error_ulps = kRenderErrorUlps;
   double quantisation_scale = 1.0;  // multiplies quantisationStep(format)
-  int subpixel_bits = 4;            // GL's minimum; llvmpipe and current GPUs have 8
+  int subpixel_bits = 4;            // GL's minimum; llvmpipe and current GPUs have 8;
+                                    // 16 means no widening at all
 };
+
+// Returns an empty string if the settings are usable (subpixel_bits in [0, 16], the two
+// scales finite and >= 0), else a message naming the field and its value.
+std::string validateProjectionSettings(const ProjectionSettings& settings);
 
 // Why a box's test result is forced rather than decided by the grid.
 enum class ProjectionClass : std::uint8_t {

@@ -52,7 +52,7 @@ struct DVec3 {
 // Which way the z-buffer runs.
 enum class DepthConvention : std::uint8_t {
   Standard,  // cleared to 1, GL_LESS: nearer is smaller
-  Reversed,  // cleared to 0, GL_GREATER: nearer is larger (use with ClipDepthRange::ZeroToOne)
+  Reversed,  // cleared to 0, GL_GREATER: nearer is larger (requires ClipDepthRange::ZeroToOne)
 };
 
 // The clip-space depth range the projection matrix targets (glClipControl's depth mode).

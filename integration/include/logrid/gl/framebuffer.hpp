@@ -30,9 +30,10 @@ std::uint32_t depthInternalFormat(DepthFormat format);
 
 class Framebuffer {
  public:
-  // Requires a current context. Throws logrid::Error when the size exceeds the
-  // driver's limits, the format is not renderable, memory runs out or the framebuffer
-  // is incomplete, each with the value that failed.
+  // Requires a current context. Throws logrid::Error when a side is 0 or exceeds the
+  // driver's limits, the depth set-up holds an unknown enum value, the format is not
+  // renderable, memory runs out or the framebuffer is incomplete, each with the value
+  // that failed.
   explicit Framebuffer(const FramebufferDesc& desc);
   ~Framebuffer();
   Framebuffer(const Framebuffer&) = delete;

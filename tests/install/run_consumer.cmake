@@ -1,0 +1,77 @@
+# The install test: installs a finished logrid build tree into a scratch prefix, then
+# configures, builds and runs the consumer project (tests/install/consumer) against it
+# with find_package(logrid CONFIG), from scratch every time.
+#
+#   cmake -DBINARY_DIR=<logrid build> -DCONSUMER_DIR=<tests/install/consumer>
+#         -DWORK_DIR=<scratch dir> [-DCONFIG=<build type>] [-DGENERATOR=<generator>]
+#         [-DMAKE_PROGRAM=<ninja>] [-DCXX_COMPILER=<compiler>] -P run_consumer.cmake
+#
+# Each step's command and output are printed when it fails.
+cmake_minimum_required(VERSION 3.20)
+
+foreach(var BINARY_DIR CONSUMER_DIR WORK_DIR)
+  if(NOT DEFINED ${var})
+    message(FATAL_ERROR "run_consumer.cmake: -D${var}=... is required")
+  endif()
+endforeach()
+if(NOT CONFIG)
+  set(CONFIG Release)
+endif()
+
+set(prefix "${WORK_DIR}/prefix")
+set(build "${WORK_DIR}/build")
+file(REMOVE_RECURSE "${WORK_DIR}")
+file(MAKE_DIRECTORY "${WORK_DIR}")
+
+# run_step(<name> <command>...): runs the command; on failure stops with its output.
+function(run_step name)
+  message(STATUS "install_consumer: ${name}")
+  execute_process(COMMAND ${ARGN}
+    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
+  if(NOT rc EQUAL 0)
+    string(REPLACE ";" " " cmd "${ARGN}")
+    # NOTICE prints the output as it is; FATAL_ERROR would re-wrap compiler messages.
+    message(NOTICE "command: ${cmd}\n--- output of step '${name}' ---\n${out}--- end of output ---")
+    message(FATAL_ERROR "install_consumer: step '${name}' failed (exit status ${rc})")
+  endif()
+  set(step_output "${out}" PARENT_SCOPE)
+endfunction()
+
+run_step("install" "${CMAKE_COMMAND}" --install "${BINARY_DIR}" --prefix "${prefix}"
+         --config "${CONFIG}")
+
+set(configure_args -S "${CONSUMER_DIR}" -B "${build}" "-DCMAKE_PREFIX_PATH=${prefix}"
+                   "-DCMAKE_BUILD_TYPE=${CONFIG}"
+                   # Only the scratch prefix may satisfy find_package(logrid).
+                   -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
+if(GENERATOR)
+  list(APPEND configure_args -G "${GENERATOR}")
+endif()
+if(MAKE_PROGRAM)
+  list(APPEND configure_args "-DCMAKE_MAKE_PROGRAM=${MAKE_PROGRAM}")
+endif()
+if(CXX_COMPILER)
+  # The same compiler as logrid's build: its static libraries carry that ABI.
+  list(APPEND configure_args "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}")
+endif()
+run_step("configure" "${CMAKE_COMMAND}" ${configure_args})
+
+# The package must come from the scratch prefix, not from some other installed logrid.
+file(STRINGS "${build}/CMakeCache.txt" found_dir REGEX "^logrid_DIR:")
+string(REGEX REPLACE "^logrid_DIR:[A-Z]*=" "" found_dir "${found_dir}")
+file(REAL_PATH "${prefix}" real_prefix)
+file(REAL_PATH "${found_dir}" found_dir)
+string(FIND "${found_dir}" "${real_prefix}/" at)
+if(NOT at EQUAL 0)
+  message(FATAL_ERROR "install_consumer: find_package(logrid) used '${found_dir}', "
+                      "not the scratch prefix '${real_prefix}'\n${step_output}")
+endif()
+
+run_step("build" "${CMAKE_COMMAND}" --build "${build}" --config "${CONFIG}")
+
+set(core_exe "${build}/consumer_core")
+if(NOT EXISTS "${core_exe}")
+  set(core_exe "${build}/${CONFIG}/consumer_core")  # multi-configuration generators
+endif()
+run_step("run consumer_core" "${core_exe}")
+message(NOTICE "${step_output}")
