@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 
 #include "cli/images.hpp"
 #include "logrid/error.hpp"
@@ -123,7 +124,7 @@ Camera FrameRunner::cameraFor(std::size_t frame) const {
   return makeCamera(scene_.path.frame(frame, config_.frames), scene_.origin, config_.view);
 }
 
-std::vector<ObjectId> FrameRunner::idPass(const Camera& camera) {
+OracleFrame FrameRunner::idPass(const Camera& camera) {
   framebuffer_->bind();
   framebuffer_->clear(kBackground);
   framebuffer_->selectIdPass(true);
@@ -132,18 +133,34 @@ std::vector<ObjectId> FrameRunner::idPass(const Camera& camera) {
   renderer_.end();
   framebuffer_->selectIdPass(false);
   const std::vector<std::uint32_t> ids = framebuffer_->readObjectIds();
-  std::vector<std::uint8_t> seen(scene_.mesh.draws.size(), 0);
-  std::vector<ObjectId> visible;
-  for (std::uint32_t id : ids) {
-    if (id < seen.size() && !seen[id]) {
-      seen[id] = 1;
-      visible.push_back(id);
+  const std::vector<float> depth = framebuffer_->readDepth();
+
+  // Per object: 1 if some fragment lies within its box's depth range, 2 if it only
+  // has fragments nearer than that.
+  const std::size_t objects = scene_.mesh.draws.size();
+  std::vector<std::uint8_t> state(objects, 0);
+  std::vector<float> threshold(objects, 0);
+  const Projector projector(camera, config_.culler.projection);
+  const float sign = camera.depth.convention == DepthConvention::Reversed ? -1.0f : 1.0f;
+  OracleFrame out;
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const std::uint32_t id = ids[i];
+    if (id >= objects || state[id] == 1) continue;
+    if (state[id] == 0) {
+      const BoxProjection p = projector.project(scene_.object_boxes[id]);
+      threshold[id] = p.cls == ProjectionClass::Inside ? p.occlusionThreshold()
+                                                       : -std::numeric_limits<float>::infinity();
     }
+    state[id] = sign * depth[i] >= threshold[id] ? 1 : 2;
   }
-  return visible;
+  for (ObjectId id = 0; id < objects; ++id) {
+    if (state[id] == 1) out.visible.push_back(id);
+    if (state[id] == 2) out.artifacts.push_back(id);
+  }
+  return out;
 }
 
-std::vector<ObjectId> FrameRunner::visibleSet(std::size_t frame, const Camera& camera) {
+OracleFrame FrameRunner::visibleSet(std::size_t frame, const Camera& camera) {
   if (!oracle_cache_) return idPass(camera);
   auto& frames = oracle_cache_->frames;
   if (frames.size() <= frame) frames.resize(frame + 1);
@@ -169,8 +186,8 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
   FrameRecord rec;
   rec.frame = frame;
   const Camera camera = cameraFor(frame);
-  std::vector<ObjectId> oracle_visible;
-  if (!config_.method.method) oracle_visible = visibleSet(frame, camera);  // not timed
+  OracleFrame oracle;
+  if (!config_.method.method) oracle = visibleSet(frame, camera);  // not timed
   for (ObjectId id : drawn_list_) drawn_[id] = 0;
   drawn_list_.clear();
   observer_->clear();
@@ -189,11 +206,13 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
     }
   };
   if (!config_.method.method) {
-    for (ObjectId id : oracle_visible) draw(id);
-    rec.stats.objects_drawn = oracle_visible.size();
+    for (ObjectId id : oracle.visible) draw(id);
+    for (ObjectId id : oracle.artifacts) draw(id);  // the full render shows them
+    rec.stats.objects_drawn = oracle.visible.size() + oracle.artifacts.size();
   } else if (software_) {
     software_->clear();
-    zread::SoftwareRasterizer raster(camera, *software_, nullptr);
+    // Inner coverage: the software buffer must never hold depth where GL drew nothing.
+    zread::SoftwareRasterizer raster(camera, *software_, nullptr, zread::Coverage::Inner);
     rec.stats = culler_->cullFrame(camera, scene_.hierarchy, *software_, [&](ObjectId id) {
       draw(id);
       rasterizeObject(id, raster);
@@ -208,16 +227,18 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
 
   if (!config_.images_dir.empty()) writeImages(frame, camera);
   if (config_.verify || !config_.method.method) {
-    const std::vector<ObjectId> visible =
-        config_.method.method ? visibleSet(frame, camera) : oracle_visible;
-    rec.visible = std::int64_t(visible.size());
+    if (config_.method.method) oracle = visibleSet(frame, camera);
+    rec.visible = std::int64_t(oracle.visible.size());
     rec.missed = 0;
-    for (ObjectId id : visible) {
+    for (ObjectId id : oracle.visible) {
       if (!drawn_[id]) {
         ++rec.missed;
         if (rec.missed_ids.size() < 16) rec.missed_ids.push_back(id);
       }
     }
+    rec.artifacts = std::int64_t(oracle.artifacts.size());
+    rec.missed_artifacts = 0;
+    for (ObjectId id : oracle.artifacts) rec.missed_artifacts += !drawn_[id];
   }
   gl::checkGlErrors("FrameRunner::renderFrame");
   return rec;

@@ -25,6 +25,8 @@ nlohmann::json frameJson(const FrameRecord& r) {
   if (r.visible >= 0) {
     j["visible_objects"] = r.visible;
     j["missed_visible_objects"] = r.missed;
+    j["depth_artifact_objects"] = r.artifacts;
+    j["missed_depth_artifact_objects"] = r.missed_artifacts;
     if (!r.missed_ids.empty()) j["missed_ids"] = r.missed_ids;
   }
   return j;
@@ -41,7 +43,7 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
                           bool per_frame) {
   double ms = 0, objects = 0, triangles = 0, pixels = 0, tiles = 0, boxes = 0, read_ms = 0,
          reads = 0, queries = 0;
-  std::int64_t visible = 0, missed = 0;
+  std::int64_t visible = 0, missed = 0, artifacts = 0, missed_artifacts = 0;
   bool verified = false;
   std::vector<double> times;
   for (const FrameRecord& r : records) {
@@ -59,6 +61,8 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
       verified = true;
       visible += r.visible;
       missed += r.missed;
+      artifacts += r.artifacts;
+      missed_artifacts += r.missed_artifacts;
     }
   }
   const double n = std::max<double>(1, double(records.size()));
@@ -93,6 +97,8 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
   if (verified) {
     j["visible_objects"] = visible;
     j["missed_visible_objects"] = missed;
+    j["depth_artifact_objects"] = artifacts;
+    j["missed_depth_artifact_objects"] = missed_artifacts;
   }
   if (per_frame) {
     nlohmann::json frames = nlohmann::json::array();

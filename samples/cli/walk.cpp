@@ -39,6 +39,12 @@ int runWalk(const WalkOptions& o) {
     std::printf(", %lld visible, %lld missed",
                 (long long)summary["visible_objects"].get<std::int64_t>(),
                 (long long)summary["missed_visible_objects"].get<std::int64_t>());
+    const auto artifacts = summary["depth_artifact_objects"].get<std::int64_t>();
+    if (artifacts > 0) {
+      std::printf(" (and %lld shown only by depth-extrapolated fragments, %lld of them not drawn)",
+                  (long long)artifacts,
+                  (long long)summary["missed_depth_artifact_objects"].get<std::int64_t>());
+    }
   }
   std::printf("\n");
   if (!o.json.empty()) writeJson(o.json, summary);

@@ -6,8 +6,8 @@
 namespace logrid::zread {
 
 SoftwareRasterizer::SoftwareRasterizer(const Camera& camera, SoftwareDepthBuffer& depth,
-                               std::vector<std::uint32_t>* ids)
-    : camera_(camera), depth_(depth), ids_(ids) {
+                                       std::vector<std::uint32_t>* ids, Coverage coverage)
+    : camera_(camera), depth_(depth), ids_(ids), coverage_(coverage) {
   const Mat4d m = multiply(camera.view_projection, translation(camera.render_origin));
   for (int i = 0; i < 16; ++i) m_[i] = static_cast<float>(m.m[i]);
   const bool reversed = camera.depth.convention == DepthConvention::Reversed;
@@ -21,7 +21,7 @@ SoftwareRasterizer::SoftwareRasterizer(const Camera& camera, SoftwareDepthBuffer
 }
 
 void SoftwareRasterizer::draw(const std::vector<float>& positions,
-                          const std::vector<std::uint32_t>& indices, std::uint32_t id) {
+                              const std::vector<std::uint32_t>& indices, std::uint32_t id) {
   for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
     drawTriangle(&positions[indices[t] * 3], &positions[indices[t + 1] * 3],
                  &positions[indices[t + 2] * 3], id);
@@ -29,7 +29,7 @@ void SoftwareRasterizer::draw(const std::vector<float>& positions,
 }
 
 void SoftwareRasterizer::drawTriangle(const float* a, const float* b, const float* c,
-                                  std::uint32_t id) {
+                                      std::uint32_t id) {
   const float* in[3] = {a, b, c};
   std::vector<V> poly(3);
   const DVec3& o = camera_.render_origin;
@@ -45,8 +45,10 @@ void SoftwareRasterizer::drawTriangle(const float* a, const float* b, const floa
     for (std::size_t i = 0; i < poly.size(); ++i) {
       const V& p = poly[i];
       const V& q = poly[(i + 1) % poly.size()];
-      const float dp = plane[0] * p.c[0] + plane[1] * p.c[1] + plane[2] * p.c[2] + plane[3] * p.c[3];
-      const float dq = plane[0] * q.c[0] + plane[1] * q.c[1] + plane[2] * q.c[2] + plane[3] * q.c[3];
+      const float dp =
+          plane[0] * p.c[0] + plane[1] * p.c[1] + plane[2] * p.c[2] + plane[3] * p.c[3];
+      const float dq =
+          plane[0] * q.c[0] + plane[1] * q.c[1] + plane[2] * q.c[2] + plane[3] * q.c[3];
       if (dp >= 0) out.push_back(p);
       if ((dp >= 0) != (dq >= 0)) {
         const float t = dp / (dp - dq);
@@ -72,14 +74,22 @@ void SoftwareRasterizer::rasterize(const V& a, const V& b, const V& c, std::uint
     y[k] = (v[k]->c[1] / w * 0.5f + 0.5f) * h_px;
     z[k] = v[k]->c[2] / w * depth_scale_ + depth_offset_;
   }
-  const double area = (double(x[1]) - x[0]) * (double(y[2]) - y[0]) -
-                      (double(x[2]) - x[0]) * (double(y[1]) - y[0]);
+  const double area =
+      (double(x[1]) - x[0]) * (double(y[2]) - y[0]) - (double(x[2]) - x[0]) * (double(y[1]) - y[0]);
   if (area == 0 || !std::isfinite(area)) return;
   const int x0 = std::max(0, int(std::floor(std::min({x[0], x[1], x[2]}))));
   const int x1 = std::min(int(camera_.width) - 1, int(std::ceil(std::max({x[0], x[1], x[2]}))));
   const int y0 = std::max(0, int(std::floor(std::min({y[0], y[1], y[2]}))));
   const int y1 = std::min(int(camera_.height) - 1, int(std::ceil(std::max({y[0], y[1], y[2]}))));
   const bool reversed = camera_.depth.convention == DepthConvention::Reversed;
+  // Inner coverage: e[k] = distance to edge k * |edge k| / |area|, so a centre at least
+  // kSnap inside edge k has e[k] > kSnap * |edge k| / |area| (with slack for rounding).
+  constexpr double kSnap = 1.0 / 32.0 + 1e-4;
+  double inner[3];
+  for (int k = 0; k < 3; ++k) {
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    inner[k] = kSnap * std::hypot(double(x[j]) - x[i], double(y[j]) - y[i]) / std::fabs(area);
+  }
   for (int py = y0; py <= y1; ++py) {
     for (int px = x0; px <= x1; ++px) {
       const double sx = px + 0.5, sy = py + 0.5;
@@ -89,6 +99,10 @@ void SoftwareRasterizer::rasterize(const V& a, const V& b, const V& c, std::uint
         e[k] = ((double(x[j]) - x[i]) * (sy - y[i]) - (double(y[j]) - y[i]) * (sx - x[i])) / area;
       }
       if (e[0] < 0 || e[1] < 0 || e[2] < 0) continue;
+      if (coverage_ == Coverage::Inner &&
+          !(e[0] > inner[0] && e[1] > inner[1] && e[2] > inner[2])) {
+        continue;
+      }
       float d = float(e[0] * z[0] + e[1] * z[1] + e[2] * z[2]);
       d = std::clamp(d, 0.0f, 1.0f);
       float& stored = depth_.data()[std::size_t(py) * camera_.width + std::size_t(px)];

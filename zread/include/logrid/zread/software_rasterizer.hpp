@@ -18,10 +18,22 @@ namespace logrid::zread {
 
 inline constexpr std::uint32_t kNoId = 0xFFFFFFFFu;  // an ID-buffer pixel with nothing drawn
 
+// Which pixel centres a triangle covers.
+enum class Coverage : std::uint8_t {
+  // Every centre inside or on an edge: at least what any GL rasteriser covers. Right for
+  // an ID-pass oracle, which must not miss a pixel GL could draw.
+  Inclusive,
+  // Only centres farther than GL's sub-pixel snap (1/32 pixel, 4 bits) inside every
+  // edge: at most what any GL rasteriser covers (GL leaves out centres on right and top
+  // edges, and snapping moves edges). Right for a depth source standing in for a GL
+  // depth buffer, which must never hold depth where GL drew nothing.
+  Inner,
+};
+
 class SoftwareRasterizer {
  public:
   SoftwareRasterizer(const Camera& camera, SoftwareDepthBuffer& depth,
-                 std::vector<std::uint32_t>* ids);
+                     std::vector<std::uint32_t>* ids, Coverage coverage = Coverage::Inclusive);
 
   // positions: xyz per vertex in the camera's coordinates; indices: three per triangle.
   void draw(const std::vector<float>& positions, const std::vector<std::uint32_t>& indices,
@@ -41,10 +53,10 @@ class SoftwareRasterizer {
   float near_plane_[4];
   float far_plane_[4];
   float depth_scale_, depth_offset_;
+  Coverage coverage_;
 };
 
 // Appends the 12 triangles of a box.
-void appendBox(const Aabb& box, std::vector<float>& positions,
-               std::vector<std::uint32_t>& indices);
+void appendBox(const Aabb& box, std::vector<float>& positions, std::vector<std::uint32_t>& indices);
 
 }  // namespace logrid::zread

@@ -1,0 +1,265 @@
+// What the oracle tests share: procedural scenes loaded once per process (optionally
+// moved far from the world origin), a run configuration built from a few named fields,
+// and a walk that checks every frame against the object-ID pass of FrameRunner.
+//
+// The oracle (DESIGN.md "Conservative means"): after each frame FrameRunner draws the
+// whole frustum-culled scene into an R32UI ID buffer with the same renderer and the same
+// camera; every ID found there is a visible object and must have been drawn by the
+// method under test. A miss is reported with the frame, the camera, the object's box and
+// (where one exists) a `logrid walk` command line that reproduces it.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include "cli/frame_runner.hpp"
+#include "gl_test_context.hpp"
+#include "logrid/gl/mesh_renderer.hpp"
+#include "scene/generators.hpp"
+#include "scene/prepare.hpp"
+#include "scene/view.hpp"
+
+namespace logrid::oracle {
+
+using samples::FrameRecord;
+using samples::FrameRunner;
+using samples::PreparedScene;
+using samples::Reader;
+using samples::RunConfig;
+
+// Scales small enough for a 2-core CI machine and large enough to occlude: the forest at
+// 0.1 has 492 objects (134k triangles), the city at 0.01 has 256 chunks (266k triangles).
+inline constexpr double kForestScale = 0.1;
+inline constexpr double kCityScale = 0.01;
+
+// How a scene is moved away from the world origin.
+enum class Offset : std::uint8_t {
+  None,
+  // Scene::origin: the geometry stays local (float, near zero) and the cameras compose
+  // the translation in double; the renderer draws camera-relative. The designed way.
+  Origin,
+  // The float vertex positions themselves are moved (an application that stores world
+  // coordinates in float); Scene::origin stays 0, Camera::render_origin becomes the eye.
+  FloatPositions,
+};
+
+inline const char* toString(Offset o) {
+  switch (o) {
+    case Offset::None: return "none";
+    case Offset::Origin: return "origin";
+    case Offset::FloatPositions: return "float_positions";
+  }
+  return "?";
+}
+
+struct SceneKey {
+  std::string name;  // forest or city
+  double scale = kForestScale;
+  Offset offset = Offset::None;
+  double distance = 0;  // added to x, y and z (world units)
+
+  std::string id() const {
+    std::ostringstream out;
+    out << name << "@" << scale << "/" << toString(offset) << "/" << distance;
+    return out.str();
+  }
+};
+
+struct LoadedScene {
+  PreparedScene prepared;
+  std::unique_ptr<gl::MeshRenderer> renderer;
+};
+
+// Moves a generated scene (and its camera path, which is in world coordinates) by
+// `distance` on every axis.
+inline void offsetScene(samples::Scene& scene, Offset offset, double distance) {
+  if (offset == Offset::None) return;
+  std::vector<samples::CameraKey> keys = scene.path.keys();
+  for (samples::CameraKey& k : keys) {
+    k.position = {k.position.x + distance, k.position.y + distance, k.position.z + distance};
+    k.look_at = {k.look_at.x + distance, k.look_at.y + distance, k.look_at.z + distance};
+  }
+  scene.path = samples::CameraPath(std::move(keys));
+  if (offset == Offset::Origin) {
+    scene.origin = {scene.origin.x + distance, scene.origin.y + distance,
+                    scene.origin.z + distance};
+  } else {
+    for (float& p : scene.positions) p = static_cast<float>(double(p) + distance);
+    samples::computeBounds(scene);  // object boxes from the rounded positions
+  }
+}
+
+// The scene for a key, generated, prepared and uploaded once per process. Needs a
+// current context (call LOGRID_REQUIRE_GL() first).
+inline LoadedScene& loadScene(const SceneKey& key) {
+  static std::map<std::string, std::unique_ptr<LoadedScene>> cache;
+  std::unique_ptr<LoadedScene>& slot = cache[key.id()];
+  if (!slot) {
+    samples::Scene scene = key.name == "city" ? samples::makeCity({key.scale, 1})
+                                              : samples::makeForest({key.scale, 1});
+    offsetScene(scene, key.offset, key.distance);
+    const bvh::BuildArgs args = samples::defaultBuildArgs(scene);
+    slot = std::make_unique<LoadedScene>();
+    slot->prepared = samples::prepareScene(std::move(scene), args);
+    slot->renderer = std::make_unique<gl::MeshRenderer>(slot->prepared.mesh);
+  }
+  return *slot;
+}
+
+// Frames for a walk: `n` times LOGRID_ORACLE_INTENSITY (default 1), so that a soak run
+// (LOGRID_ORACLE_INTENSITY=20 ./oracle_test) checks many more camera poses than CI does.
+inline std::size_t intensityFrames(std::size_t n) {
+  const char* v = std::getenv("LOGRID_ORACLE_INTENSITY");
+  const long k = v ? std::strtol(v, nullptr, 10) : 1;
+  return n * std::size_t(k > 1 ? k : 1);
+}
+
+inline const char* formatName(DepthFormat f) {
+  switch (f) {
+    case DepthFormat::D16: return "16";
+    case DepthFormat::D24: return "24";
+    case DepthFormat::D32F: return "32f";
+  }
+  return "?";
+}
+
+// One run's settings; the scene's own clip planes where near/far are 0.
+struct View {
+  std::uint32_t width = 160;
+  std::uint32_t height = 120;
+  std::uint32_t tile = 32;
+  DepthConvention convention = DepthConvention::Standard;
+  DepthFormat format = DepthFormat::D32F;
+  double near_plane = 0;
+  double far_plane = 0;
+  double fov = 60;
+  bool ortho = false;
+};
+
+inline RunConfig makeConfig(const PreparedScene& scene, Method method, Reader reader, const View& v,
+                            std::size_t frames) {
+  RunConfig c;
+  c.method = samples::MethodChoice{method};
+  c.culler.tile_size = v.tile;
+  c.reader = reader;
+  c.view.width = v.width;
+  c.view.height = v.height;
+  c.view.fov_degrees = v.fov;
+  c.view.orthographic = v.ortho;
+  c.view.near_plane = v.near_plane > 0 ? v.near_plane : scene.near_plane;
+  c.view.far_plane = v.far_plane > 0 ? v.far_plane : scene.far_plane;
+  c.view.depth = samples::depthSetupFor(v.convention, v.format);
+  c.frames = intensityFrames(frames);
+  c.verify = true;
+  return c;
+}
+
+// The command line that replays a run, for runs the CLI can express.
+inline std::string reproducer(const SceneKey& key, const RunConfig& c) {
+  std::ostringstream out;
+  if (key.offset != Offset::None) {
+    out << "(no CLI equivalent: scene moved by " << key.distance << " via " << toString(key.offset)
+        << "; run this test) ";
+  }
+  out << "logrid walk --scene " << key.name << " --scale " << key.scale << " --frames " << c.frames
+      << " --method " << c.method.name() << " --reader " << samples::toString(c.reader)
+      << " --size " << c.view.width << "x" << c.view.height << " --tile " << c.culler.tile_size
+      << " --depth-format " << formatName(c.view.depth.format) << " --depth-convention "
+      << toString(c.view.depth.convention) << " --near " << c.view.near_plane << " --far "
+      << c.view.far_plane;
+  if (c.view.orthographic) {
+    out << " --ortho";
+  } else {
+    out << " --fov " << c.view.fov_degrees;
+  }
+  out << " --verify";
+  return out.str();
+}
+
+inline bool finiteStats(const FrameRecord& r) {
+  const FrameStats& s = r.stats;
+  return std::isfinite(r.ms) && r.ms >= 0 && std::isfinite(s.seconds) && s.seconds >= 0 &&
+         std::isfinite(s.read_seconds) && s.read_seconds >= 0 && std::isfinite(s.tilesPerBox());
+}
+
+// What a walk did, summed over its frames.
+struct WalkTotals {
+  std::size_t frames = 0;
+  std::uint64_t visible = 0;
+  std::uint64_t missed = 0;
+  std::uint64_t drawn = 0;     // objects drawn (draw callbacks)
+  std::uint64_t occluded = 0;  // boxes found occluded
+  std::uint64_t tested = 0;    // occlusion tests
+  std::uint64_t invalid = 0;   // boxes the culler found NaN or inverted
+  double ms = 0;
+};
+
+// Renders every frame of a walk with the oracle check and asserts, per frame: the oracle
+// ran, no visible object was missed (else: frame, camera, the missed objects' boxes and a
+// command line), and no time is NaN or negative.
+inline WalkTotals checkedWalk(const SceneKey& key, LoadedScene& scene, const RunConfig& config) {
+  WalkTotals t;
+  FrameRunner runner(scene.prepared, *scene.renderer, config);
+  for (std::size_t f = 0; f < config.frames; ++f) {
+    const FrameRecord r = runner.renderFrame(f);
+    ++t.frames;
+    EXPECT_GE(r.visible, 0) << "the oracle did not run for frame " << f;
+    EXPECT_EQ(r.missed, 0) << [&] {
+      std::ostringstream out;
+      out.precision(12);
+      const Camera cam = runner.cameraFor(f);
+      const samples::CameraPose pose = scene.prepared.path.frame(f, config.frames);
+      out << config.method.name() << " missed " << r.missed << " of " << r.visible
+          << " visible objects in frame " << f << " (eye " << pose.position.x << ", "
+          << pose.position.y << ", " << pose.position.z << "; look at " << pose.look_at.x << ", "
+          << pose.look_at.y << ", " << pose.look_at.z << "; render origin " << cam.render_origin.x
+          << ", " << cam.render_origin.y << ", " << cam.render_origin.z << ")\n  first missed:";
+      for (ObjectId id : r.missed_ids) {
+        const Aabb& b = scene.prepared.object_boxes[id];
+        out << "\n    object " << id << " box (" << b.min.x << ", " << b.min.y << ", " << b.min.z
+            << ")-(" << b.max.x << ", " << b.max.y << ", " << b.max.z << ")";
+      }
+      out << "\n  reproduce: " << reproducer(key, config);
+      return out.str();
+    }();
+    EXPECT_TRUE(finiteStats(r)) << "frame " << f << ": ms " << r.ms << ", seconds "
+                                << r.stats.seconds << ", read_seconds " << r.stats.read_seconds;
+    t.visible += std::uint64_t(std::max<std::int64_t>(r.visible, 0));
+    t.missed += std::uint64_t(std::max<std::int64_t>(r.missed, 0));
+    t.drawn += r.stats.objects_drawn;
+    t.occluded += r.stats.boxes_occluded;
+    t.tested += r.stats.boxes_tested;
+    t.invalid += r.stats.invalid_boxes;
+    t.ms += r.ms;
+  }
+  return t;
+}
+
+inline std::string summary(const WalkTotals& t) {
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "%zu frames: %llu visible, %llu missed, %llu drawn, %llu/%llu tests occluded, "
+                "%.1f ms/frame",
+                t.frames, (unsigned long long)t.visible, (unsigned long long)t.missed,
+                (unsigned long long)t.drawn, (unsigned long long)t.occluded,
+                (unsigned long long)t.tested, t.frames ? t.ms / double(t.frames) : 0.0);
+  return line;
+}
+
+// gtest parameter names allow only [A-Za-z0-9_].
+inline std::string sanitize(std::string s) {
+  for (char& ch : s) {
+    if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+  }
+  return s;
+}
+
+}  // namespace logrid::oracle
