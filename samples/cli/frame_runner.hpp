@@ -62,7 +62,7 @@ struct FrameRecord {
 // object's box allows (key < near_key - margin) cannot come from interpolating the
 // object's triangles: Mesa llvmpipe produces such fragments on edge-on sliver triangles
 // (areas around 1e-4 pixel), whose depth plane it extrapolates to pixel centres that
-// fixed-point snapping let in (docs/BENCHMARK.md, "Depth-extrapolation artifacts"). No
+// fixed-point snapping let in (docs/ANALYSIS.md, "Depth-extrapolation artifacts"). No
 // method that compares box depths can see them, so objects shown only through such
 // fragments are counted apart, never silently dropped.
 struct OracleFrame {
