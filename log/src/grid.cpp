@@ -157,9 +157,11 @@ void OcclusionGrid::applySummary(std::size_t i, const AreaDepth& area, std::uint
   near_[i] = area.min_key;
   far_[i] = area.max_key;
   outdated_[i] = 0;
-  if (desc_.variant == GridVariant::OcclusionState && far_[i] >= clear_key_ &&
-      !countShows(area.free_pixels, sampled)) {
-    far_[i] = below(clear_key_);  // approximation: few enough free pixels count as full
+  // Approximation only: few enough free pixels count as full. (The exact grid never
+  // reads free_pixels here, so a source may leave it 0 unless the fraction is used.)
+  if (approx_.full_free_fraction > 0 && desc_.variant == GridVariant::OcclusionState &&
+      far_[i] >= clear_key_ && !countShows(area.free_pixels, sampled)) {
+    far_[i] = below(clear_key_);
   }
 }
 
@@ -284,17 +286,17 @@ bool OcclusionGrid::summarizeTiles(const std::uint32_t* tiles, std::size_t n, fl
   bool shows = false;
   std::size_t r = 0;
   for (std::size_t k = 0; k < n; ++k) {
-    AreaDepth merged{std::numeric_limits<float>::infinity(),
-                     -std::numeric_limits<float>::infinity(), 0};
-    std::uint32_t sampled = 0;
-    for (; r < rects_.size() && owners_[r] == k; ++r) {
+    // Seeded from the first row so that a NaN from the source stays NaN (and visible).
+    AreaDepth merged = areas_[r];
+    std::uint32_t sampled = std::uint32_t(rects_[r].area());
+    for (++r; r < rects_.size() && owners_[r] == k; ++r) {
       merged.min_key = std::min(merged.min_key, areas_[r].min_key);
       merged.max_key = std::max(merged.max_key, areas_[r].max_key);
       merged.free_pixels += areas_[r].free_pixels;
       sampled += std::uint32_t(rects_[r].area());
     }
     applySummary(tiles[k], merged, sampled);
-    shows |= far_[tiles[k]] >= threshold;
+    shows |= !(far_[tiles[k]] < threshold);  // NaN shows
   }
   return shows;
 }

@@ -140,7 +140,12 @@ OracleFrame FrameRunner::idPass(const Camera& camera) {
   const std::size_t objects = scene_.mesh.draws.size();
   std::vector<std::uint8_t> state(objects, 0);
   std::vector<float> threshold(objects, 0);
-  const Projector projector(camera, config_.culler.projection);
+  // Judged with the default margins, widened kArtifactMargins times, whatever the run's
+  // projection settings: a culler whose margins are too small (or whose boxes do not
+  // enclose their geometry in depth) then shows misses, not artifacts; only fragments
+  // far nearer than any interpolation of their own geometry count as artifacts.
+  constexpr float kArtifactMargins = 16.0f;
+  const Projector projector(camera);
   const float sign = camera.depth.convention == DepthConvention::Reversed ? -1.0f : 1.0f;
   OracleFrame out;
   for (std::size_t i = 0; i < ids.size(); ++i) {
@@ -148,7 +153,7 @@ OracleFrame FrameRunner::idPass(const Camera& camera) {
     if (id >= objects || state[id] == 1) continue;
     if (state[id] == 0) {
       const BoxProjection p = projector.project(scene_.object_boxes[id]);
-      threshold[id] = p.cls == ProjectionClass::Inside ? p.occlusionThreshold()
+      threshold[id] = p.cls == ProjectionClass::Inside ? p.near_key - kArtifactMargins * p.margin
                                                        : -std::numeric_limits<float>::infinity();
     }
     state[id] = sign * depth[i] >= threshold[id] ? 1 : 2;

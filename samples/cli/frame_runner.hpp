@@ -58,10 +58,10 @@ struct FrameRecord {
 
 // The visible set of each frame found by the ID pass, shared by runners that render
 // the same frames with the same view (bench cells), so the pass runs once per frame.
-// What the ID pass of a frame found. A fragment whose depth lies nearer than its own
-// object's box allows (key < near_key - margin) cannot come from interpolating the
-// object's triangles: Mesa llvmpipe produces such fragments on edge-on sliver triangles
-// (areas around 1e-4 pixel), whose depth plane it extrapolates to pixel centres that
+// What the ID pass of a frame found. A fragment whose depth lies far nearer than its
+// own object's box allows (key < near_key - 16 default margins) cannot come from
+// interpolating the object's triangles: Mesa llvmpipe produces such fragments on edge-on sliver
+// triangles (areas around 1e-4 pixel), whose depth plane it extrapolates to pixel centres that
 // fixed-point snapping let in (docs/ANALYSIS.md, "Depth-extrapolation artifacts"). No
 // method that compares box depths can see them, so objects shown only through such
 // fragments are counted apart, never silently dropped.

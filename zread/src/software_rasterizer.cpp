@@ -82,13 +82,19 @@ void SoftwareRasterizer::rasterize(const V& a, const V& b, const V& c, std::uint
   const int y0 = std::max(0, int(std::floor(std::min({y[0], y[1], y[2]}))));
   const int y1 = std::min(int(camera_.height) - 1, int(std::ceil(std::max({y[0], y[1], y[2]}))));
   const bool reversed = camera_.depth.convention == DepthConvention::Reversed;
-  // Inner coverage: e[k] = distance to edge k * |edge k| / |area|, so a centre at least
-  // kSnap inside edge k has e[k] > kSnap * |edge k| / |area| (with slack for rounding).
-  constexpr double kSnap = 1.0 / 32.0 + 1e-4;
+  // Inner coverage: e[k] = distance to edge k * |edge k| / |area|. Snapping moves each
+  // vertex by up to one sub-pixel step per axis (1/16 pixel if a rasteriser truncates
+  // with GL's minimum of 4 bits), which shifts an edge along its normal by up to
+  // step * (|dx| + |dy|) / |edge k|; the float window coordinates add a few ulps of the
+  // largest coordinate. A centre farther inside than both is covered by any GL.
+  const double largest = std::max({std::fabs(x[0]), std::fabs(x[1]), std::fabs(x[2]),
+                                   std::fabs(y[0]), std::fabs(y[1]), std::fabs(y[2])});
+  const double slack = 1.0 / 16.0 + 8.0 * 1.2e-7 * largest;
   double inner[3];
   for (int k = 0; k < 3; ++k) {
     const int i = (k + 1) % 3, j = (k + 2) % 3;
-    inner[k] = kSnap * std::hypot(double(x[j]) - x[i], double(y[j]) - y[i]) / std::fabs(area);
+    const double dx = std::fabs(double(x[j]) - x[i]), dy = std::fabs(double(y[j]) - y[i]);
+    inner[k] = slack * (dx + dy) / std::fabs(area);
   }
   for (int py = y0; py <= y1; ++py) {
     for (int px = x0; px <= x1; ++px) {

@@ -67,7 +67,8 @@ struct CullerDesc {
   //                       objects seen only through such gaps vanish (log-state, bog);
   //   row_stride          reads sample every k-th row: objects seen only through rows
   //                       that were skipped vanish (log-*, bog).
-  // HZB and VFC take none of them.
+  // Knobs combine: with visible_pixels and full_free_fraction together, tiles counted
+  // as full contribute no pixels to the visible-pixel count. HZB and VFC take none.
   GridApproximation approximation;
 };
 

@@ -23,9 +23,10 @@ enum class Coverage : std::uint8_t {
   // Every centre inside or on an edge: at least what any GL rasteriser covers. Right for
   // an ID-pass oracle, which must not miss a pixel GL could draw.
   Inclusive,
-  // Only centres farther than GL's sub-pixel snap (1/32 pixel, 4 bits) inside every
-  // edge: at most what any GL rasteriser covers (GL leaves out centres on right and top
-  // edges, and snapping moves edges). Right for a depth source standing in for a GL
+  // Only centres farther inside every edge than snapping can move it (one 1/16-pixel
+  // step per axis, GL's minimum of 4 sub-pixel bits with truncation, plus float
+  // rounding): at most what any GL rasteriser covers (GL leaves out centres on right and
+  // top edges, and snapping moves edges). Right for a depth source standing in for a GL
   // depth buffer, which must never hold depth where GL drew nothing.
   Inner,
 };
