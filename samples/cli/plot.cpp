@@ -1,5 +1,6 @@
 #include "cli/plot.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -82,9 +83,13 @@ bool plotLines(const std::string& stem, const std::string& title, const std::str
 
 bool plotPoints(const std::string& stem, const std::string& title, const std::string& xlabel,
                 const std::string& ylabel, const std::vector<PlotPoint>& points, bool log_x) {
+  // Sorted by x so that the front's line runs left to right.
+  std::vector<PlotPoint> sorted = points;
+  std::sort(sorted.begin(), sorted.end(),
+            [](const PlotPoint& a, const PlotPoint& b) { return a.x < b.x; });
   std::string data;
   for (int front = 0; front < 2; ++front) {
-    for (const PlotPoint& p : points) {
+    for (const PlotPoint& p : sorted) {
       if (p.highlight != bool(front)) continue;
       char line[96];
       std::snprintf(line, sizeof line, "%.6g\t%.6g\t", p.x, p.y);
