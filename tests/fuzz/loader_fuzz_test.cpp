@@ -1,5 +1,5 @@
 // A short, deterministic smoke fuzzer for loadSceneFile: valid files of each format
-// (those of tests/unit/loader_test.cpp, regenerated here) are mutated with a fixed seed
+// (tests/support/model_files.hpp, shared with loader_test.cpp) are mutated with a fixed seed
 // -- bit flips, truncations, huge numbers, duplicated and deleted chunks -- and each
 // result must either load into a Scene that passes validateScene or throw logrid::Error.
 // Any other exception fails the test; a crash inside assimp takes the process down, a
@@ -8,7 +8,6 @@
 // inputs a format, each load in a child process) found the assimp 5.2 bugs that
 // loader.cpp works around; this test keeps the run short and checks they stay fixed.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -18,13 +17,13 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <iterator>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "logrid/error.hpp"
+#include "model_files.hpp"
 #include "scene/loader.hpp"
 #include "scene/scene.hpp"
 
@@ -36,149 +35,7 @@ extern "C" const char* __lsan_default_suppressions() { return "leak:libassimp.so
 namespace logrid::samples {
 namespace {
 
-// --- The valid files (as in loader_test.cpp) -----------------------------------------
-
-const char* const kObjTwoObjects =
-    "# two objects\n"
-    "o first\n"
-    "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
-    "f 1 2 3\nf 2 4 3\n"
-    "o second\n"
-    "v 0 0 5\nv 2 0 5\nv 0 3 5\n"
-    "f 5 6 7\n";
-
-const char* const kPlyAscii =
-    "ply\n"
-    "format ascii 1.0\n"
-    "comment logrid test\n"
-    "element vertex 5\n"
-    "property float x\nproperty float y\nproperty float z\n"
-    "element face 2\n"
-    "property list uchar int vertex_indices\n"
-    "end_header\n"
-    "-1 0 0\n1 0 0\n1 2 0\n-1 2 0\n0 1 4\n"
-    "4 0 1 2 3\n"
-    "3 0 1 4\n";
-
-const char* const kStlAscii =
-    "solid square\n"
-    " facet normal 0 1 0\n  outer loop\n"
-    "   vertex 0 0 0\n   vertex 0 0 3\n   vertex 3 0 0\n"
-    "  endloop\n endfacet\n"
-    " facet normal 0 1 0\n  outer loop\n"
-    "   vertex 3 0 0\n   vertex 0 0 3\n   vertex 3 0 3\n"
-    "  endloop\n endfacet\n"
-    "endsolid square\n";
-
-template <typename T>
-void appendRaw(std::string& out, T value) {
-  char bytes[sizeof(T)];
-  std::memcpy(bytes, &value, sizeof(T));  // the tests run on little-endian machines
-  out.append(bytes, sizeof(T));
-}
-
-std::string binaryPlyTetrahedron() {
-  std::string out =
-      "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n"
-      "property float y\nproperty float z\nelement face 4\n"
-      "property list uchar int vertex_indices\nend_header\n";
-  for (const float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 2.f, 0.f, 0.f, 0.f, 3.f}) {
-    appendRaw(out, v);
-  }
-  const std::int32_t faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
-  for (const auto& face : faces) {
-    out.push_back(3);
-    for (const std::int32_t index : face) appendRaw(out, index);
-  }
-  return out;
-}
-
-std::string base64(const std::string& bytes) {
-  static const char* const kDigits =
-      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  std::uint32_t bits = 0;
-  int count = 0;
-  for (const char c : bytes) {
-    bits = bits << 8 | static_cast<unsigned char>(c);
-    count += 8;
-    while (count >= 6) {
-      count -= 6;
-      out.push_back(kDigits[(bits >> count) & 63u]);
-    }
-  }
-  if (count > 0) out.push_back(kDigits[(bits << (6 - count)) & 63u]);
-  while (out.size() % 4 != 0) out.push_back('=');
-  return out;
-}
-
-std::string gltfBuffer() {
-  std::string buffer;
-  for (const float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) appendRaw(buffer, v);
-  for (const int i : {0, 1, 2}) appendRaw(buffer, static_cast<std::uint16_t>(i));
-  buffer.append(2, '\0');
-  return buffer;
-}
-
-std::string gltfInstanced(const std::string& buffer_uri) {
-  return R"({
-  "asset": {"version": "2.0", "generator": "logrid loader_fuzz_test"},
-  "scene": 0,
-  "scenes": [{"nodes": [0]}],
-  "nodes": [
-    {"name": "root", "scale": [2, 2, 2], "children": [1, 2]},
-    {"name": "east", "mesh": 0, "translation": [10, 0, 0]},
-    {"name": "south", "mesh": 0, "translation": [0, 0, -10]}
-  ],
-  "meshes": [{"name": "triangle", "primitives": [
-    {"attributes": {"POSITION": 0}, "indices": 1, "material": 0, "mode": 4}]}],
-  "materials": [{"name": "red", "pbrMetallicRoughness": {"baseColorFactor": [1, 0, 0, 1]}}],
-  "accessors": [
-    {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
-     "min": [0, 0, 0], "max": [1, 1, 0]},
-    {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}
-  ],
-  "bufferViews": [
-    {"buffer": 0, "byteOffset": 0, "byteLength": 36, "target": 34962},
-    {"buffer": 0, "byteOffset": 36, "byteLength": 6, "target": 34963}
-  ],
-  "buffers": [{"byteLength": 44)" +
-         (buffer_uri.empty() ? std::string() : ", \"uri\": \"" + buffer_uri + "\"") + R"(}]
-})";
-}
-
-std::string gltfEmbedded() {
-  return gltfInstanced("data:application/octet-stream;base64," + base64(gltfBuffer()));
-}
-
-std::string glbInstanced() {
-  std::string json = gltfInstanced("");
-  json.append((4 - json.size() % 4) % 4, ' ');
-  const std::string bin = gltfBuffer();
-  std::string out = "glTF";
-  auto word = [&out](std::size_t value) { appendRaw(out, static_cast<std::uint32_t>(value)); };
-  word(2);
-  word(12 + 8 + json.size() + 8 + bin.size());
-  word(json.size());
-  out += "JSON" + json;
-  word(bin.size());
-  out += std::string("BIN\0", 4) + bin;
-  return out;
-}
-
-// The two facets of kStlAscii as binary STL: 80-byte header, count, 50 bytes a facet.
-std::string binaryStl() {
-  std::string out(80, ' ');
-  out.replace(0, 11, "logrid test");
-  appendRaw(out, std::uint32_t{2});
-  const float facets[2][12] = {{0, 1, 0, 0, 0, 0, 0, 0, 3, 3, 0, 0},
-                               {0, 1, 0, 3, 0, 0, 0, 0, 3, 3, 0, 3}};
-  for (const auto& facet : facets) {
-    for (const float v : facet) appendRaw(out, v);
-    appendRaw(out, std::uint16_t{0});
-  }
-  return out;
-}
+// --- The valid files (tests/support/model_files.hpp) ---------------------------------
 
 struct SeedFile {
   const char* name;       // for test names
@@ -187,13 +44,14 @@ struct SeedFile {
 };
 
 const SeedFile kSeeds[] = {
-    {"Obj", ".obj", [] { return std::string(kObjTwoObjects); }},
-    {"AsciiPly", ".ply", [] { return std::string(kPlyAscii); }},
-    {"BinaryPly", ".ply", binaryPlyTetrahedron},
-    {"AsciiStl", ".stl", [] { return std::string(kStlAscii); }},
-    {"BinaryStl", ".stl", binaryStl},
-    {"Gltf", ".gltf", gltfEmbedded},
-    {"Glb", ".glb", glbInstanced},
+    {"Obj", ".obj", [] { return std::string(test::kObjTwoObjects); }},
+    {"AsciiPly", ".ply", [] { return std::string(test::kPlyAscii); }},
+    {"BinaryPly", ".ply", test::binaryPlyTetrahedron},
+    {"AsciiStl", ".stl", [] { return std::string(test::kStlAscii); }},
+    {"BinaryStl", ".stl", test::binaryStl},
+    // The glTF files name this test as their asset's generator.
+    {"Gltf", ".gltf", [] { return test::gltfEmbedded("logrid loader_fuzz_test"); }},
+    {"Glb", ".glb", [] { return test::glbInstanced("logrid loader_fuzz_test"); }},
 };
 
 // --- Mutations -----------------------------------------------------------------------
@@ -329,14 +187,14 @@ void fuzz(const char* name) {
       std::begin(kSeeds), std::end(kSeeds),
       [name](const SeedFile& candidate) { return std::strcmp(candidate.name, name) == 0; });
   const std::string valid = seed.make();
-  const std::string path = testing::TempDir() + "logrid_loader_fuzz_" + std::to_string(::getpid()) +
-                           "_" + seed.name + seed.extension;
+  const std::string path =
+      test::tempFilePath("logrid_loader_fuzz", std::string(seed.name) + seed.extension);
   // Printed first: after a crash this file holds the input that caused it.
   std::printf("inputs are written to %s\n", path.c_str());
   std::fflush(stdout);
 
   // The unmutated file must load, or the mutations test nothing.
-  std::ofstream(path, std::ios::binary).write(valid.data(), std::streamsize(valid.size()));
+  test::writeBytes(path, valid);
   ASSERT_NO_THROW(validateScene(loadSceneFile(path)));
 
   std::uint64_t name_hash = 0xCBF29CE484222325ull;  // FNV-1a: the same everywhere
@@ -350,10 +208,7 @@ void fuzz(const char* name) {
     std::string input = valid;
     const std::size_t mutations = 1 + rng.below(4);
     for (std::size_t m = 0; m < mutations; ++m) mutateOnce(input, rng);
-    {
-      std::ofstream out(path, std::ios::binary);
-      out.write(input.data(), std::streamsize(input.size()));
-    }
+    test::writeBytes(path, input);
     const std::string what = path + " (input " + std::to_string(i) + ")";
     watchdog.arm(&what);
     try {

@@ -10,26 +10,14 @@
 #include <cstdint>
 #include <string>
 
+#include "expect_error.hpp"
 #include "gl_test_context.hpp"
 #include "logrid/gl/framebuffer.hpp"
 
 namespace logrid {
 namespace {
 
-// Expects `f` to throw a logrid::Error with `code` whose message contains every part.
-template <typename F>
-void expectError(F&& f, ErrorCode code, std::initializer_list<std::string> parts) {
-  try {
-    f();
-    ADD_FAILURE() << "no logrid::Error thrown; expected one containing '" << *parts.begin() << "'";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), code) << toString(e.code()) << ": " << e.what();
-    for (const std::string& part : parts) {
-      EXPECT_NE(std::string(e.what()).find(part), std::string::npos)
-          << "message '" << e.what() << "' lacks '" << part << "'";
-    }
-  }
-}
+using test::expectError;
 
 std::string size(std::uint32_t w, std::uint32_t h) {
   return std::to_string(w) + "x" + std::to_string(h);

@@ -20,6 +20,7 @@
 #include "logrid/grid.hpp"
 #include "logrid/projection.hpp"
 #include "logrid/zread/gl_sources.hpp"
+#include "margin_helpers.hpp"
 
 namespace logrid {
 namespace {
@@ -77,27 +78,12 @@ std::uint32_t samplesPassed(gl::MeshRenderer& renderer, const Camera& cam, Objec
   return samples;
 }
 
-// Is `box` culled by the zfar grid over the framebuffer (or covering no pixel centre)?
-bool zfarCulls(const Projector& projector, const Aabb& box, DepthSource& source) {
-  const BoxProjection p = projector.project(box);
-  if (p.cls == ProjectionClass::Outside) return true;
-  if (p.cls != ProjectionClass::Inside) return false;
-  const Camera& cam = projector.camera();
-  OcclusionGrid grid({cam.width, cam.height, 8, GridVariant::Zfar});
-  grid.reset(projector.clearKey());
-  grid.markOutdated(projector.viewportRect());
-  GridTestCounts counts;
-  return grid.test(p.rect, p.occlusionThreshold(), source, counts) == Visibility::Occluded;
-}
+using test::zfarCulls;  // tests/support/margin_helpers.hpp
 
-// An orthographic camera over [0, w] x [0, h], one world unit per pixel, near 0, far 1.
+// test::pixelCamera with standard depth in [-1, 1] held in `format`.
 Camera pixelCamera(std::uint32_t w, std::uint32_t h, DepthFormat format) {
-  Camera cam;
-  cam.width = w;
-  cam.height = h;
-  cam.depth = {DepthConvention::Standard, ClipDepthRange::NegativeOneToOne, format};
-  cam.view_projection = orthographic(0, w, 0, h, 0, 1, cam.depth);
-  return cam;
+  return test::pixelCamera(w, h,
+                           {DepthConvention::Standard, ClipDepthRange::NegativeOneToOne, format});
 }
 
 const float kBlack[4] = {0, 0, 0, 1};
@@ -149,24 +135,13 @@ TEST(MarginGlTest, RenderErrorTermIsNeeded) {
   int culled_total = 0;
   for (const bool world_space : {false, true}) {
     SCOPED_TRACE(world_space ? "world space, 1e4 from the origin" : "camera-relative");
-    const std::uint32_t w = 128, h = 128;
-    Camera cam;
-    cam.width = w;
-    cam.height = h;
-    cam.depth = {DepthConvention::Standard, ClipDepthRange::NegativeOneToOne, DepthFormat::D32F};
-    const double eye_z = world_space ? 1e4 : 0.0, fovy = 1.0, f = 1.0 / std::tan(fovy / 2);
-    cam.view_projection = multiply(perspective(fovy, 1.0, 0.5, 200, cam.depth),
-                                   lookAt({0, 0, eye_z}, {0, 0, eye_z - 1}, {0, 1, 0}));
-    cam.render_origin = world_space ? DVec3{} : DVec3{0, 0, eye_z};
-    std::vector<Quad> quads(128);  // walls 0..63, duplicates 64..127
-    for (int i = 0; i < 64; ++i) {
-      const double distance = 1.0 + 1.618 * i, x0 = 16 * (i % 8), y0 = 16 * (i / 8);
-      auto at = [&](double px) { return float((2 * px / w - 1) * distance / f); };
-      const float z = float(eye_z - distance);
-      quads[std::size_t(i)] = {at(x0), at(y0), at(x0 + 16), at(y0 + 16), z};
-      quads[std::size_t(64 + i)] = {at(x0 + 4), at(y0 + 4), at(x0 + 12), at(y0 + 12), z};
+    const test::CoplanarWalls scene = test::coplanarWalls(world_space);
+    const Camera& cam = scene.cam;
+    std::vector<Quad> quads;  // walls 0..63, duplicates 64..127
+    for (const std::vector<Aabb>* boxes : {&scene.walls, &scene.duplicates}) {
+      for (const Aabb& b : *boxes) quads.push_back({b.min.x, b.min.y, b.max.x, b.max.y, b.min.z});
     }
-    gl::Framebuffer fb({w, h, cam.depth, false});
+    gl::Framebuffer fb({cam.width, cam.height, cam.depth, false});
     fb.bind();
     fb.clear(kBlack);
     gl::MeshRenderer renderer(quadMesh(quads));

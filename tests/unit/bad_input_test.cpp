@@ -6,12 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <functional>
 #include <limits>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "expect_error.hpp"
 #include "logrid/bvh.hpp"
 #include "logrid/culler.hpp"
 #include "logrid/error.hpp"
@@ -25,22 +25,7 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr Method kAllMethods[] = {Method::LogState, Method::LogZfar, Method::Bog,
                                   Method::Hzb,      Method::Pq,      Method::Vfc};
 
-// Expects `f` to throw a logrid::Error with `code` whose message contains every part.
-void expectError(const std::function<void()>& f, ErrorCode code,
-                 std::initializer_list<std::string> parts) {
-  try {
-    f();
-    ADD_FAILURE() << "no logrid::Error thrown; expected one containing '" << *parts.begin() << "'";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), code) << toString(e.code()) << ": " << e.what();
-    for (const std::string& part : parts) {
-      EXPECT_NE(std::string(e.what()).find(part), std::string::npos)
-          << "message '" << e.what() << "' lacks '" << part << "'";
-    }
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "not a logrid::Error: " << e.what();
-  }
-}
+using test::expectError;
 
 // Eye at the origin looking down -z, near 0.5, far 100.
 Camera camera(std::uint32_t w = 64, std::uint32_t h = 48, DepthSetup depth = {}) {

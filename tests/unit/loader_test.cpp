@@ -2,18 +2,17 @@
 // with the right triangles, objects and bounds; broken files give a logrid::Error with
 // the expected code and a message that names the file and the problem.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <string>
 #include <vector>
 
 #include "logrid/error.hpp"
+#include "model_files.hpp"
 #include "scene/loader.hpp"
 #include "scene/scene.hpp"
 
@@ -22,176 +21,18 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// --- Files of each format ------------------------------------------------------------
+// --- Files of each format (tests/support/model_files.hpp) ----------------------------
 
-// Two objects: a unit quad at z = 0 and a triangle at z = 5; bounds [0,2]x[0,3]x[0,5].
-const char* const kObjTwoObjects =
-    "# two objects\n"
-    "o first\n"
-    "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
-    "f 1 2 3\nf 2 4 3\n"
-    "o second\n"
-    "v 0 0 5\nv 2 0 5\nv 0 3 5\n"
-    "f 5 6 7\n";
+using test::binaryPly;
+using test::binaryPlyTetrahedron;
+using test::binaryStl;
+using test::kObjTwoObjects;
+using test::kPlyAscii;
+using test::kStlAscii;
 
-// A quad (split in two) and a triangle sharing its vertices; bounds [-1,1]x[0,2]x[0,4].
-const char* const kPlyAscii =
-    "ply\n"
-    "format ascii 1.0\n"
-    "comment logrid test\n"
-    "element vertex 5\n"
-    "property float x\nproperty float y\nproperty float z\n"
-    "element face 2\n"
-    "property list uchar int vertex_indices\n"
-    "end_header\n"
-    "-1 0 0\n1 0 0\n1 2 0\n-1 2 0\n0 1 4\n"
-    "4 0 1 2 3\n"
-    "3 0 1 4\n";
-
-// Two facets of a square in the y = 0 plane; bounds [0,3]x[0,0]x[0,3].
-const char* const kStlAscii =
-    "solid square\n"
-    " facet normal 0 1 0\n  outer loop\n"
-    "   vertex 0 0 0\n   vertex 0 0 3\n   vertex 3 0 0\n"
-    "  endloop\n endfacet\n"
-    " facet normal 0 1 0\n  outer loop\n"
-    "   vertex 3 0 0\n   vertex 0 0 3\n   vertex 3 0 3\n"
-    "  endloop\n endfacet\n"
-    "endsolid square\n";
-
-void appendFloat(std::string& out, float value) {
-  char bytes[4];
-  std::memcpy(bytes, &value, 4);  // the tests run on little-endian machines
-  out.append(bytes, 4);
-}
-
-void appendInt(std::string& out, std::int32_t value) {
-  char bytes[4];
-  std::memcpy(bytes, &value, 4);
-  out.append(bytes, 4);
-}
-
-// kStlAscii as binary STL: 80-byte header, facet count, 50 bytes a facet.
-std::string binaryStl() {
-  std::string out(80, ' ');
-  out.replace(0, 11, "logrid test");
-  appendInt(out, 2);
-  const float facets[2][12] = {{0, 1, 0, 0, 0, 0, 0, 0, 3, 3, 0, 0},
-                               {0, 1, 0, 3, 0, 0, 0, 0, 3, 3, 0, 3}};
-  for (const auto& facet : facets) {
-    for (const float v : facet) appendFloat(out, v);
-    out.append(2, '\0');  // attribute byte count
-  }
-  return out;
-}
-
-// Binary little-endian PLY with the given vertices and triangles.
-std::string binaryPly(const std::vector<float>& xyz, const std::vector<std::int32_t>& triangles) {
-  std::string out = "ply\nformat binary_little_endian 1.0\nelement vertex " +
-                    std::to_string(xyz.size() / 3) +
-                    "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
-                    std::to_string(triangles.size() / 3) +
-                    "\nproperty list uchar int vertex_indices\nend_header\n";
-  for (const float v : xyz) appendFloat(out, v);
-  for (std::size_t t = 0; t < triangles.size(); t += 3) {
-    out.push_back(3);
-    for (std::size_t k = 0; k < 3; ++k) appendInt(out, triangles[t + k]);
-  }
-  return out;
-}
-
-// A tetrahedron; bounds [0,1]x[0,2]x[0,3].
-std::string binaryPlyTetrahedron() {
-  return binaryPly({0, 0, 0, 1, 0, 0, 0, 2, 0, 0, 0, 3}, {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3});
-}
-
-std::string base64(const std::string& bytes) {
-  static const char* const kDigits =
-      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  std::uint32_t bits = 0;
-  int count = 0;
-  for (const char c : bytes) {
-    bits = bits << 8 | static_cast<unsigned char>(c);
-    count += 8;
-    while (count >= 6) {
-      count -= 6;
-      out.push_back(kDigits[(bits >> count) & 63u]);
-    }
-  }
-  if (count > 0) out.push_back(kDigits[(bits << (6 - count)) & 63u]);
-  while (out.size() % 4 != 0) out.push_back('=');
-  return out;
-}
-
-// The buffer of the glTF files: a triangle's positions and indices, padded to 44 bytes.
-std::string gltfBuffer() {
-  std::string buffer;
-  for (const float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) appendFloat(buffer, v);
-  for (const std::uint16_t i : {std::uint16_t{0}, std::uint16_t{1}, std::uint16_t{2}}) {
-    char bytes[2];
-    std::memcpy(bytes, &i, 2);
-    buffer.append(bytes, 2);
-  }
-  buffer.append(2, '\0');
-  return buffer;
-}
-
-// glTF 2.0: one red triangle (0,0,0) (1,0,0) (0,1,0) instanced by two nodes under a root
-// scaled by 2, translated by (10,0,0) and (0,0,-10); world bounds [0,22]x[0,2]x[-20,0].
-// `buffer_uri` empty: the buffer is a GLB's binary chunk.
-std::string gltfInstanced(const std::string& buffer_uri) {
-  return R"({
-  "asset": {"version": "2.0", "generator": "logrid loader_test"},
-  "scene": 0,
-  "scenes": [{"nodes": [0]}],
-  "nodes": [
-    {"name": "root", "scale": [2, 2, 2], "children": [1, 2]},
-    {"name": "east", "mesh": 0, "translation": [10, 0, 0]},
-    {"name": "south", "mesh": 0, "translation": [0, 0, -10]}
-  ],
-  "meshes": [{"name": "triangle", "primitives": [
-    {"attributes": {"POSITION": 0}, "indices": 1, "material": 0, "mode": 4}]}],
-  "materials": [{"name": "red", "pbrMetallicRoughness": {"baseColorFactor": [1, 0, 0, 1]}}],
-  "accessors": [
-    {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
-     "min": [0, 0, 0], "max": [1, 1, 0]},
-    {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}
-  ],
-  "bufferViews": [
-    {"buffer": 0, "byteOffset": 0, "byteLength": 36, "target": 34962},
-    {"buffer": 0, "byteOffset": 36, "byteLength": 6, "target": 34963}
-  ],
-  "buffers": [{"byteLength": 44)" +
-         (buffer_uri.empty() ? std::string() : ", \"uri\": \"" + buffer_uri + "\"") + R"(}]
-})";
-}
-
-// The .gltf file: the buffer embedded as a base64 data: URI.
-std::string gltfEmbedded() {
-  return gltfInstanced("data:application/octet-stream;base64," + base64(gltfBuffer()));
-}
-
-// The same as binary glTF: header, JSON chunk, BIN chunk.
-std::string glbInstanced() {
-  std::string json = gltfInstanced("");
-  json.append((4 - json.size() % 4) % 4, ' ');
-  const std::string bin = gltfBuffer();
-  std::string out = "glTF";
-  auto word = [&out](std::size_t value) {
-    char bytes[4];
-    const auto v = static_cast<std::uint32_t>(value);
-    std::memcpy(bytes, &v, 4);
-    out.append(bytes, 4);
-  };
-  word(2);
-  word(12 + 8 + json.size() + 8 + bin.size());
-  word(json.size());
-  out += "JSON" + json;
-  word(bin.size());
-  out += std::string("BIN\0", 4) + bin;
-  return out;
-}
+// The glTF files with this test's asset.generator.
+std::string gltfEmbedded() { return test::gltfEmbedded("logrid loader_test"); }
+std::string glbInstanced() { return test::glbInstanced("logrid loader_test"); }
 
 // The glTF file with its node array replaced.
 std::string gltfWithNodes(const std::string& nodes) {
@@ -213,15 +54,16 @@ class LoaderTest : public testing::Test {
   // A path under the test's temporary directory, unique to this process and test.
   std::string tempPath(const std::string& name) {
     const testing::TestInfo* info = testing::UnitTest::GetInstance()->current_test_info();
-    std::string path = testing::TempDir() + "logrid_loader_" + std::to_string(::getpid()) + "_" +
-                       info->name() + "_" + std::to_string(created_.size()) + "_" + name;
+    std::string path =
+        test::tempFilePath("logrid_loader", std::string(info->name()) + "_" +
+                                                std::to_string(created_.size()) + "_" + name);
     created_.push_back(path);
     return path;
   }
 
   std::string writeFile(const std::string& name, const std::string& bytes) {
     const std::string path = tempPath(name);
-    std::ofstream(path, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+    test::writeBytes(path, bytes);
     return path;
   }
 

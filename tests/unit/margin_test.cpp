@@ -25,6 +25,7 @@
 #include "logrid/grid.hpp"
 #include "logrid/projection.hpp"
 #include "logrid/zread/software_rasterizer.hpp"
+#include "margin_helpers.hpp"
 
 namespace logrid {
 namespace {
@@ -35,16 +36,8 @@ constexpr Method kGridMethods[] = {Method::LogState, Method::LogZfar, Method::Bo
 const DepthSetup kStandard32F{DepthConvention::Standard, ClipDepthRange::NegativeOneToOne,
                               DepthFormat::D32F};
 
-// An orthographic w x h camera over [0, w] x [0, h] looking down -z, one world unit per
-// pixel, near 0 and far 1: for the standard convention the window depth of z is exactly -z.
-Camera pixelCamera(std::uint32_t w, std::uint32_t h, const DepthSetup& depth) {
-  Camera cam;
-  cam.width = w;
-  cam.height = h;
-  cam.depth = depth;
-  cam.view_projection = orthographic(0, w, 0, h, 0, 1, depth);
-  return cam;
-}
+using test::pixelCamera;  // tests/support/margin_helpers.hpp
+using test::zfarCulls;
 
 // The value a unorm buffer of `levels` = 2^n - 1 stores for window depth d: rounded to
 // the nearest level, as GL recommends and llvmpipe does.
@@ -81,20 +74,6 @@ std::set<ObjectId> cullFrame(const Camera& cam, const std::vector<Object>& objec
     depth.fillRect(objects[id].covers, objects[id].stored);
   });
   return drawn;
-}
-
-// Is `box` culled by the zfar grid (log-zfar's test: threshold = nearest key - margin)
-// over what `source` holds? A box that covers no pixel centre counts as culled.
-bool zfarCulls(const Projector& projector, const Aabb& box, DepthSource& source) {
-  const BoxProjection p = projector.project(box);
-  if (p.cls == ProjectionClass::Outside) return true;
-  if (p.cls != ProjectionClass::Inside) return false;
-  const Camera& cam = projector.camera();
-  OcclusionGrid grid({cam.width, cam.height, 8, GridVariant::Zfar});
-  grid.reset(projector.clearKey());
-  grid.markOutdated(projector.viewportRect());
-  GridTestCounts counts;
-  return grid.test(p.rect, p.occlusionThreshold(), source, counts) == Visibility::Occluded;
 }
 
 // ---------------------------------------------------------------------------------------
@@ -246,35 +225,21 @@ TEST(MarginTest, D24QuantisationTermIsNeededWithReversedDepthFarAway) {
 TEST(MarginTest, RenderErrorTermIsNeededForAFloatPipeline) {
   for (const bool world_space : {false, true}) {
     SCOPED_TRACE(world_space ? "world space, 1e4 from the origin" : "camera-relative");
-    const std::uint32_t w = 128, h = 128;
-    Camera cam;
-    cam.width = w;
-    cam.height = h;
-    cam.depth = kStandard32F;
-    const double eye_z = world_space ? 1e4 : 0.0, fovy = 1.0, f = 1.0 / std::tan(fovy / 2);
-    cam.view_projection = multiply(perspective(fovy, 1.0, 0.5, 200, cam.depth),
-                                   lookAt({0, 0, eye_z}, {0, 0, eye_z - 1}, {0, 1, 0}));
-    cam.render_origin = world_space ? DVec3{} : DVec3{0, 0, eye_z};
-    zread::SoftwareDepthBuffer depth(w, h, cam.depth.convention);
+    const test::CoplanarWalls scene = test::coplanarWalls(world_space);
+    const Camera& cam = scene.cam;
+    zread::SoftwareDepthBuffer depth(cam.width, cam.height, cam.depth.convention);
     zread::SoftwareRasterizer raster(cam, depth, nullptr);
-    std::vector<Aabb> duplicates;
-    for (int i = 0; i < 64; ++i) {
-      const double distance = 1.0 + 1.618 * i, x0 = 16 * (i % 8), y0 = 16 * (i / 8);
-      // World coordinate of window coordinate px on the plane at `distance`.
-      auto at = [&](double px) { return float((2 * px / w - 1) * distance / f); };
-      const float z = float(eye_z - distance);
-      const Aabb wall{{at(x0), at(y0), z}, {at(x0 + 16), at(y0 + 16), z}};
+    for (std::size_t i = 0; i < scene.walls.size(); ++i) {
       std::vector<float> positions;
       std::vector<std::uint32_t> indices;
-      zread::appendBox(wall, positions, indices);
+      zread::appendBox(scene.walls[i], positions, indices);
       raster.draw(positions, indices, std::uint32_t(i));
-      duplicates.push_back({{at(x0 + 4), at(y0 + 4), z}, {at(x0 + 12), at(y0 + 12), z}});
     }
     ProjectionSettings shrunk;
     shrunk.render_error_ulps = 0;
     const Projector safe(cam), exact(cam, shrunk);
     int culled_shrunk = 0;
-    for (const Aabb& box : duplicates) {
+    for (const Aabb& box : scene.duplicates) {
       EXPECT_FALSE(zfarCulls(safe, box, depth)) << "default settings cull a coplanar duplicate";
       culled_shrunk += zfarCulls(exact, box, depth);
     }
