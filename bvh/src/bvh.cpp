@@ -143,7 +143,8 @@ Layout layOut(std::size_t count, std::uint32_t leaf, std::uint32_t max_children)
 }
 
 unsigned parallelDepth(const BuildArgs& args) {
-  unsigned threads = args.threads ? args.threads : std::max(1u, std::thread::hardware_concurrency());
+  unsigned threads =
+      args.threads ? args.threads : std::max(1u, std::thread::hardware_concurrency());
   unsigned depth = 0;
   while ((1u << depth) < threads) ++depth;
   return depth;
@@ -158,7 +159,8 @@ void computeBoxes(std::vector<FlatHierarchy::Node>& nodes, LeafBox leafBox) {
     if (node.child_count == 0) {
       box = leafBox(n);
     } else {
-      for (std::uint32_t c = 0; c < node.child_count; ++c) grow(box, nodes[node.first_child + c].box);
+      for (std::uint32_t c = 0; c < node.child_count; ++c)
+        grow(box, nodes[node.first_child + c].box);
     }
     node.box = box;
   }
@@ -322,7 +324,8 @@ TriangleHierarchy buildOverTriangles(const std::vector<float>& positions,
     const Range r = layout.leaf_ranges[n];
     for (std::size_t i = r.begin; i < r.end; ++i) {
       const std::size_t t = order[i];
-      for (int k = 0; k < 3; ++k) grow(box, &positions[std::size_t(indices[t * 3 + std::size_t(k)]) * 3]);
+      for (int k = 0; k < 3; ++k)
+        grow(box, &positions[std::size_t(indices[t * 3 + std::size_t(k)]) * 3]);
     }
     return box;
   });

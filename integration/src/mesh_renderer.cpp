@@ -12,8 +12,8 @@
 namespace logrid::gl {
 
 std::size_t RenderMesh::memoryBytes() const {
-  return positions.capacity() * sizeof(float) + colors.capacity() * 4 +
-         indices16.capacity() * 2 + indices32.capacity() * 4 + draws.capacity() * sizeof(Draw);
+  return positions.capacity() * sizeof(float) + colors.capacity() * 4 + indices16.capacity() * 2 +
+         indices32.capacity() * 4 + draws.capacity() * sizeof(Draw);
 }
 
 namespace {

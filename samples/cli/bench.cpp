@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <sstream>
 
@@ -80,12 +79,6 @@ std::vector<std::string> splitList(const std::string& text) {
   return out;
 }
 
-std::string fmt(double v, int decimals = 2) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
-
 // 1234567 -> "1,234,567"
 std::string grouped(double v) {
   std::string digits = std::to_string(static_cast<long long>(std::llround(v)));
@@ -95,7 +88,7 @@ std::string grouped(double v) {
   return digits;
 }
 
-std::string ratio(double a, double b) { return b > 0 ? fmt(a / b, 2) + "×" : "–"; }
+std::string ratio(double a, double b) { return b > 0 ? formatFixed(a / b, 2) + "×" : "–"; }
 
 struct Row {
   std::string label;
@@ -114,8 +107,8 @@ struct Row {
   bool conservative = true;
 };
 
-Row makeRow(const std::string& label, const ConfigResult& r) {
-  const nlohmann::json s = runSummary(r.records, r.config, false);
+// A table row from a configuration's result and its runSummary().
+Row makeRow(const std::string& label, const ConfigResult& r, const nlohmann::json& s) {
   Row row;
   row.label = label;
   row.method = r.config.method.name();
@@ -160,10 +153,11 @@ void writeCell(std::ostream& md, const std::string& scene, std::uint32_t width,
         "| tiles/box | read share | flushes | missed |\n";
   md << "|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n";
   for (const Row& r : rows) {
-    md << "| " << r.label << " | " << r.reader << " | " << fmt(r.ms) << " | "
-       << fmt(100 * r.spread, 0) << "% | " << grouped(r.objects) << " | " << grouped(r.triangles)
-       << " | " << grouped(r.pixels) << " | " << (r.tiles_per_box > 0 ? fmt(r.tiles_per_box) : "–")
-       << " | " << fmt(100 * r.read_share, 0) << "% | " << fmt(r.flushes, 1) << " | "
+    md << "| " << r.label << " | " << r.reader << " | " << formatFixed(r.ms) << " | "
+       << formatFixed(100 * r.spread, 0) << "% | " << grouped(r.objects) << " | "
+       << grouped(r.triangles) << " | " << grouped(r.pixels) << " | "
+       << (r.tiles_per_box > 0 ? formatFixed(r.tiles_per_box) : "–") << " | "
+       << formatFixed(100 * r.read_share, 0) << "% | " << formatFixed(r.flushes, 1) << " | "
        << (r.missed >= 0 ? std::to_string(r.missed) : "–")
        << (r.missed_artifacts > 0 ? " (+" + std::to_string(r.missed_artifacts) + " artifact)" : "")
        << " |\n";
@@ -195,15 +189,15 @@ void writeCell(std::ostream& md, const std::string& scene, std::uint32_t width,
       if (!other || log->pixels <= 0) continue;
       const double ours = other->pixels / log->pixels;
       const double theirs = paper->pixels[col] / paper->pixels[0];
-      target(ours >= theirs, std::string(names[col]) + " reads " + fmt(ours, 1) +
-                                 "× LOG's pixels (paper " + fmt(theirs, 1) + "×)");
+      target(ours >= theirs, std::string(names[col]) + " reads " + formatFixed(ours, 1) +
+                                 "× LOG's pixels (paper " + formatFixed(theirs, 1) + "×)");
     }
   }
   for (const char* name : {"bog", "hzb", "pq", "vfc"}) {
     if (const Row* other = findRow(rows, name)) {
-      target(log->ms < other->ms, std::string("LOG faster than ") + name + ": " + fmt(log->ms) +
-                                      " vs " + fmt(other->ms) + " ms (" +
-                                      ratio(other->ms, log->ms) + ")");
+      target(log->ms < other->ms, std::string("LOG faster than ") + name + ": " +
+                                      formatFixed(log->ms) + " vs " + formatFixed(other->ms) +
+                                      " ms (" + ratio(other->ms, log->ms) + ")");
     }
   }
   const Row* vfc = findRow(rows, "vfc");
@@ -217,8 +211,8 @@ void writeCell(std::ostream& md, const std::string& scene, std::uint32_t width,
   }
   if (paper && paper->tiles_per_box > 0) {
     target(log->tiles_per_box <= paper->tiles_per_box, "tiles tested per box at most the paper's " +
-                                                           fmt(paper->tiles_per_box, 1) + ": " +
-                                                           fmt(log->tiles_per_box));
+                                                           formatFixed(paper->tiles_per_box, 1) +
+                                                           ": " + formatFixed(log->tiles_per_box));
   }
   if (!plot_prefix.empty()) {
     md << "\n![frame time](" << plot_prefix << "_ms.png) ![pixels read](" << plot_prefix
@@ -272,40 +266,33 @@ int runBench(const BenchOptions& o) {
                            {"cells", nlohmann::json::array()}};
   bool any_missed = false;
   for (const std::string& scene_name : scenes) {
-    WalkOptions so = o.walk;
-    so.scene = scene_name;
-    if (scene_name == "forest" && o.forest_scale > 0) so.scale = o.forest_scale;
-    if (scene_name == "city" && o.city_scale > 0) so.scale = o.city_scale;
+    const WalkOptions so = optionsForScene(o.walk, scene_name, o.forest_scale, o.city_scale);
     LoadedScene scene = loadScene(so);
     const nlohmann::json described = scene.describe();
     md << "\n## " << scene.prepared.name << "\n\n"
        << grouped(double(scene.prepared.triangles)) << " triangles in "
        << grouped(double(scene.prepared.mesh.draws.size())) << " objects (scale " << so.scale
        << ", seed " << so.seed << "); hierarchy of " << scene.prepared.hierarchy.nodes().size()
-       << " nodes built in " << fmt(scene.prepared.bvh_build_ms, 0) << " ms; generated in "
-       << fmt(scene.generate_ms, 0) << " ms; peak memory "
-       << fmt(double(scene.peak_rss_bytes) / double(1 << 20), 0) << " MiB.\n";
+       << " nodes built in " << formatFixed(scene.prepared.bvh_build_ms, 0) << " ms; generated in "
+       << formatFixed(scene.generate_ms, 0) << " ms; peak memory "
+       << formatFixed(double(scene.peak_rss_bytes) / double(1 << 20), 0) << " MiB.\n";
 
     for (const std::string& size : sizes) {
       std::vector<RunConfig> configs;
       std::vector<std::string> labels;
-      for (const std::string& m : methods) {
+      auto add = [&](const std::string& method, const std::string& reader,
+                     const std::string& label) {
         WalkOptions mo = so;
-        mo.method = m;
-        mo.size = size;
-        mo.verify = !o.no_verify;
-        configs.push_back(runConfig(mo, scene.prepared));
-        labels.push_back(m);
-      }
-      for (const std::string& reader : readers) {
-        if (reader == so.reader) continue;
-        WalkOptions mo = so;
-        mo.method = "log-state";
+        mo.method = method;
         mo.reader = reader;
         mo.size = size;
         mo.verify = !o.no_verify;
         configs.push_back(runConfig(mo, scene.prepared));
-        labels.push_back("log-state (" + reader + ")");
+        labels.push_back(label);
+      };
+      for (const std::string& m : methods) add(m, so.reader, m);
+      for (const std::string& reader : readers) {
+        if (reader != so.reader) add("log-state", reader, "log-state (" + reader + ")");
       }
       const auto [w, h] = parseSize(size);
       const std::string label = "bench " + scene.prepared.name + " " + size;
@@ -313,21 +300,24 @@ int runBench(const BenchOptions& o) {
           runInterleaved(scene.prepared, *scene.renderer, configs, o.repeat, label, o.warmup);
 
       std::vector<Row> rows;
+      std::vector<std::vector<std::uint64_t>> frame_pixels(
+          results.size());  // per config, per frame
       nlohmann::json cell = described;
       cell["width"] = w;
       cell["height"] = h;
       cell["configs"] = nlohmann::json::array();
       for (std::size_t c = 0; c < results.size(); ++c) {
-        rows.push_back(makeRow(labels[c], results[c]));
         nlohmann::json j = runSummary(results[c].records, results[c].config, false);
+        rows.push_back(makeRow(labels[c], results[c], j));
+        for (const FrameRecord& f : results[c].records) {
+          frame_pixels[c].push_back(f.stats.pixels_read);
+        }
         j["label"] = labels[c];
         j["avg_frame_ms"] = results[c].avg_ms();
         j["spread"] = results[c].spread();
         j["repetition_ms"] = results[c].repetition_ms;
         j["frame_ms"] = results[c].frame_ms;
-        std::vector<std::uint64_t> pixels;
-        for (const FrameRecord& f : results[c].records) pixels.push_back(f.stats.pixels_read);
-        j["frame_read_pixels"] = pixels;
+        j["frame_read_pixels"] = frame_pixels[c];
         cell["configs"].push_back(std::move(j));
         if (rows.back().conservative && rows.back().missed > 0) any_missed = true;
       }
@@ -345,32 +335,23 @@ int runBench(const BenchOptions& o) {
         std::vector<PlotSeries> ms, px;
         for (std::size_t c = 0; c < results.size(); ++c) {
           ms.push_back({labels[c], results[c].frame_ms, {}});
-          std::vector<double> p;
-          for (const FrameRecord& f : results[c].records) p.push_back(double(f.stats.pixels_read));
-          if (rows[c].pixels > 0) px.push_back({labels[c], p, {}});
+          if (rows[c].pixels > 0) {
+            px.push_back({labels[c], {frame_pixels[c].begin(), frame_pixels[c].end()}, {}});
+          }
         }
         const std::string title = scene.prepared.name + " " + size;
         plotLines(o.plots + "/" + stem + "_ms", title + ": frame time", "frame", "ms (log scale)",
                   ms, true);
         plotLines(o.plots + "/" + stem + "_pixels", title + ": depth pixels read", "frame",
                   "pixels (log scale)", px, true);
-        if (!o.markdown.empty()) {
-          const auto md_dir = std::filesystem::absolute(o.markdown).parent_path();
-          plot_prefix =
-              std::filesystem::relative(std::filesystem::absolute(o.plots), md_dir).string() + "/" +
-              stem;
-        }
+        if (!o.markdown.empty()) plot_prefix = linkFrom(o.markdown, o.plots) + "/" + stem;
       }
       writeCell(md, scene.prepared.name, w, h, rows, configs.front().frames, o.repeat, plot_prefix);
       report["cells"].push_back(std::move(cell));
     }
   }
   std::printf("%s", md.str().c_str());
-  if (!o.markdown.empty()) {
-    std::ofstream out(o.markdown);
-    out << md.str();
-    if (!out) throw Error(ErrorCode::Environment, "cannot write '" + o.markdown + "'");
-  }
+  if (!o.markdown.empty()) writeText(o.markdown, md.str());
   if (!o.json.empty()) writeJson(o.json, report);
   if (any_missed) {
     std::fprintf(stderr,

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <thread>
 
+#include "cli/report.hpp"
 #include "logrid/error.hpp"
 #include "scene/generators.hpp"
 #include "scene/loader.hpp"
@@ -104,6 +105,15 @@ nlohmann::json LoadedScene::describe() const {
           {"peak_rss_bytes", peak_rss_bytes},
           {"prepare_peak_rss_bytes", prepare_peak_rss_bytes},
           {"bytes_per_triangle", p.triangles ? double(peak_rss_bytes) / double(p.triangles) : 0.0}};
+}
+
+WalkOptions optionsForScene(const WalkOptions& base, const std::string& scene, double forest_scale,
+                            double city_scale) {
+  WalkOptions o = base;
+  o.scene = scene;
+  if (scene == "forest" && forest_scale > 0) o.scale = forest_scale;
+  if (scene == "city" && city_scale > 0) o.scale = city_scale;
+  return o;
 }
 
 LoadedScene loadScene(const WalkOptions& o) {
@@ -264,9 +274,7 @@ std::uint64_t peakRssBytes() {
 }
 
 void writeJson(const std::string& path, const nlohmann::json& json) {
-  std::ofstream out(path);
-  out << json.dump(2) << "\n";
-  if (!out) throw Error(ErrorCode::Environment, "cannot write '" + path + "' (check the folder)");
+  writeText(path, json.dump(2) + "\n");
 }
 
 }  // namespace logrid::samples

@@ -61,6 +61,11 @@ struct LoadedScene {
   nlohmann::json describe() const;
 };
 
+// The options of `base` for one scene of a multi-scene command: its name, and
+// forest_scale / city_scale for the procedural scenes when > 0.
+WalkOptions optionsForScene(const WalkOptions& base, const std::string& scene, double forest_scale,
+                            double city_scale);
+
 // Creates (or loads) the scene named by the options and uploads it. Needs a context.
 LoadedScene loadScene(const WalkOptions& o);
 

@@ -3,10 +3,9 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <iterator>
 
-#include "logrid/error.hpp"
+#include "cli/report.hpp"
 
 namespace logrid::samples {
 namespace {
@@ -23,12 +22,6 @@ std::string quoted(const std::string& text) {
     out += c;
   }
   return out + "\"";
-}
-
-void writeFile(const std::string& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-  if (!out) throw Error(ErrorCode::Environment, "cannot write '" + path + "' (check the folder)");
 }
 
 std::string header(const std::string& stem, const std::string& title, const std::string& xlabel,
@@ -74,10 +67,10 @@ bool plotLines(const std::string& stem, const std::string& title, const std::str
             quoted(kColors[s % std::size(kColors)]) + " dt " +
             std::to_string(1 + s / std::size(kColors)) + " title " + quoted(ps.name);
   }
-  writeFile(stem + ".dat", data);
+  writeText(stem + ".dat", data);
   std::string script = header(stem, title, xlabel, ylabel);
   if (log_y) script += "set logscale y\n";
-  writeFile(stem + ".gp", script + plot + "\n");
+  writeText(stem + ".gp", script + plot + "\n");
   return !series.empty() && runGnuplot(stem + ".gp");
 }
 
@@ -97,14 +90,14 @@ bool plotPoints(const std::string& stem, const std::string& title, const std::st
     }
     data += "\n\n";
   }
-  writeFile(stem + ".dat", data);
+  writeText(stem + ".dat", data);
   std::string script = header(stem, title, xlabel, ylabel);
   if (log_x) script += "set logscale x\n";
   const std::string file = quoted(stem + ".dat");
   script += "plot " + file + " index 0 using 1:2 with points pt 7 ps 1.2 title 'dominated', " +
             file + " index 1 using 1:2 with linespoints pt 7 ps 1.5 lw 2 title 'Pareto front', " +
             file + " index 1 using 1:2:3 with labels offset 1,0.6 left font ',9' notitle\n";
-  writeFile(stem + ".gp", script);
+  writeText(stem + ".gp", script);
   return runGnuplot(stem + ".gp");
 }
 

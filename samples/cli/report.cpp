@@ -1,6 +1,11 @@
 #include "cli/report.hpp"
 
 #include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "logrid/error.hpp"
 
 namespace logrid::samples {
 
@@ -30,6 +35,23 @@ nlohmann::json frameJson(const FrameRecord& r) {
     if (!r.missed_ids.empty()) j["missed_ids"] = r.missed_ids;
   }
   return j;
+}
+
+void writeText(const std::string& path, const std::string& text) {
+  std::ofstream out(path);
+  out << text;
+  if (!out) throw Error(ErrorCode::Environment, "cannot write '" + path + "' (check the folder)");
+}
+
+std::string formatFixed(double value, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, value);
+  return buf;
+}
+
+std::string linkFrom(const std::string& document, const std::string& target) {
+  namespace fs = std::filesystem;
+  return fs::relative(fs::absolute(target), fs::absolute(document).parent_path()).string();
 }
 
 double median(std::vector<double> v) {

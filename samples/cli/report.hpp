@@ -3,6 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <string>
 #include <vector>
 
 #include "cli/frame_runner.hpp"
@@ -17,5 +18,14 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
                           bool per_frame);
 
 double median(std::vector<double> values);
+
+// Writes a text file; throws logrid::Error(Environment) naming the path.
+void writeText(const std::string& path, const std::string& text);
+
+// A number with a fixed count of decimals, e.g. formatFixed(2.345, 1) == "2.3".
+std::string formatFixed(double value, int decimals = 2);
+
+// The path of `target` relative to the folder of `document` (for links in markdown).
+std::string linkFrom(const std::string& document, const std::string& target);
 
 }  // namespace logrid::samples

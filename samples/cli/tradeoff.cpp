@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <sstream>
 
@@ -74,12 +73,6 @@ ImageError compareImages(const std::vector<std::uint8_t>& a, const std::vector<s
   return {double(r.nfail), r.rms_error * r.rms_error};
 }
 
-std::string fmt(double v, int decimals = 2) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
-
 struct Outcome {
   std::string label;
   GridApproximation approximation;
@@ -123,12 +116,9 @@ int runTradeoff(const WalkOptions& base, const std::vector<std::string>& scenes,
   bool conservative_missed = false;
 
   for (const std::string& scene_name : scenes) {
-    WalkOptions so = base;
-    so.scene = scene_name;
+    WalkOptions so = optionsForScene(base, scene_name, forest_scale, city_scale);
     so.size = sizes.front();
     so.method = "log-state";
-    if (scene_name == "forest" && forest_scale > 0) so.scale = forest_scale;
-    if (scene_name == "city" && city_scale > 0) so.scale = city_scale;
     LoadedScene scene = loadScene(so);
 
     std::vector<RunConfig> configs;
@@ -212,11 +202,12 @@ int runTradeoff(const WalkOptions& base, const std::vector<std::string>& scenes,
     scene_json["settings"] = nlohmann::json::array();
     for (std::size_t s = 0; s < outcomes.size(); ++s) {
       const Outcome& o = outcomes[s];
-      md << "| " << o.label << " | " << fmt(o.ms) << " | " << fmt(log_ms > 0 ? o.ms / log_ms : 0)
-         << " | " << fmt(o.pixels_read, 0) << " | " << o.missed << " of " << o.visible << " ("
-         << o.frames_with_misses << ") | " << fmt(o.differing, 1) << " | "
-         << fmt(o.worst_differing, 0) << " | " << (std::isinf(o.psnr) ? "∞" : fmt(o.psnr, 1))
-         << " | " << (points[s].highlight ? "●" : "") << " |\n";
+      md << "| " << o.label << " | " << formatFixed(o.ms) << " | "
+         << formatFixed(log_ms > 0 ? o.ms / log_ms : 0) << " | " << formatFixed(o.pixels_read, 0)
+         << " | " << o.missed << " of " << o.visible << " (" << o.frames_with_misses << ") | "
+         << formatFixed(o.differing, 1) << " | " << formatFixed(o.worst_differing, 0) << " | "
+         << (std::isinf(o.psnr) ? "∞" : formatFixed(o.psnr, 1)) << " | "
+         << (points[s].highlight ? "●" : "") << " |\n";
       scene_json["settings"].push_back(
           {{"label", o.label},
            {"visible_pixels", o.approximation.visible_pixels},
@@ -239,21 +230,13 @@ int runTradeoff(const WalkOptions& base, const std::vector<std::string>& scenes,
       plotPoints(stem, scene.prepared.name + " " + so.size + ": time vs error",
                  "pixels differing from the full render, per frame",
                  "frame time / conservative LOG", points, false);
-      if (!markdown.empty()) {
-        const auto md_dir = std::filesystem::absolute(markdown).parent_path();
-        md << "\n![Pareto plot]("
-           << std::filesystem::relative(std::filesystem::absolute(stem + ".png"), md_dir).string()
-           << ")\n";
-      }
+      if (!markdown.empty())
+        md << "\n![Pareto plot](" << linkFrom(markdown, stem + ".png") << ")\n";
     }
     report["scenes"].push_back(std::move(scene_json));
   }
   std::printf("%s", md.str().c_str());
-  if (!markdown.empty()) {
-    std::ofstream out(markdown);
-    out << md.str();
-    if (!out) throw Error(ErrorCode::Environment, "cannot write '" + markdown + "'");
-  }
+  if (!markdown.empty()) writeText(markdown, md.str());
   if (!json.empty()) writeJson(json, report);
   if (conservative_missed) {
     std::fprintf(stderr,

@@ -42,9 +42,7 @@ class FlatHierarchy : public Hierarchy {
   NodeId root() const override { return nodes_.empty() ? kNoNode : 0; }
   Aabb bounds(NodeId node) const override { return nodes_[node].box; }
   std::uint32_t childCount(NodeId node) const override { return nodes_[node].child_count; }
-  NodeId child(NodeId node, std::uint32_t i) const override {
-    return nodes_[node].first_child + i;
-  }
+  NodeId child(NodeId node, std::uint32_t i) const override { return nodes_[node].first_child + i; }
   std::uint32_t objectCount(NodeId node) const override { return nodes_[node].object_count; }
   ObjectId object(NodeId node, std::uint32_t i) const override {
     return objects_[nodes_[node].first_object + i];
