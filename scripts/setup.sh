@@ -9,7 +9,8 @@ packages=(
   # GL through EGL (Mesa llvmpipe works without a GPU)
   libepoxy-dev libegl-dev libopengl-dev libglvnd-dev libegl-mesa0 libgl1-mesa-dri
   # libraries
-  libglm-dev libopenimageio-dev libcli11-dev libassimp-dev nlohmann-json3-dev fonts-dejavu-core
+  libglm-dev libopenimageio-dev openimageio-tools libcli11-dev libassimp-dev zlib1g-dev
+  nlohmann-json3-dev fonts-dejavu-core
   # tests, benchmarks, plots
   libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
 )
