@@ -101,7 +101,7 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
       case Reader::Query: source_ = std::make_unique<zread::QuerySource>(handle); break;
       case Reader::Software:
         software_ =
-            std::make_unique<zread::SoftwareDepthBuffer>(fb.width, fb.height, fb.depth.convention);
+            std::make_unique<cpu::SoftwareDepthBuffer>(fb.width, fb.height, fb.depth.convention);
         break;
     }
     if (config.reader == Reader::Query && desc.method == Method::Hzb) {
@@ -173,7 +173,7 @@ OracleFrame FrameRunner::visibleSet(std::size_t frame, const Camera& camera) {
   return *frames[frame];
 }
 
-void FrameRunner::rasterizeObject(ObjectId id, zread::SoftwareRasterizer& raster) {
+void FrameRunner::rasterizeObject(ObjectId id, cpu::SoftwareRasterizer& raster) {
   const gl::RenderMesh& mesh = scene_.mesh;
   const gl::RenderMesh::Draw& d = mesh.draws[id];
   for (std::uint32_t i = d.first_index; i < d.first_index + d.index_count; i += 3) {
@@ -217,7 +217,7 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
   } else if (software_) {
     software_->clear();
     // Inner coverage: the software buffer must never hold depth where GL drew nothing.
-    zread::SoftwareRasterizer raster(camera, *software_, nullptr, zread::Coverage::Inner);
+    cpu::SoftwareRasterizer raster(camera, *software_, nullptr, cpu::Coverage::Inner);
     rec.stats = culler_->cullFrame(camera, scene_.hierarchy, *software_, [&](ObjectId id) {
       draw(id);
       rasterizeObject(id, raster);

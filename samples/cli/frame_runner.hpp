@@ -11,11 +11,11 @@
 #include <string>
 #include <vector>
 
+#include "logrid/cpu/software_depth.hpp"
+#include "logrid/cpu/software_rasterizer.hpp"
 #include "logrid/culler.hpp"
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
-#include "logrid/zread/software_depth.hpp"
-#include "logrid/zread/software_rasterizer.hpp"
 #include "scene/prepare.hpp"
 #include "scene/view.hpp"
 
@@ -95,14 +95,14 @@ class FrameRunner {
   // The ID pass of a frame, from the shared cache when another runner did it.
   OracleFrame visibleSet(std::size_t frame, const Camera& camera);
   void writeImages(std::size_t frame, const Camera& camera);
-  void rasterizeObject(ObjectId id, zread::SoftwareRasterizer& raster);
+  void rasterizeObject(ObjectId id, cpu::SoftwareRasterizer& raster);
 
   const PreparedScene& scene_;
   gl::MeshRenderer& renderer_;
   RunConfig config_;
   std::unique_ptr<gl::Framebuffer> framebuffer_;
   std::unique_ptr<DepthSource> source_;
-  std::unique_ptr<zread::SoftwareDepthBuffer> software_;
+  std::unique_ptr<cpu::SoftwareDepthBuffer> software_;
   std::unique_ptr<Culler> culler_;
   std::unique_ptr<Culler> vfc_;  // for the ID pass
   struct Observer;

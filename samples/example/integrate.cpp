@@ -10,13 +10,13 @@
 #include <cstdio>
 #include <vector>
 
+#include "logrid/cpu/software_rasterizer.hpp"  // appendBox
 #include "logrid/culler.hpp"
 #include "logrid/error.hpp"
 #include "logrid/gl/context.hpp"
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
 #include "logrid/zread/gl_sources.hpp"
-#include "logrid/zread/software_rasterizer.hpp"  // appendBox
 
 namespace {
 
@@ -97,8 +97,8 @@ logrid::gl::RenderMesh meshesOf(const std::vector<std::vector<AppBox>>& groups,
   for (std::size_t g = 0; g < groups.size(); ++g) {
     for (const AppBox& b : groups[g]) {
       const auto first = std::uint32_t(mesh.indices32.size());
-      logrid::zread::appendBox({{b.lo[0], b.lo[1], b.lo[2]}, {b.hi[0], b.hi[1], b.hi[2]}},
-                               mesh.positions, mesh.indices32);
+      logrid::cpu::appendBox({{b.lo[0], b.lo[1], b.lo[2]}, {b.hi[0], b.hi[1], b.hi[2]}},
+                             mesh.positions, mesh.indices32);
       mesh.draws.push_back({first, std::uint32_t(mesh.indices32.size()) - first, 0, colors[g]});
     }
   }

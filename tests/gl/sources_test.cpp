@@ -7,12 +7,12 @@
 #include <random>
 
 #include "gl_test_context.hpp"
+#include "logrid/cpu/software_depth.hpp"
+#include "logrid/cpu/software_rasterizer.hpp"
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
 #include "logrid/projection.hpp"
 #include "logrid/zread/gl_sources.hpp"
-#include "logrid/zread/software_depth.hpp"
-#include "logrid/zread/software_rasterizer.hpp"
 
 namespace logrid {
 namespace {
@@ -47,7 +47,7 @@ gl::RenderMesh randomBoxes(std::uint32_t seed) {
   for (int i = 0; i < 40; ++i) {
     const Vec3 lo{p(rng), p(rng), p(rng) - 5};
     const std::size_t first = indices.size(), base = positions.size() / 3;
-    zread::appendBox({lo, {lo.x + s(rng), lo.y + s(rng), lo.z + s(rng)}}, positions, indices);
+    cpu::appendBox({lo, {lo.x + s(rng), lo.y + s(rng), lo.z + s(rng)}}, positions, indices);
     gl::RenderMesh::Draw d;
     d.first_index = std::uint32_t(first);
     d.index_count = std::uint32_t(indices.size() - first);
@@ -76,13 +76,14 @@ TEST_P(SourcesTest, EverySourceAgreesWithTheSoftwareSource) {
   renderer.end();
 
   // The software reference holds exactly what GL stored (read back as float).
-  zread::SoftwareDepthBuffer reference(w, h, c.convention);
+  cpu::SoftwareDepthBuffer reference(w, h, c.convention);
   const std::vector<float> depth = fb.readDepth();
   std::copy(depth.begin(), depth.end(), reference.data());
   zread::ReadPixelsSource readpixels(fb.handle());
   zread::PboSource pbo(fb.handle());
   zread::QuerySource query(fb.handle());
-  for (DepthSource* s : std::initializer_list<DepthSource*>{&reference, &readpixels, &pbo, &query}) {
+  for (DepthSource* s :
+       std::initializer_list<DepthSource*>{&reference, &readpixels, &pbo, &query}) {
     s->beginFrame(cam);
   }
 

@@ -15,10 +15,10 @@
 #include <set>
 
 #include "logrid/bvh.hpp"
+#include "logrid/cpu/software_rasterizer.hpp"
 #include "logrid/error.hpp"
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/zread/gl_sources.hpp"
-#include "logrid/zread/software_rasterizer.hpp"
 #include "oracle_harness.hpp"
 
 namespace logrid::oracle {
@@ -428,7 +428,7 @@ gl::RenderMesh boxMesh(const std::vector<Aabb>& boxes) {
   gl::RenderMesh mesh;
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     const std::size_t first = mesh.indices32.size(), base = mesh.positions.size() / 3;
-    zread::appendBox(boxes[i], mesh.positions, mesh.indices32);
+    cpu::appendBox(boxes[i], mesh.positions, mesh.indices32);
     gl::RenderMesh::Draw d;
     d.first_index = std::uint32_t(first);
     d.index_count = std::uint32_t(mesh.indices32.size() - first);
@@ -598,18 +598,18 @@ CulledFrame culledFrame(const BoxScene& scene, gl::Framebuffer& fb, gl::MeshRend
   desc.tile_size = tile;
   Culler culler(desc);
   std::unique_ptr<DepthSource> source;
-  std::unique_ptr<zread::SoftwareDepthBuffer> software;
-  std::unique_ptr<zread::SoftwareRasterizer> raster;
+  std::unique_ptr<cpu::SoftwareDepthBuffer> software;
+  std::unique_ptr<cpu::SoftwareRasterizer> raster;
   switch (reader) {
     case Reader::ReadPixels: source = std::make_unique<zread::ReadPixelsSource>(fb.handle()); break;
     case Reader::Pbo: source = std::make_unique<zread::PboSource>(fb.handle()); break;
     case Reader::Query: source = std::make_unique<zread::QuerySource>(fb.handle()); break;
     case Reader::Software:
       software =
-          std::make_unique<zread::SoftwareDepthBuffer>(cam.width, cam.height, cam.depth.convention);
+          std::make_unique<cpu::SoftwareDepthBuffer>(cam.width, cam.height, cam.depth.convention);
       software->clear();
-      raster = std::make_unique<zread::SoftwareRasterizer>(cam, *software, nullptr,
-                                                           zread::Coverage::Inner);
+      raster =
+          std::make_unique<cpu::SoftwareRasterizer>(cam, *software, nullptr, cpu::Coverage::Inner);
       break;
   }
   const float clear[4] = {0, 0, 0, 1};
@@ -621,7 +621,7 @@ CulledFrame culledFrame(const BoxScene& scene, gl::Framebuffer& fb, gl::MeshRend
     if (raster) {
       std::vector<float> p;
       std::vector<std::uint32_t> idx;
-      zread::appendBox(scene.boxes[id], p, idx);
+      cpu::appendBox(scene.boxes[id], p, idx);
       raster->draw(p, idx, id);
     }
     out.drawn.insert(id);
@@ -759,12 +759,12 @@ TEST(SoftwareSourceVsGl, NeverHoldsANearerKeyThanGl) {
     renderer.draw(0);
     renderer.end();
     const std::vector<float> gl_depth = fb.readDepth();
-    zread::SoftwareDepthBuffer software(cam.width, cam.height, conv);
+    cpu::SoftwareDepthBuffer software(cam.width, cam.height, conv);
     software.clear();
-    zread::SoftwareRasterizer raster(cam, software, nullptr, zread::Coverage::Inner);
+    cpu::SoftwareRasterizer raster(cam, software, nullptr, cpu::Coverage::Inner);
     std::vector<float> p;
     std::vector<std::uint32_t> idx;
-    zread::appendBox(scene.boxes[0], p, idx);
+    cpu::appendBox(scene.boxes[0], p, idx);
     raster.draw(p, idx, 0);
     std::string nearer;
     int count = 0;

@@ -5,14 +5,14 @@
 
 #include <vector>
 
-#include "logrid/zread/software_depth.hpp"
+#include "logrid/cpu/software_depth.hpp"
 
 namespace logrid::test {
 
 // Answers only countAtOrBeyond(), like QuerySource.
 class CountOnlySource : public DepthSource {
  public:
-  explicit CountOnlySource(zread::SoftwareDepthBuffer& buffer) : buffer_(buffer) {}
+  explicit CountOnlySource(cpu::SoftwareDepthBuffer& buffer) : buffer_(buffer) {}
   DepthSourceTraits traits() const override { return {"count-only", false, true}; }
   void beginFrame(const Camera& camera) override { buffer_.beginFrame(camera); }
   void summarize(const PixelRect*, std::size_t, AreaDepth*) override {
@@ -27,13 +27,13 @@ class CountOnlySource : public DepthSource {
   }
 
  private:
-  zread::SoftwareDepthBuffer& buffer_;
+  cpu::SoftwareDepthBuffer& buffer_;
 };
 
 // Reads pixels like the software buffer, but asks to be given every read at once.
 class BatchedSource : public DepthSource {
  public:
-  explicit BatchedSource(zread::SoftwareDepthBuffer& buffer) : buffer_(buffer) {}
+  explicit BatchedSource(cpu::SoftwareDepthBuffer& buffer) : buffer_(buffer) {}
   DepthSourceTraits traits() const override { return {"batched", true, true}; }
   void beginFrame(const Camera& camera) override { buffer_.beginFrame(camera); }
   void summarize(const PixelRect* r, std::size_t n, AreaDepth* out) override {
@@ -54,7 +54,7 @@ class BatchedSource : public DepthSource {
 
  private:
   void sync() { counters_ = buffer_.counters(); }
-  zread::SoftwareDepthBuffer& buffer_;
+  cpu::SoftwareDepthBuffer& buffer_;
 };
 
 }  // namespace logrid::test

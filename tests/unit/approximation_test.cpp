@@ -3,10 +3,10 @@
 // A 16x12 viewport with 4-pixel tiles, as in grid_test.cpp.
 #include <gtest/gtest.h>
 
+#include "logrid/cpu/software_depth.hpp"
 #include "logrid/culler.hpp"
 #include "logrid/error.hpp"
 #include "logrid/grid.hpp"
-#include "logrid/zread/software_depth.hpp"
 #include "test_sources.hpp"
 
 namespace logrid {
@@ -38,7 +38,7 @@ class ApproximationTest : public testing::Test {
     return grid.test(r, threshold, buffer_, counts_);
   }
 
-  zread::SoftwareDepthBuffer buffer_;
+  cpu::SoftwareDepthBuffer buffer_;
   GridTestCounts counts_;
 };
 

@@ -13,9 +13,9 @@
 
 #include "expect_error.hpp"
 #include "logrid/bvh.hpp"
+#include "logrid/cpu/software_depth.hpp"
 #include "logrid/culler.hpp"
 #include "logrid/error.hpp"
-#include "logrid/zread/software_depth.hpp"
 
 namespace logrid {
 namespace {
@@ -53,7 +53,7 @@ struct WallScene {
 // One frame: drawing object 0 fills the software buffer with the wall's window depth.
 FrameStats cullWall(const Camera& cam, const Hierarchy& hierarchy, const CullerDesc& desc,
                     std::set<ObjectId>& drawn) {
-  zread::SoftwareDepthBuffer depth(cam.width, cam.height, cam.depth.convention);
+  cpu::SoftwareDepthBuffer depth(cam.width, cam.height, cam.depth.convention);
   Culler culler(desc);
   // Window depth of distance 5 for near 0.5, far 100 and the -1..1 range.
   const float wall = float(0.5 * ((100.5 / 99.5) - 100.0 / (99.5 * 5)) + 0.5);
@@ -66,7 +66,7 @@ FrameStats cullWall(const Camera& cam, const Hierarchy& hierarchy, const CullerD
 // Runs one frame of a culler over a one-box hierarchy with `cam`, for the error cases.
 void cullOnce(const Camera& cam, const CullerDesc& desc = {}) {
   const bvh::FlatHierarchy h = bvh::buildOverBoxes({{{-1, -1, -11}, {1, 1, -9}}});
-  zread::SoftwareDepthBuffer depth(64, 48, DepthConvention::Standard);
+  cpu::SoftwareDepthBuffer depth(64, 48, DepthConvention::Standard);
   Culler culler(desc);
   culler.cullFrame(cam, h, depth, [](ObjectId) {});
 }
@@ -105,7 +105,7 @@ TEST(BadCameraTest, ViewportSizesOutOfRangeAreErrors) {
     expectError([&] { cullOnce(cam); }, ErrorCode::InvalidArgument,
                 {"viewport " + std::to_string(w) + "x" + std::to_string(h),
                  "between 1 and " + std::to_string(kMaxViewportSide)});
-    expectError([&] { zread::SoftwareDepthBuffer(w, h, DepthConvention::Standard); },
+    expectError([&] { cpu::SoftwareDepthBuffer(w, h, DepthConvention::Standard); },
                 ErrorCode::InvalidArgument,
                 {"size " + std::to_string(w) + "x" + std::to_string(h), "out of range"});
   }

@@ -7,9 +7,9 @@
 #include <set>
 
 #include "logrid/bvh.hpp"
+#include "logrid/cpu/software_rasterizer.hpp"
 #include "logrid/culler.hpp"
 #include "logrid/error.hpp"
-#include "logrid/zread/software_rasterizer.hpp"
 #include "test_sources.hpp"
 
 namespace logrid {
@@ -63,23 +63,23 @@ Outcome runFrame(const Scene& scene, const Camera& cam, const CullerDesc& desc, 
   Outcome out;
   // The oracle: the full scene with IDs.
   {
-    zread::SoftwareDepthBuffer depth(cam.width, cam.height, cam.depth.convention);
-    std::vector<std::uint32_t> ids(std::size_t(cam.width) * cam.height, zread::kNoId);
-    zread::SoftwareRasterizer raster(cam, depth, &ids);
+    cpu::SoftwareDepthBuffer depth(cam.width, cam.height, cam.depth.convention);
+    std::vector<std::uint32_t> ids(std::size_t(cam.width) * cam.height, cpu::kNoId);
+    cpu::SoftwareRasterizer raster(cam, depth, &ids);
     for (std::uint32_t i = 0; i < scene.boxes.size(); ++i) {
       std::vector<float> p;
       std::vector<std::uint32_t> idx;
-      zread::appendBox(scene.boxes[i], p, idx);
+      cpu::appendBox(scene.boxes[i], p, idx);
       raster.draw(p, idx, i);
     }
     for (std::uint32_t id : ids) {
-      if (id != zread::kNoId) out.visible.insert(id);
+      if (id != cpu::kNoId) out.visible.insert(id);
     }
   }
   // The method under test, drawing through the same rasteriser.
-  zread::SoftwareDepthBuffer depth(cam.width, cam.height, cam.depth.convention);
+  cpu::SoftwareDepthBuffer depth(cam.width, cam.height, cam.depth.convention);
   test::CountOnlySource queries(depth);
-  zread::SoftwareRasterizer raster(cam, depth, nullptr);
+  cpu::SoftwareRasterizer raster(cam, depth, nullptr);
   Culler culler(desc);
   out.stats = culler.cullFrame(
       cam, scene.hierarchy,
@@ -87,7 +87,7 @@ Outcome runFrame(const Scene& scene, const Camera& cam, const CullerDesc& desc, 
       [&](ObjectId id) {
         std::vector<float> p;
         std::vector<std::uint32_t> idx;
-        zread::appendBox(scene.boxes[id], p, idx);
+        cpu::appendBox(scene.boxes[id], p, idx);
         raster.draw(p, idx, id);
         EXPECT_TRUE(out.drawn.insert(id).second) << "drawn twice: " << id;
       });
@@ -175,7 +175,7 @@ class BrokenHierarchy : public Hierarchy {
 
 TEST(CullerTest, InvalidBoxesAreDrawnAndCounted) {
   const Camera cam = makeCamera(64, 48, DepthConvention::Standard, 0);
-  zread::SoftwareDepthBuffer depth(64, 48, DepthConvention::Standard);
+  cpu::SoftwareDepthBuffer depth(64, 48, DepthConvention::Standard);
   Culler culler({Method::LogState, 8, {}, {}});
   std::set<ObjectId> drawn;
   const FrameStats s =
@@ -186,7 +186,7 @@ TEST(CullerTest, InvalidBoxesAreDrawnAndCounted) {
 
 TEST(CullerTest, BadCameraAndBadDescriptorsThrow) {
   Camera cam = makeCamera(64, 48, DepthConvention::Standard, 0);
-  zread::SoftwareDepthBuffer depth(64, 48, DepthConvention::Standard);
+  cpu::SoftwareDepthBuffer depth(64, 48, DepthConvention::Standard);
   Culler culler;
   const bvh::FlatHierarchy h = bvh::buildOverBoxes({{{-1, -1, -11}, {1, 1, -9}}});
   cam.view_projection.m[0] = INFINITY;
@@ -200,7 +200,7 @@ TEST(CullerTest, BadCameraAndBadDescriptorsThrow) {
 
 TEST(CullerTest, HzbRefusesAPredicateOnlySource) {
   const Camera cam = makeCamera(64, 48, DepthConvention::Standard, 0);
-  zread::SoftwareDepthBuffer depth(64, 48, DepthConvention::Standard);
+  cpu::SoftwareDepthBuffer depth(64, 48, DepthConvention::Standard);
   test::CountOnlySource queries(depth);
   Culler culler({Method::Hzb, 8, {}, {}});
   const bvh::FlatHierarchy h = bvh::buildOverBoxes({{{-1, -1, -11}, {1, 1, -9}}});
@@ -209,7 +209,7 @@ TEST(CullerTest, HzbRefusesAPredicateOnlySource) {
 
 TEST(CullerTest, EmptyHierarchyDrawsNothing) {
   const Camera cam = makeCamera(64, 48, DepthConvention::Standard, 0);
-  zread::SoftwareDepthBuffer depth(64, 48, DepthConvention::Standard);
+  cpu::SoftwareDepthBuffer depth(64, 48, DepthConvention::Standard);
   Culler culler;
   const FrameStats s = culler.cullFrame(cam, bvh::buildOverBoxes({}), depth,
                                         [](ObjectId) { ADD_FAILURE() << "nothing to draw"; });

@@ -7,8 +7,8 @@
 
 #include <random>
 
+#include "logrid/cpu/software_depth.hpp"
 #include "logrid/grid.hpp"
-#include "logrid/zread/software_depth.hpp"
 #include "test_sources.hpp"
 
 namespace logrid {
@@ -33,7 +33,7 @@ PixelRect randomRect(std::mt19937& rng, std::int32_t w, std::int32_t h) {
   return {x0, y0, x1, y1};
 }
 
-bool bruteVisible(const zread::SoftwareDepthBuffer& b, const PixelRect& r, float threshold) {
+bool bruteVisible(const cpu::SoftwareDepthBuffer& b, const PixelRect& r, float threshold) {
   for (std::int32_t y = r.y0; y < r.y1; ++y) {
     for (std::int32_t x = r.x0; x < r.x1; ++x) {
       if (depthKey(b.convention(), b.at(std::uint32_t(x), std::uint32_t(y))) >= threshold) {
@@ -61,7 +61,7 @@ Tally run(GridVariant variant, DepthConvention convention, SourceKind kind, std:
     const std::int32_t w = rng() % 10 == 0 ? 1 : 1 + std::int32_t(rng() % 97);
     const std::int32_t h = rng() % 10 == 0 ? 1 : 1 + std::int32_t(rng() % 61);
     const std::uint32_t ts = tile_sizes[rng() % std::size(tile_sizes)];
-    zread::SoftwareDepthBuffer buffer(std::uint32_t(w), std::uint32_t(h), convention);
+    cpu::SoftwareDepthBuffer buffer(std::uint32_t(w), std::uint32_t(h), convention);
     test::CountOnlySource count_only(buffer);
     test::BatchedSource batched(buffer);
     DepthSource& source = kind == SourceKind::Software    ? static_cast<DepthSource&>(buffer)

@@ -3,9 +3,9 @@
 // [4 tx, 4 tx + 4) x [4 ty, 4 ty + 4).
 #include <gtest/gtest.h>
 
+#include "logrid/cpu/software_depth.hpp"
 #include "logrid/error.hpp"
 #include "logrid/grid.hpp"
-#include "logrid/zread/software_depth.hpp"
 #include "test_sources.hpp"
 
 namespace logrid {
@@ -37,7 +37,7 @@ class GridTest : public testing::TestWithParam<DepthConvention> {
   std::uint64_t reads() const { return buffer_.counters().reads; }
   std::uint64_t pixels() const { return buffer_.counters().pixels; }
 
-  zread::SoftwareDepthBuffer buffer_;
+  cpu::SoftwareDepthBuffer buffer_;
   GridTestCounts counts_;
 };
 

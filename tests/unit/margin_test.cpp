@@ -21,10 +21,10 @@
 #include <vector>
 
 #include "logrid/bvh.hpp"
+#include "logrid/cpu/software_rasterizer.hpp"
 #include "logrid/culler.hpp"
 #include "logrid/grid.hpp"
 #include "logrid/projection.hpp"
-#include "logrid/zread/software_rasterizer.hpp"
 #include "margin_helpers.hpp"
 
 namespace logrid {
@@ -66,7 +66,7 @@ std::set<ObjectId> cullFrame(const Camera& cam, const std::vector<Object>& objec
   std::vector<Aabb> boxes;
   for (const Object& o : objects) boxes.push_back(o.box);
   const bvh::FlatHierarchy hierarchy = bvh::buildOverBoxes(boxes);
-  zread::SoftwareDepthBuffer depth(cam.width, cam.height, cam.depth.convention);
+  cpu::SoftwareDepthBuffer depth(cam.width, cam.height, cam.depth.convention);
   Culler culler(descFor(method, settings));
   std::set<ObjectId> drawn;
   culler.cullFrame(cam, hierarchy, depth, [&](ObjectId id) {
@@ -227,12 +227,12 @@ TEST(MarginTest, RenderErrorTermIsNeededForAFloatPipeline) {
     SCOPED_TRACE(world_space ? "world space, 1e4 from the origin" : "camera-relative");
     const test::CoplanarWalls scene = test::coplanarWalls(world_space);
     const Camera& cam = scene.cam;
-    zread::SoftwareDepthBuffer depth(cam.width, cam.height, cam.depth.convention);
-    zread::SoftwareRasterizer raster(cam, depth, nullptr);
+    cpu::SoftwareDepthBuffer depth(cam.width, cam.height, cam.depth.convention);
+    cpu::SoftwareRasterizer raster(cam, depth, nullptr);
     for (std::size_t i = 0; i < scene.walls.size(); ++i) {
       std::vector<float> positions;
       std::vector<std::uint32_t> indices;
-      zread::appendBox(scene.walls[i], positions, indices);
+      cpu::appendBox(scene.walls[i], positions, indices);
       raster.draw(positions, indices, std::uint32_t(i));
     }
     ProjectionSettings shrunk;

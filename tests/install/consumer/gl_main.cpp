@@ -5,12 +5,12 @@
 #include <vector>
 
 #include "logrid/bvh.hpp"
+#include "logrid/cpu/software_rasterizer.hpp"
 #include "logrid/culler.hpp"
 #include "logrid/gl/context.hpp"
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
 #include "logrid/zread/gl_sources.hpp"
-#include "logrid/zread/software_rasterizer.hpp"
 
 int main(int argc, char** argv) {
   (void)argv;
@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
   const logrid::Aabb box{{-1, -1, -1}, {1, 1, 1}};
   const logrid::bvh::FlatHierarchy hierarchy = logrid::bvh::buildOverBoxes({box});
   logrid::gl::RenderMesh mesh;
-  logrid::zread::appendBox(box, mesh.positions, mesh.indices32);
+  logrid::cpu::appendBox(box, mesh.positions, mesh.indices32);
   mesh.draws.push_back({0, static_cast<std::uint32_t>(mesh.indices32.size()), 0, 0xFFFFFFFFu});
   logrid::gl::MeshRenderer renderer(mesh);
 

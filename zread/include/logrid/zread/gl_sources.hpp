@@ -24,13 +24,13 @@
 #include <memory>
 #include <vector>
 
+#include "logrid/cpu/pixel_reader.hpp"
 #include "logrid/depth_source.hpp"
-#include "logrid/zread/pixel_reader.hpp"
 #include "logrid/zread/program.hpp"
 
 namespace logrid::zread {
 
-class ReadPixelsSource : public PixelReader {
+class ReadPixelsSource : public cpu::PixelReader {
  public:
   explicit ReadPixelsSource(std::uint32_t framebuffer);
   DepthSourceTraits traits() const override { return {"readpixels", true, false}; }
@@ -46,7 +46,7 @@ class ReadPixelsSource : public PixelReader {
   std::vector<unsigned char> scratch_;
 };
 
-class PboSource : public PixelReader {
+class PboSource : public cpu::PixelReader {
  public:
   explicit PboSource(std::uint32_t framebuffer);
   ~PboSource() override;

@@ -1,8 +1,8 @@
-#include "logrid/zread/pixel_reader.hpp"
+#include "logrid/cpu/pixel_reader.hpp"
 
 #include <chrono>
 
-namespace logrid::zread {
+namespace logrid::cpu {
 
 void PixelReader::timedFetch(const PixelRect* rects, std::size_t count) {
   data_.resize(count);
@@ -51,4 +51,4 @@ void PixelReader::readKeys(const PixelRect& rect, float* keys) {
   }
 }
 
-}  // namespace logrid::zread
+}  // namespace logrid::cpu

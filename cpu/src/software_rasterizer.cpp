@@ -1,9 +1,9 @@
-#include "logrid/zread/software_rasterizer.hpp"
+#include "logrid/cpu/software_rasterizer.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-namespace logrid::zread {
+namespace logrid::cpu {
 
 SoftwareRasterizer::SoftwareRasterizer(const Camera& camera, SoftwareDepthBuffer& depth,
                                        std::vector<std::uint32_t>* ids, Coverage coverage)
@@ -136,4 +136,4 @@ void appendBox(const Aabb& box, std::vector<float>& positions,
   }
 }
 
-}  // namespace logrid::zread
+}  // namespace logrid::cpu

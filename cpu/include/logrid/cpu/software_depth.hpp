@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "logrid/camera.hpp"
-#include "logrid/zread/pixel_reader.hpp"
+#include "logrid/cpu/pixel_reader.hpp"
 
-namespace logrid::zread {
+namespace logrid::cpu {
 
 class SoftwareDepthBuffer : public PixelReader {
  public:
@@ -44,4 +44,4 @@ class SoftwareDepthBuffer : public PixelReader {
   std::vector<float> depth_;
 };
 
-}  // namespace logrid::zread
+}  // namespace logrid::cpu

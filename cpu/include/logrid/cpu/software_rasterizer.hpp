@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "logrid/camera.hpp"
-#include "logrid/zread/software_depth.hpp"
+#include "logrid/cpu/software_depth.hpp"
 
-namespace logrid::zread {
+namespace logrid::cpu {
 
 inline constexpr std::uint32_t kNoId = 0xFFFFFFFFu;  // an ID-buffer pixel with nothing drawn
 
@@ -60,4 +60,4 @@ class SoftwareRasterizer {
 // Appends the 12 triangles of a box.
 void appendBox(const Aabb& box, std::vector<float>& positions, std::vector<std::uint32_t>& indices);
 
-}  // namespace logrid::zread
+}  // namespace logrid::cpu

@@ -1,11 +1,11 @@
-#include "logrid/zread/software_depth.hpp"
+#include "logrid/cpu/software_depth.hpp"
 
 #include <algorithm>
 #include <sstream>
 
 #include "logrid/error.hpp"
 
-namespace logrid::zread {
+namespace logrid::cpu {
 
 SoftwareDepthBuffer::SoftwareDepthBuffer(std::uint32_t width, std::uint32_t height,
                                          DepthConvention convention)
@@ -57,4 +57,4 @@ void SoftwareDepthBuffer::fetch(const PixelRect* rects, std::size_t count, const
   }
 }
 
-}  // namespace logrid::zread
+}  // namespace logrid::cpu

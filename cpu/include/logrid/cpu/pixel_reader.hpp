@@ -9,7 +9,7 @@
 #include "logrid/depth_kernels.hpp"
 #include "logrid/depth_source.hpp"
 
-namespace logrid::zread {
+namespace logrid::cpu {
 
 class PixelReader : public DepthSource {
  public:
@@ -37,4 +37,4 @@ class PixelReader : public DepthSource {
   std::vector<PixelRect> rects_;
 };
 
-}  // namespace logrid::zread
+}  // namespace logrid::cpu
