@@ -34,7 +34,7 @@ struct MethodChoice {
 std::optional<MethodChoice> parseMethodChoice(const std::string& name);
 
 struct RunConfig {
-  MethodChoice method{Method::LogState};
+  MethodChoice method{Method::LogState, std::nullopt, false};
   CullerDesc culler;                  // method is taken from `method`
   std::string reader = "readpixels";  // a name of readerTable()
   ViewSettings view;
