@@ -70,15 +70,6 @@ struct BenchOptions {
   bool tradeoff = false;
 };
 
-std::vector<std::string> splitList(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream in(text);
-  for (std::string item; std::getline(in, item, ',');) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
-
 // 1234567 -> "1,234,567"
 std::string grouped(double v) {
   std::string digits = std::to_string(static_cast<long long>(std::llround(v)));
