@@ -5,7 +5,8 @@
 // '[' or a chain of 50000 nodes overflows the stack (a crash), and nodes that each use
 // the next one twice expand to 2^depth copies (memory until the machine gives out). So
 // the JSON of a glTF file is checked first: its nesting depth, then the depth of its
-// node graph and the number of nodes it expands to.
+// node graph and the number of nodes it expands to; and the chunk lengths of a .glb,
+// which assimp allocates before it reads them.
 //
 // Everything else in a glTF file goes to assimp, which reports what it cannot read.
 #include <algorithm>

@@ -6,7 +6,8 @@
 // hang makes the watchdog abort it, and either way the input that did it is left on disk
 // (its path is printed first). Longer runs of the same mutations (tens of thousands of
 // inputs a format, each load in a child process) found the assimp 5.2 bugs that
-// loader.cpp works around; this test keeps the run short and checks they stay fixed.
+// the loader (loader_ply.cpp, loader_gltf.cpp, loader_assimp_scene.cpp) works around;
+// this test keeps the run short and checks they stay fixed.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -391,7 +391,7 @@ TEST_F(LoaderTest, TruncatedAsciiPly) {
               {"data line 3 ('vertex'): too few values"});
 }
 
-// Each of these made assimp 5.2 hang, abort or corrupt the heap (see loader.cpp); the
+// Each of these made assimp 5.2 hang, abort or corrupt the heap (see loader_ply.cpp); the
 // loader refuses them before assimp sees them.
 TEST_F(LoaderTest, PlyThatBreaksAssimp) {
   auto replaced = [](std::string text, const std::string& from, const std::string& to) {
