@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages logrid needs, only those missing. Quiet when
-# everything is present. Sourced or run by scripts/test.sh and scripts/bench.sh.
+# everything is present. Run by scripts/build.sh (for test.sh and bench.sh); scripts that
+# need more (scripts/fuzz.sh: clang) name the extra packages as arguments.
 set -euo pipefail
 
 packages=(
@@ -13,6 +14,7 @@ packages=(
   nlohmann-json3-dev fonts-dejavu-core
   # tests, benchmarks, plots
   libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
+  "$@"
 )
 
 missing=()
