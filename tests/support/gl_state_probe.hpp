@@ -271,6 +271,10 @@ struct AppObjects {
     glNamedBufferStorage(buffer, 1 << 20, nullptr, 0);
   }
   ~AppObjects() {
+    // Unbound first: Mesa 22 keeps a program pipeline deleted while bound (with a program
+    // current) as the current pipeline, and a later glUseProgram(0) then fails.
+    glBindProgramPipeline(0);
+    glUseProgram(0);
     glDeleteFramebuffers(1, &framebuffer);
     glDeleteTextures(1, &color);
     glDeleteProgram(program);

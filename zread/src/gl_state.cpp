@@ -47,6 +47,12 @@ GLint integer(GLenum name) {
   return v;
 }
 
+// `name` if it still names an object (glIs* says so), else 0.
+template <typename IsFunction>
+GLuint exists(IsFunction is, GLint name) {
+  return name != 0 && is(GLuint(name)) ? GLuint(name) : 0;
+}
+
 GLenum textureBinding(GLenum target) {
   switch (target) {
     case GL_TEXTURE_2D: return GL_TEXTURE_BINDING_2D;
@@ -289,13 +295,22 @@ void GlStateGuard::Scope::prepareRead(std::uint32_t framebuffer, std::uint32_t p
 void GlStateGuard::Scope::bindTexture(std::uint32_t unit, std::uint32_t target,
                                       std::uint32_t texture) {
   const GLenum binding = textureBinding(target);
-  if (binding == 0 || texture_saved_) {
-    throw Error(ErrorCode::InvalidArgument,
-                std::string(who_) + ": bindTexture: " +
-                    (texture_saved_ ? "a texture is already bound in this scope"
-                                    : "unknown texture target " + errorName(target)));
+  bool unit_taken = false;
+  for (int i = 0; i < textures_saved_; ++i) {
+    const TextureState& t = textures_[i];
+    if (t.unit == unit && t.target == target && t.texture == texture) return;  // bound already
+    unit_taken |= t.unit == unit;
   }
-  TextureState& s = texture_;
+  if (binding == 0 || textures_saved_ == kMaxTextures || unit_taken) {
+    throw Error(
+        ErrorCode::InvalidArgument,
+        std::string(who_) + ": bindTexture: " +
+            (binding == 0 ? "unknown texture target " + errorName(target)
+             : unit_taken
+                 ? "texture unit " + std::to_string(unit) + " is already bound in this scope"
+                 : "more than " + std::to_string(kMaxTextures) + " textures in one scope"));
+  }
+  TextureState& s = textures_[textures_saved_];
   s.unit = unit;
   s.target = target;
   s.texture = texture;
@@ -310,7 +325,7 @@ void GlStateGuard::Scope::bindTexture(std::uint32_t unit, std::uint32_t target,
   if (s.has_depth_stencil_mode) {
     glGetTextureParameteriv(texture, GL_DEPTH_STENCIL_TEXTURE_MODE, &s.depth_stencil_mode);
   }
-  texture_saved_ = true;
+  ++textures_saved_;
   glBindTexture(target, texture);
   glBindSampler(unit, guard_.sampler_);
   const GLint identity[4] = {GL_RED, GL_GREEN, GL_BLUE, GL_ALPHA};
@@ -332,20 +347,20 @@ void GlStateGuard::Scope::check(const char* call) {
 void GlStateGuard::Scope::restore() {
   // Nothing here may throw; errors are left for the next check (there is none after
   // this, so a failed restore shows in the application's own glGetError).
-  if (texture_saved_) {
-    const TextureState& s = texture_;
+  for (int i = textures_saved_ - 1; i >= 0; --i) {
+    const TextureState& s = textures_[i];
     glTextureParameteriv(s.texture, GL_TEXTURE_SWIZZLE_RGBA, s.swizzle);
     if (s.has_depth_stencil_mode) {
       glTextureParameteri(s.texture, GL_DEPTH_STENCIL_TEXTURE_MODE, s.depth_stencil_mode);
     }
-    glBindSampler(s.unit, GLuint(s.sampler));
-    glBindTexture(s.target, GLuint(s.bound));
+    glBindSampler(s.unit, exists(glIsSampler, s.sampler));
+    glBindTexture(s.target, exists(glIsTexture, s.bound));
     glActiveTexture(GLenum(s.active));
   }
   if (read_saved_) {
     const ReadState& s = read_;
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(s.read_framebuffer));
-    glBindBuffer(GL_PIXEL_PACK_BUFFER, GLuint(s.pack_buffer));
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, exists(glIsFramebuffer, s.read_framebuffer));
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, exists(glIsBuffer, s.pack_buffer));
     glPixelStorei(GL_PACK_ALIGNMENT, s.alignment);
     glPixelStorei(GL_PACK_ROW_LENGTH, s.row_length);
     glPixelStorei(GL_PACK_SKIP_PIXELS, s.skip_pixels);
@@ -358,14 +373,17 @@ void GlStateGuard::Scope::restore() {
   }
   if (program_saved_) {
     const ProgramState& s = program_;
-    glBindVertexArray(GLuint(s.vertex_array));
-    glBindProgramPipeline(GLuint(s.pipeline));
-    // A program deleted while current is gone once another was used (see the header).
-    glUseProgram(glIsProgram(GLuint(s.program)) ? GLuint(s.program) : 0);
+    // Names are rebound only if they still exist. A program deleted while current is
+    // gone once another was used (see the header); and Mesa 22 keeps reporting a program
+    // pipeline that was deleted while bound (with a program current) as bound, although
+    // GL says deleting it unbinds it: rebinding that name would be an error.
+    glBindVertexArray(exists(glIsVertexArray, s.vertex_array));
+    glBindProgramPipeline(exists(glIsProgramPipeline, s.pipeline));
+    glUseProgram(exists(glIsProgram, s.program));
   }
   if (draw_saved_) {
     const DrawState& s = draw_;
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(s.draw_framebuffer));
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, exists(glIsFramebuffer, s.draw_framebuffer));
     setEnabled(GL_CULL_FACE, s.cull_face);
     glCullFace(GLenum(s.cull_mode));
     glFrontFace(GLenum(s.front_face));

@@ -53,6 +53,7 @@ class GlStateGuard {
   static constexpr int kMaxClipDistances = 32;
   static constexpr int kMaxDrawBuffers = 32;
   static constexpr int kMaxSampleMaskWords = 4;
+  static constexpr int kMaxTextures = 2;
 
   // Needs a current GL 4.5 context; creates the query object of the conditional-rendering
   // probe. Not copyable: the query belongs to this context.
@@ -103,7 +104,8 @@ class GlStateGuard::Scope {
   void prepareProgram();
   // Binds `texture` (of `target`, e.g. GL_TEXTURE_2D_MULTISAMPLE) to texture unit `unit`
   // with a nearest, no-compare sampler, identity swizzle and, for depth-stencil formats,
-  // depth (not stencil) sampling. One texture per scope.
+  // depth (not stencil) sampling. At most kMaxTextures textures per scope, on different
+  // units; binding the same texture to the same unit again does nothing.
   void bindTexture(std::uint32_t unit, std::uint32_t target, std::uint32_t texture);
 
   // Throws logrid::Error naming `call` if GL reported an error since the last check.
@@ -121,7 +123,7 @@ class GlStateGuard::Scope {
   bool draw_saved_ = false;
   bool read_saved_ = false;
   bool program_saved_ = false;
-  bool texture_saved_ = false;
+  int textures_saved_ = 0;
 
   struct DrawState {
     std::uint8_t cull_face = 0, depth_test = 0, stencil_test = 0, depth_clamp = 0,
@@ -154,7 +156,7 @@ class GlStateGuard::Scope {
     std::int32_t swizzle[4] = {};
     std::int32_t depth_stencil_mode = 0;
     bool has_depth_stencil_mode = false;
-  } texture_;
+  } textures_[kMaxTextures];
 };
 
 }  // namespace logrid::zread
