@@ -26,6 +26,7 @@ struct WalkOptions {
   std::string reader = "readpixels";
   std::string depth_format = "32f";
   std::string depth_convention = "standard";
+  std::uint32_t samples = 0;
   double near_plane = 0;  // 0: the scene's
   double far_plane = 0;
   double fov = 60;

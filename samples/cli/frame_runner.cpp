@@ -86,6 +86,7 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
   fb.width = config.view.width;
   fb.height = config.view.height;
   fb.depth = config.view.depth;
+  fb.samples = config.view.samples;
   fb.object_ids = config.verify || !config.method.method;
   framebuffer_ = std::make_unique<gl::Framebuffer>(fb);
 
@@ -127,11 +128,14 @@ Camera FrameRunner::cameraFor(std::size_t frame) const {
 OracleFrame FrameRunner::idPass(const Camera& camera) {
   framebuffer_->bind();
   framebuffer_->clear(kBackground);
+  if (config_.hooks.after_clear) config_.hooks.after_clear();
   framebuffer_->selectIdPass(true);
   renderer_.begin(gl::Pass::ObjectIds, camera);
   vfc_->cullFrame(camera, scene_.hierarchy, g_no_depth, [&](ObjectId id) { renderer_.draw(id); });
   renderer_.end();
   framebuffer_->selectIdPass(false);
+  // One value per sample of a multisampled framebuffer (ids and depth alike): an object
+  // is visible if any sample of it survives.
   const std::vector<std::uint32_t> ids = framebuffer_->readObjectIds();
   const std::vector<float> depth = framebuffer_->readDepth();
 
@@ -201,9 +205,17 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
   const auto start = std::chrono::steady_clock::now();
   framebuffer_->bind();
   framebuffer_->clear(kBackground);
+  if (config_.hooks.after_clear) config_.hooks.after_clear();
   renderer_.begin(gl::Pass::Shaded, camera);
+  const FrameHooks& hooks = config_.hooks;
   auto draw = [&](ObjectId id) {
+    if (hooks.before_draw) {
+      hooks.before_draw();
+      framebuffer_->bind();
+      renderer_.begin(gl::Pass::Shaded, camera);
+    }
     renderer_.draw(id);
+    if (hooks.after_draw) hooks.after_draw();
     rec.triangles += renderer_.triangles(id);
     if (!drawn_[id]) {
       drawn_[id] = 1;
@@ -223,7 +235,9 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
       rasterizeObject(id, raster);
     });
   } else {
+    if (hooks.before_cull) hooks.before_cull();
     rec.stats = culler_->cullFrame(camera, scene_.hierarchy, *source_, draw);
+    if (hooks.after_cull) hooks.after_cull();
   }
   renderer_.end();
   glFinish();

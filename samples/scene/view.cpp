@@ -16,6 +16,7 @@ Camera makeCamera(const CameraPose& pose, const DVec3& scene_origin, const ViewS
   camera.width = view.width;
   camera.height = view.height;
   camera.depth = view.depth;
+  camera.multisample = view.samples > 1;
   const double aspect = double(view.width) / double(view.height);
   const double fovy = view.fov_degrees * M_PI / 180.0;
   Mat4d projection;

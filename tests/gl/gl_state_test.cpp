@@ -173,55 +173,7 @@ class GlStateTest : public testing::Test {
   }
 };
 
-// Resets what hostileStates() and setRandomGlState() change back to GL's defaults.
-void defaultState() {
-  glDisable(GL_CULL_FACE);
-  glCullFace(GL_BACK);
-  glFrontFace(GL_CCW);
-  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-  glDisable(GL_STENCIL_TEST);
-  glStencilFunc(GL_ALWAYS, 0, 0xFF);
-  glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
-  glDisable(GL_RASTERIZER_DISCARD);
-  glDisable(GL_DEPTH_CLAMP);
-  glDepthRangeIndexed(0, 0.0, 1.0);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDepthMask(GL_TRUE);
-  glViewportIndexedf(0, 0, 0, kWidth, kHeight);
-  glDisablei(GL_SCISSOR_TEST, 0);
-  glScissorIndexed(0, 0, 0, kWidth, kHeight);
-  for (int i = 0; i < 8; ++i) glDisable(GLenum(GL_CLIP_DISTANCE0 + i));
-  glDisable(GL_SAMPLE_MASK);
-  glSampleMaski(0, ~0u);
-  glDisable(GL_SAMPLE_COVERAGE);
-  glSampleCoverage(1.0f, GL_FALSE);
-  glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
-  glDisable(GL_SAMPLE_ALPHA_TO_ONE);
-  glEnable(GL_MULTISAMPLE);
-  glDisable(GL_POLYGON_OFFSET_FILL);
-  glDisable(GL_POLYGON_OFFSET_LINE);
-  glDisable(GL_POLYGON_OFFSET_POINT);
-  glPolygonOffset(0, 0);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  glUseProgram(0);
-  glBindProgramPipeline(0);
-  glBindVertexArray(0);
-  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
-  glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, 0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glPixelStorei(GL_PACK_ROW_LENGTH, 0);
-  glPixelStorei(GL_PACK_SKIP_PIXELS, 0);
-  glPixelStorei(GL_PACK_SKIP_ROWS, 0);
-  glPixelStorei(GL_PACK_IMAGE_HEIGHT, 0);
-  glPixelStorei(GL_PACK_SKIP_IMAGES, 0);
-  glPixelStorei(GL_PACK_SWAP_BYTES, GL_FALSE);
-  glPixelStorei(GL_PACK_LSB_FIRST, GL_FALSE);
-  glClampColor(GL_CLAMP_READ_COLOR, GL_FIXED_ONLY);
-  if (epoxy_has_gl_extension("GL_EXT_depth_bounds_test")) glDisable(GL_DEPTH_BOUNDS_TEST_EXT);
-}
+void defaultState() { test::setDefaultGlState(kWidth, kHeight); }
 
 TEST_F(GlStateTest, EachHostileStateBreaksAnUnguardedCountAndNotAGuardedOne) {
   TestFramebuffer fb(0);

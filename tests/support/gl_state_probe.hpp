@@ -288,39 +288,69 @@ struct AppObjects {
 
 // Which parts of the state setRandomGlState() touches.
 enum GlStateGroups : unsigned {
-  kRasterState = 1u << 0,  // culling, winding, polygon mode, stencil, clamp, depth range,
-                           // clip distances, sample mask and coverage, discard, offset,
-                           // scissor (index 0), colour masks, depth test/func/mask
-  kBindings = 1u << 1,     // framebuffers, program, pipeline, vertex array, pack buffer
-  kPixelStore = 1u << 2,   // pack parameters, read clamping
+  // State that shapes what an application's own draws produce, and that an application
+  // may legitimately draw its frame with: face culling and winding, stencil, sample mask,
+  // sample coverage, alpha to coverage and to one, multisampling, rasterizer discard, the
+  // scissor test and box (index 0).
+  kDrawShaping = 1u << 0,
+  // State an application must not draw its culled frame with (culler.hpp's contract:
+  // the depth test keeps the nearer fragment, writes on, the camera's depth range and
+  // projection), but may leave set between its draws: polygon mode, depth test, function
+  // and mask, depth clamp and range, clip distances, polygon offset, viewport, colour
+  // masks, depth bounds.
+  kContractState = 1u << 1,
+  kBindings = 1u << 2,    // framebuffers, program, pipeline, vertex array, pack buffer, texture
+  kPixelStore = 1u << 3,  // pack parameters, read clamping
+  kRasterState = kDrawShaping | kContractState,
   kAllGlState = kRasterState | kBindings | kPixelStore,
 };
 
 // Sets random values for the items in `groups`: what an application may have left on
-// the context when it calls logrid. Returns a line naming what was set, for messages.
+// the context when it calls logrid. Boxes (scissor, viewport) lie in a `width` x `height`
+// framebuffer; `app_framebuffer` is the application's own. Returns the items enabled,
+// for messages. The same seed sets the same values.
 inline std::string setRandomGlState(std::mt19937& rng, const AppObjects& objects,
-                                    unsigned groups = kAllGlState, GLuint app_framebuffer = 0) {
+                                    unsigned groups = kAllGlState, GLuint app_framebuffer = 0,
+                                    int width = 8, int height = 8) {
   std::ostringstream what;
   auto coin = [&](double p = 0.5) { return std::uniform_real_distribution<double>(0, 1)(rng) < p; };
   auto pick = [&](std::initializer_list<GLenum> v) {
     return *(v.begin() + std::uniform_int_distribution<std::size_t>(0, v.size() - 1)(rng));
   };
   auto unit = [&] { return std::uniform_real_distribution<double>(0, 1)(rng); };
+  auto below = [&](int n) { return n > 0 ? int(rng() % unsigned(n)) : 0; };
   auto set = [&](GLenum cap, bool on, const char* name) {
     on ? glEnable(cap) : glDisable(cap);
     if (on) what << name << " ";
   };
-  if (groups & kRasterState) {
+  if (groups & kDrawShaping) {
     set(GL_CULL_FACE, coin(), "cull");
     glCullFace(pick({GL_FRONT, GL_BACK, GL_FRONT_AND_BACK}));
     glFrontFace(pick({GL_CW, GL_CCW}));
+    set(GL_STENCIL_TEST, coin(), "stencil");
+    glStencilFunc(pick({GL_NEVER, GL_LESS, GL_EQUAL, GL_ALWAYS}), below(256), rng() % 256);
+    glStencilOp(pick({GL_KEEP, GL_ZERO, GL_INVERT}), pick({GL_KEEP, GL_INCR}),
+                pick({GL_KEEP, GL_REPLACE, GL_DECR}));
+    // Sample masks and coverage leave samples unwritten, so the farthest sample of those
+    // pixels stays cleared and nothing behind them is culled: rarer, to keep culling.
+    set(GL_SAMPLE_MASK, coin(0.2), "sample-mask");
+    glSampleMaski(0, GLbitfield(rng() & 0xF));
+    set(GL_SAMPLE_COVERAGE, coin(0.2), "coverage");
+    glSampleCoverage(float(unit()), coin() ? GL_TRUE : GL_FALSE);
+    set(GL_SAMPLE_ALPHA_TO_COVERAGE, coin(), "alpha-to-coverage");
+    set(GL_SAMPLE_ALPHA_TO_ONE, coin(), "alpha-to-one");
+    set(GL_MULTISAMPLE, coin(0.7), "multisample");
+    set(GL_RASTERIZER_DISCARD, coin(0.1), "discard");
+    const bool scissor = coin();
+    scissor ? glEnablei(GL_SCISSOR_TEST, 0) : glDisablei(GL_SCISSOR_TEST, 0);
+    if (scissor) what << "scissor ";
+    const int x0 = below(width / 2), y0 = below(height / 2);
+    glScissorIndexed(0, x0, y0, 1 + below(width - x0), 1 + below(height - y0));
+  }
+  if (groups & kContractState) {
     const GLenum mode = pick({GL_FILL, GL_LINE, GL_POINT});
     glPolygonMode(GL_FRONT_AND_BACK, mode);
     if (mode != GL_FILL) what << (mode == GL_LINE ? "line " : "point ");
-    set(GL_STENCIL_TEST, coin(), "stencil");
-    glStencilFunc(pick({GL_NEVER, GL_LESS, GL_EQUAL, GL_ALWAYS}), int(rng() % 256), rng() % 256);
-    glStencilOp(pick({GL_KEEP, GL_ZERO, GL_INVERT}), pick({GL_KEEP, GL_INCR}),
-                pick({GL_KEEP, GL_REPLACE, GL_DECR}));
     set(GL_DEPTH_TEST, coin(), "depth-test");
     glDepthFunc(pick({GL_NEVER, GL_LESS, GL_EQUAL, GL_GREATER, GL_ALWAYS, GL_LEQUAL}));
     glDepthMask(coin() ? GL_TRUE : GL_FALSE);
@@ -328,21 +358,12 @@ inline std::string setRandomGlState(std::mt19937& rng, const AppObjects& objects
     const double a = unit(), b = unit();
     glDepthRangeIndexed(0, a, b);
     for (int i = 0; i < 8; ++i) set(GLenum(GL_CLIP_DISTANCE0 + i), coin(0.2), "clip");
-    set(GL_SAMPLE_MASK, coin(), "sample-mask");
-    glSampleMaski(0, GLbitfield(rng() & 0x1));
-    set(GL_SAMPLE_COVERAGE, coin(), "coverage");
-    glSampleCoverage(float(unit() * 0.2), coin() ? GL_TRUE : GL_FALSE);
-    set(GL_SAMPLE_ALPHA_TO_COVERAGE, coin(), "alpha-to-coverage");
-    set(GL_SAMPLE_ALPHA_TO_ONE, coin(), "alpha-to-one");
-    set(GL_MULTISAMPLE, coin(), "multisample");
-    set(GL_RASTERIZER_DISCARD, coin(0.3), "discard");
     set(GL_POLYGON_OFFSET_FILL, coin(), "offset");
     set(GL_POLYGON_OFFSET_LINE, coin(), "offset-line");
     set(GL_POLYGON_OFFSET_POINT, coin(), "offset-point");
     glPolygonOffset(float(unit() * 200 - 100), float(unit() * 2e5 - 1e5));
-    coin() ? glEnablei(GL_SCISSOR_TEST, 0) : glDisablei(GL_SCISSOR_TEST, 0);
-    glScissorIndexed(0, int(rng() % 8), int(rng() % 8), int(rng() % 4), int(rng() % 4));
-    glViewportIndexedf(0, float(rng() % 8), float(rng() % 8), float(rng() % 4), float(rng() % 4));
+    glViewportIndexedf(0, float(below(width)), float(below(height)), float(below(width)),
+                       float(below(height)));
     for (GLuint i = 0; i < 8; ++i) {
       glColorMaski(i, coin() ? GL_TRUE : GL_FALSE, coin() ? GL_TRUE : GL_FALSE,
                    coin() ? GL_TRUE : GL_FALSE, coin() ? GL_TRUE : GL_FALSE);
@@ -374,6 +395,57 @@ inline std::string setRandomGlState(std::mt19937& rng, const AppObjects& objects
     glClampColor(GL_CLAMP_READ_COLOR, pick({GL_TRUE, GL_FALSE, GL_FIXED_ONLY}));
   }
   return what.str();
+}
+
+// GL's initial values for what setRandomGlState() sets, with the viewport and scissor
+// box at `width` x `height` and nothing bound.
+inline void setDefaultGlState(int width, int height) {
+  glDisable(GL_CULL_FACE);
+  glCullFace(GL_BACK);
+  glFrontFace(GL_CCW);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  glDisable(GL_STENCIL_TEST);
+  glStencilFunc(GL_ALWAYS, 0, 0xFF);
+  glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+  glDisable(GL_RASTERIZER_DISCARD);
+  glDisable(GL_DEPTH_CLAMP);
+  glDepthRangeIndexed(0, 0.0, 1.0);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glViewportIndexedf(0, 0, 0, float(width), float(height));
+  glDisablei(GL_SCISSOR_TEST, 0);
+  glScissorIndexed(0, 0, 0, width, height);
+  for (int i = 0; i < 8; ++i) glDisable(GLenum(GL_CLIP_DISTANCE0 + i));
+  glDisable(GL_SAMPLE_MASK);
+  glSampleMaski(0, ~0u);
+  glDisable(GL_SAMPLE_COVERAGE);
+  glSampleCoverage(1.0f, GL_FALSE);
+  glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+  glDisable(GL_SAMPLE_ALPHA_TO_ONE);
+  glEnable(GL_MULTISAMPLE);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  glDisable(GL_POLYGON_OFFSET_LINE);
+  glDisable(GL_POLYGON_OFFSET_POINT);
+  glPolygonOffset(0, 0);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glUseProgram(0);
+  glBindProgramPipeline(0);
+  glBindVertexArray(0);
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, 0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+  glPixelStorei(GL_PACK_SKIP_PIXELS, 0);
+  glPixelStorei(GL_PACK_SKIP_ROWS, 0);
+  glPixelStorei(GL_PACK_IMAGE_HEIGHT, 0);
+  glPixelStorei(GL_PACK_SKIP_IMAGES, 0);
+  glPixelStorei(GL_PACK_SWAP_BYTES, GL_FALSE);
+  glPixelStorei(GL_PACK_LSB_FIRST, GL_FALSE);
+  glClampColor(GL_CLAMP_READ_COLOR, GL_FIXED_ONLY);
+  if (epoxy_has_gl_extension("GL_EXT_depth_bounds_test")) glDisable(GL_DEPTH_BOUNDS_TEST_EXT);
 }
 
 }  // namespace logrid::test

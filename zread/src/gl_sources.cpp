@@ -62,6 +62,23 @@ void checkDepthAttachment(const char* who, GLuint framebuffer, const Camera& cam
 
 std::size_t bytesOf(GLenum type) { return type == GL_UNSIGNED_SHORT ? 2 : 4; }
 
+// The checks of beginFrame() common to the pixel readers; returns the attachment.
+DepthAttachment checkFramebuffer(const char* who, GLuint framebuffer, const Camera& camera) {
+  checkDepthAttachment(who, framebuffer, camera);
+  const DepthAttachment a = describeDepthAttachment(who, framebuffer);
+  checkMultisample(who, a, camera);
+  return a;
+}
+
+// The framebuffer to read: the application's, or the resolve of its multisampled depth.
+GLuint readableFramebuffer(GlStateGuard::Scope& scope, std::unique_ptr<MultisampleResolver>& r,
+                           const DepthAttachment& a, const DepthSetup& depth,
+                           const PixelRect* rects, std::size_t count) {
+  if (a.samples == 0) return a.framebuffer;
+  if (!r) r = std::make_unique<MultisampleResolver>();
+  return r->resolve(scope, a, depth.convention, rects, count);
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------
@@ -71,9 +88,12 @@ std::size_t bytesOf(GLenum type) { return type == GL_UNSIGNED_SHORT ? 2 : 4; }
 ReadPixelsSource::ReadPixelsSource(std::uint32_t framebuffer) : framebuffer_(framebuffer) {}
 
 void ReadPixelsSource::beginFrame(const Camera& camera) {
-  checkDepthAttachment("ReadPixelsSource", framebuffer_, camera);
-  encoding_ = {nativeDepth(camera.depth.format), camera.depth.convention};
-  type_ = nativeType(camera.depth.format);
+  attachment_ = checkFramebuffer("ReadPixelsSource", framebuffer_, camera);
+  depth_ = camera.depth;
+  // The resolve of a multisampled buffer is 32-bit float whatever the format.
+  const DepthFormat read = attachment_.samples ? DepthFormat::D32F : camera.depth.format;
+  encoding_ = {nativeDepth(read), camera.depth.convention};
+  type_ = nativeType(read);
 }
 
 void ReadPixelsSource::fetch(const PixelRect* rects, std::size_t count, const void** data,
@@ -82,10 +102,8 @@ void ReadPixelsSource::fetch(const PixelRect* rects, std::size_t count, const vo
   std::size_t total = 0;
   for (std::size_t i = 0; i < count; ++i) total += std::size_t(rects[i].area()) * bytes;
   if (scratch_.size() < total) scratch_.resize(total);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer_);
-  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+  GlStateGuard::Scope scope(guard_, "ReadPixelsSource");
+  scope.prepareRead(readableFramebuffer(scope, resolver_, attachment_, depth_, rects, count), 0);
   std::size_t offset = 0;
   for (std::size_t i = 0; i < count; ++i) {
     const PixelRect& r = rects[i];
@@ -95,6 +113,7 @@ void ReadPixelsSource::fetch(const PixelRect* rects, std::size_t count, const vo
     strides[i] = std::size_t(r.x1 - r.x0);
     offset += std::size_t(r.area()) * bytes;
   }
+  scope.check("glReadPixels");
 }
 
 // ---------------------------------------------------------------------------
@@ -108,9 +127,11 @@ PboSource::~PboSource() {
 }
 
 void PboSource::beginFrame(const Camera& camera) {
-  checkDepthAttachment("PboSource", framebuffer_, camera);
-  encoding_ = {nativeDepth(camera.depth.format), camera.depth.convention};
-  type_ = nativeType(camera.depth.format);
+  attachment_ = checkFramebuffer("PboSource", framebuffer_, camera);
+  depth_ = camera.depth;
+  const DepthFormat read = attachment_.samples ? DepthFormat::D32F : camera.depth.format;
+  encoding_ = {nativeDepth(read), camera.depth.convention};
+  type_ = nativeType(read);
 }
 
 void PboSource::reserve(std::size_t bytes) {
@@ -136,10 +157,9 @@ void PboSource::fetch(const PixelRect* rects, std::size_t count, const void** da
     total += (std::size_t(rects[i].area()) * bytes + 15) & ~std::size_t(15);
   }
   reserve(total);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer_);
-  glBindBuffer(GL_PIXEL_PACK_BUFFER, buffer_);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+  GlStateGuard::Scope scope(guard_, "PboSource");
+  scope.prepareRead(readableFramebuffer(scope, resolver_, attachment_, depth_, rects, count),
+                    buffer_);
   // Issue every read, then wait once.
   std::size_t offset = 0;
   for (std::size_t i = 0; i < count; ++i) {
@@ -150,13 +170,14 @@ void PboSource::fetch(const PixelRect* rects, std::size_t count, const void** da
     strides[i] = std::size_t(r.x1 - r.x0);
     offset += (std::size_t(r.area()) * bytes + 15) & ~std::size_t(15);
   }
-  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+  scope.check("glReadPixels into a pixel-buffer object");
   GLsync fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
   const GLenum result = glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, 10'000'000'000ull);
   glDeleteSync(fence);
   if (result == GL_TIMEOUT_EXPIRED || result == GL_WAIT_FAILED) {
     throw Error(ErrorCode::Runtime, "PboSource: waiting for depth reads failed or took over 10 s");
   }
+  scope.check("glClientWaitSync");
 }
 
 // ---------------------------------------------------------------------------
@@ -194,8 +215,10 @@ QuerySource::~QuerySource() {
 }
 
 void QuerySource::beginFrame(const Camera& camera) {
-  checkDepthAttachment("QuerySource", framebuffer_, camera);
+  checkFramebuffer("QuerySource", framebuffer_, camera);
   depth_ = camera.depth;
+  width_ = std::int32_t(camera.width);
+  height_ = std::int32_t(camera.height);
 }
 
 void QuerySource::summarize(const PixelRect*, std::size_t, AreaDepth*) {
@@ -214,27 +237,21 @@ void QuerySource::countAtOrBeyond(const AreaQuery* queries, std::size_t count, s
     // One query object per target (PLATFORM.md pitfall 4): created for SAMPLES_PASSED.
     glCreateQueries(GL_SAMPLES_PASSED, GLsizei(count - old), queries_.data() + old);
   }
-  // Save the state this draws with, and restore it afterwards.
-  GLint program = 0, vao = 0, draw_fb = 0, depth_func = 0, scissor_box[4];
-  GLboolean depth_mask = GL_TRUE, color_mask[4], scissor = glIsEnabled(GL_SCISSOR_TEST);
-  glGetIntegerv(GL_CURRENT_PROGRAM, &program);
-  glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &vao);
-  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &draw_fb);
-  glGetIntegerv(GL_DEPTH_FUNC, &depth_func);
-  glGetIntegerv(GL_SCISSOR_BOX, scissor_box);
-  glGetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask);
-  glGetBooleanv(GL_COLOR_WRITEMASK, color_mask);
-
+  GLint active = 0;
+  glGetQueryiv(GL_SAMPLES_PASSED, GL_CURRENT_QUERY, &active);
+  if (active) {
+    throw Error(ErrorCode::InvalidArgument,
+                "QuerySource: the application's GL_SAMPLES_PASSED query " + std::to_string(active) +
+                    " is active, and GL allows one per target; end it before culling, or use "
+                    "another reader");
+  }
   const bool reversed = depth_.convention == DepthConvention::Reversed;
   const float far_key = clearKey(depth_), near_key = nearPlaneKey(depth_);
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer_);
+  GlStateGuard::Scope scope(guard_, "QuerySource");
+  // Pass where the stored key >= threshold: standard stored >= d, reversed stored <= d.
+  scope.prepareDraw(framebuffer_, width_, height_, reversed ? GL_GEQUAL : GL_LEQUAL, false);
   program_->use();
   glBindVertexArray(vao_);
-  glEnable(GL_SCISSOR_TEST);
-  glDepthMask(GL_FALSE);
-  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-  // Pass where the stored key >= threshold: standard stored >= d, reversed stored <= d.
-  glDepthFunc(reversed ? GL_GEQUAL : GL_LEQUAL);
   std::size_t issued = 0;
   for (std::size_t i = 0; i < count; ++i) {
     const PixelRect& r = queries[i].rect;
@@ -249,7 +266,7 @@ void QuerySource::countAtOrBeyond(const AreaQuery* queries, std::size_t count, s
     if (reversed && depth < d) depth = std::nextafter(depth, 2.0f);
     depth = std::clamp(depth, 0.0f, 1.0f);
     glUniform1f(depth_uniform_, depth);
-    glScissor(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0);
+    scope.scissor(r);
     glBeginQuery(GL_SAMPLES_PASSED, queries_[i]);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glEndQuery(GL_SAMPLES_PASSED);
@@ -267,16 +284,7 @@ void QuerySource::countAtOrBeyond(const AreaQuery* queries, std::size_t count, s
     }
   }
 
-  glDepthFunc(GLenum(depth_func));
-  glDepthMask(depth_mask);
-  glColorMask(color_mask[0], color_mask[1], color_mask[2], color_mask[3]);
-  glScissor(scissor_box[0], scissor_box[1], scissor_box[2], scissor_box[3]);
-  if (!scissor) glDisable(GL_SCISSOR_TEST);
-  // A program or vertex array the application deleted while it was current ceased to
-  // exist when this source switched away from it: restore only names that still exist.
-  glBindVertexArray(glIsVertexArray(GLuint(vao)) ? GLuint(vao) : 0);
-  glUseProgram(glIsProgram(GLuint(program)) ? GLuint(program) : 0);
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, glIsFramebuffer(GLuint(draw_fb)) ? GLuint(draw_fb) : 0);
+  scope.check("the occlusion queries");
 
   counters_.queries += issued;
   if (drawn_since_query_) {

@@ -17,7 +17,14 @@
 //                     threshold (never fewer than those at or beyond it): conservative.
 //
 // beginFrame() checks the framebuffer's depth attachment against Camera::depth.format
-// and throws logrid::Error if they differ.
+// and throws logrid::Error if they differ, or if it is multisampled and
+// Camera::multisample is false. Multisampled depth is read through MultisampleResolver
+// (multisample.hpp): the farthest sample of each pixel.
+//
+// Every source sets the GL state its draws and reads depend on and restores the
+// application's exactly (GlStateGuard, gl_state.hpp); it refuses conditional rendering
+// and unpaused transform feedback, and reports a GL error of its own calls as a
+// logrid::Error naming the call.
 #pragma once
 
 #include <cstdint>
@@ -26,6 +33,8 @@
 
 #include "logrid/cpu/pixel_reader.hpp"
 #include "logrid/depth_source.hpp"
+#include "logrid/zread/gl_state.hpp"
+#include "logrid/zread/multisample.hpp"
 #include "logrid/zread/program.hpp"
 
 namespace logrid::zread {
@@ -43,6 +52,10 @@ class ReadPixelsSource : public cpu::PixelReader {
  private:
   std::uint32_t framebuffer_;
   std::uint32_t type_ = 0;  // GL type of the native read
+  DepthSetup depth_;
+  DepthAttachment attachment_;
+  GlStateGuard guard_;
+  std::unique_ptr<MultisampleResolver> resolver_;
   std::vector<unsigned char> scratch_;
 };
 
@@ -63,6 +76,10 @@ class PboSource : public cpu::PixelReader {
   void reserve(std::size_t bytes);
   std::uint32_t framebuffer_;
   std::uint32_t type_ = 0;
+  DepthSetup depth_;
+  DepthAttachment attachment_;
+  GlStateGuard guard_;
+  std::unique_ptr<MultisampleResolver> resolver_;
   std::uint32_t buffer_ = 0;
   std::size_t capacity_ = 0;
   const unsigned char* mapped_ = nullptr;
@@ -87,6 +104,8 @@ class QuerySource : public DepthSource {
  private:
   std::uint32_t framebuffer_;
   DepthSetup depth_;
+  std::int32_t width_ = 0, height_ = 0;
+  GlStateGuard guard_;
   std::unique_ptr<Program> program_;
   std::int32_t depth_uniform_ = -1;
   std::uint32_t vao_ = 0;
