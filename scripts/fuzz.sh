@@ -46,7 +46,9 @@ mkdir -p "$corpus" "$findings"
 export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_stack_use_after_return=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
 echo "fuzz.sh: $target for ${seconds}s; corpus $corpus, findings $findings" >&2
-# The first directory receives new inputs; the committed corpus is only read.
+# The first directory receives new inputs; the committed corpus is only read. The timeout
+# is wall-clock time: generous, because a fuzzer at low priority on a busy machine may wait
+# long for the CPU (inputs it reported at -timeout=20 replayed in milliseconds).
 exec "$build/bin/${target}_fuzzer" "$corpus" "$root/tests/fuzz/corpus/$target" \
-  -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -max_len=65536 \
+  -max_total_time="$seconds" -timeout=120 -rss_limit_mb=2048 -max_len=65536 \
   -artifact_prefix="$findings/" -print_final_stats=1 "$@"

@@ -1,0 +1,264 @@
+// libFuzzer target: the conservative projection and the lazy occlusion grid, against a
+// brute-force answer.
+//
+// An input decodes into a camera (size, depth set-up, perspective or orthographic, eye,
+// target, planes), a grid (tile size, variant) over a software depth buffer, and a
+// sequence of operations: draws (a rectangle at a depth, kept only where nearer, as the
+// depth test does), clears, busy refreshes, and tests of boxes and of bare rectangles.
+// For every test the grid answers Occluded, a brute-force scan of the rectangle must find
+// no pixel whose key is at or beyond the threshold. For every box wholly in front of the
+// near plane, every pixel centre inside the exact projected hull of its corners must lie
+// in the projected rectangle, the box may not be called outside, and its occlusion
+// threshold may not exceed the exact nearest key of its corners.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "fuzz_check.hpp"
+#include "logrid/camera.hpp"
+#include "logrid/cpu/software_depth.hpp"
+#include "logrid/error.hpp"
+#include "logrid/grid.hpp"
+#include "logrid/projection.hpp"
+
+namespace {
+
+using logrid::fuzz::Reader;
+
+struct Window {
+  double x, y, key, w;
+};
+
+// Exact (double) clip-to-window mapping of a world point.
+Window toWindow(const logrid::Camera& c, const logrid::Vec3& p) {
+  const double* m = c.view_projection.m;
+  double clip[4];
+  for (int r = 0; r < 4; ++r) {
+    clip[r] = m[r] * p.x + m[4 + r] * p.y + m[8 + r] * p.z + m[12 + r];
+  }
+  const double w = clip[3];
+  const double ndc_z = clip[2] / w;
+  const double depth =
+      c.depth.clip_range == logrid::ClipDepthRange::ZeroToOne ? ndc_z : 0.5 * ndc_z + 0.5;
+  const double key = c.depth.convention == logrid::DepthConvention::Reversed ? -depth : depth;
+  return {(clip[0] / w * 0.5 + 0.5) * c.width, (clip[1] / w * 0.5 + 0.5) * c.height, key, w};
+}
+
+// Is (x, y) inside the convex hull of `points` by more than `eps` (in pixels)? Gift
+// wrapping is overkill for 8 points: test against every pair that has all points on one
+// side (the hull's edges).
+bool insideHull(const std::vector<Window>& pts, double x, double y, double eps) {
+  const std::size_t n = pts.size();
+  bool any_edge = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = 0; j < n; ++j) {
+      if (i == j) continue;
+      const double ex = pts[j].x - pts[i].x, ey = pts[j].y - pts[i].y;
+      const double len = std::hypot(ex, ey);
+      if (!(len > 1e-9)) continue;
+      bool left_all = true;
+      for (std::size_t k = 0; k < n && left_all; ++k) {
+        left_all = ex * (pts[k].y - pts[i].y) - ey * (pts[k].x - pts[i].x) >= -1e-9 * len;
+      }
+      if (!left_all) continue;
+      any_edge = true;
+      // Signed distance of (x, y) to the left of edge i->j.
+      if ((ex * (y - pts[i].y) - ey * (x - pts[i].x)) / len <= eps) return false;
+    }
+  }
+  return any_edge;
+}
+
+bool contains(const logrid::PixelRect& r, std::int32_t x, std::int32_t y) {
+  return x >= r.x0 && x < r.x1 && y >= r.y0 && y < r.y1;
+}
+
+float key(const logrid::cpu::SoftwareDepthBuffer& b, std::uint32_t x, std::uint32_t y) {
+  return logrid::depthKey(b.convention(), b.at(x, y));
+}
+
+// A value from the input as a window depth: mostly in [0, 1], sometimes exactly a plane,
+// sometimes outside the range or not a number (what a broken application may store).
+float windowDepth(Reader& in) {
+  const std::uint8_t kind = in.byte();
+  switch (kind % 16) {
+    case 0: return 0.0f;
+    case 1: return 1.0f;
+    case 2: return in.anyFloat();
+    default: return float(in.range(0, 1));
+  }
+}
+
+logrid::PixelRect rectIn(Reader& in, std::uint32_t w, std::uint32_t h) {
+  const std::int32_t x0 = std::int32_t(in.byte() % w), y0 = std::int32_t(in.byte() % h);
+  const std::int32_t x1 = x0 + 1 + std::int32_t(in.byte() % (w - std::uint32_t(x0)));
+  const std::int32_t y1 = y0 + 1 + std::int32_t(in.byte() % (h - std::uint32_t(y0)));
+  return {x0, y0, x1, y1};
+}
+
+// Asks the grid and checks an Occluded answer against the buffer.
+void checkTest(logrid::OcclusionGrid& grid, logrid::cpu::SoftwareDepthBuffer& buffer,
+               const logrid::PixelRect& rect, float threshold) {
+  logrid::GridTestCounts counts;
+  const logrid::Visibility v = grid.test(rect, threshold, buffer, counts);
+  if (v != logrid::Visibility::Occluded) return;
+  for (std::int32_t y = rect.y0; y < rect.y1; ++y) {
+    for (std::int32_t x = rect.x0; x < rect.x1; ++x) {
+      const float k = key(buffer, std::uint32_t(x), std::uint32_t(y));
+      LOGRID_FUZZ_CHECK(!(k >= threshold),
+                        "grid (%s, tile %u) said occluded for rect [%d,%d)x[%d,%d) at threshold "
+                        "%.9g, but pixel (%d, %d) has key %.9g",
+                        logrid::toString(grid.desc().variant), grid.desc().tile_size, rect.x0,
+                        rect.x1, rect.y0, rect.y1, double(threshold), x, y, double(k));
+    }
+  }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  Reader in(data, size);
+  // --- Camera ---
+  logrid::Camera camera;
+  camera.width = 1 + in.byte() % 48;
+  camera.height = 1 + in.byte() % 48;
+  const std::uint8_t setup = in.byte();
+  const bool reversed = setup & 1;
+  camera.depth.convention =
+      reversed ? logrid::DepthConvention::Reversed : logrid::DepthConvention::Standard;
+  camera.depth.clip_range = reversed || (setup & 2) ? logrid::ClipDepthRange::ZeroToOne
+                                                    : logrid::ClipDepthRange::NegativeOneToOne;
+  camera.depth.format = (setup >> 2) % 3 == 0   ? logrid::DepthFormat::D16
+                        : (setup >> 2) % 3 == 1 ? logrid::DepthFormat::D24
+                                                : logrid::DepthFormat::D32F;
+  camera.multisample = setup & 0x40;
+  const bool ortho = setup & 0x80;
+  const logrid::DVec3 eye{in.range(-20, 20), in.range(-20, 20), in.range(-20, 20)};
+  const logrid::DVec3 target{in.range(-5, 5), in.range(-5, 5), in.range(-5, 5)};
+  const double near_plane = in.range(0.01, 5);
+  const std::uint8_t far_choice = in.byte();
+  double far_plane = near_plane * (1.5 + in.range(0, 1000));
+  if (reversed && !ortho && far_choice % 4 == 0)
+    far_plane = std::numeric_limits<double>::infinity();
+  const double aspect = double(camera.width) / double(camera.height);
+  try {
+    const logrid::Mat4d view = logrid::lookAt(eye, target, {0, 1, 0});
+    const logrid::Mat4d projection =
+        ortho
+            ? logrid::orthographic(-10 * aspect, 10 * aspect, -10, 10, near_plane, far_plane,
+                                   camera.depth)
+            : logrid::perspective(in.range(0.2, 3.0), aspect, near_plane, far_plane, camera.depth);
+    camera.view_projection = logrid::multiply(projection, view);
+  } catch (const logrid::Error&) {
+    return 0;  // eye == target or up parallel to the view: lookAt refuses, as documented
+  }
+  if (!logrid::validateCamera(camera).empty()) return 0;
+  const logrid::Projector projector(camera);
+
+  // --- Grid and buffer ---
+  logrid::GridDesc desc;
+  desc.width = camera.width;
+  desc.height = camera.height;
+  desc.tile_size = 1 + in.byte() % 64;
+  desc.variant = in.byte() & 1 ? logrid::GridVariant::Zfar : logrid::GridVariant::OcclusionState;
+  logrid::OcclusionGrid grid(desc);
+  logrid::cpu::SoftwareDepthBuffer buffer(camera.width, camera.height, camera.depth.convention);
+  buffer.beginFrame(camera);
+  buffer.clear();
+  grid.reset(projector.clearKey());
+  const bool state = desc.variant == logrid::GridVariant::OcclusionState;
+
+  // --- Operations ---
+  for (int op = 0; op < 64 && in.left() > 0; ++op) {
+    switch (in.byte() % 6) {
+      case 0:
+      case 1: {  // draw a rectangle at a depth (nearer values win)
+        const logrid::PixelRect r = rectIn(in, camera.width, camera.height);
+        buffer.fillRect(r, windowDepth(in));
+        grid.markOutdated(r);
+        break;
+      }
+      case 2: {  // a clear
+        buffer.clear();
+        grid.reset(projector.clearKey());
+        break;
+      }
+      case 3: {  // busy refresh (BOG)
+        const logrid::PixelRect r = rectIn(in, camera.width, camera.height);
+        grid.refreshNow(r, buffer);
+        break;
+      }
+      case 4: {  // a bare rectangle; the zfar grid takes any threshold
+        const logrid::PixelRect r = rectIn(in, camera.width, camera.height);
+        const float t = state ? projector.clearKey() : float(in.range(-1.1, 1.1));
+        checkTest(grid, buffer, r, t);
+        break;
+      }
+      default: {  // a box
+        logrid::Vec3 lo{float(in.range(-15, 15)), float(in.range(-15, 15)),
+                        float(in.range(-15, 15))};
+        const logrid::Vec3 hi{lo.x + float(in.range(0, 8)), lo.y + float(in.range(0, 8)),
+                              lo.z + float(in.range(0, 8))};
+        const logrid::Aabb box{lo, hi};
+        const logrid::BoxProjection p = projector.project(box);
+        // Brute force of the projection, for boxes wholly in front of the near plane.
+        std::vector<Window> corners;
+        bool in_front = true;
+        double min_key = std::numeric_limits<double>::infinity();
+        double max_key = -std::numeric_limits<double>::infinity();
+        for (int c = 0; c < 8; ++c) {
+          const logrid::Vec3 v{c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z};
+          const Window wv = toWindow(camera, v);
+          const double near_key = double(projector.nearKey());
+          // In front of the near plane with room to spare (w > 0, key beyond the near key).
+          in_front = in_front && wv.w > 1e-6 && std::isfinite(wv.key) &&
+                     wv.key > near_key + 1e-6 * (1 + std::abs(near_key));
+          min_key = std::min(min_key, wv.key);
+          max_key = std::max(max_key, wv.key);
+          corners.push_back(wv);
+        }
+        // Wholly between the planes (with room to spare): the hull of the projected
+        // corners is exactly what the box covers (the side planes clip at the viewport).
+        const double clear = double(projector.clearKey());
+        const bool before_far = max_key < clear - 1e-6 * (1 + std::abs(clear));
+        if (in_front) {
+          LOGRID_FUZZ_CHECK(p.cls != logrid::ProjectionClass::CrossesNear &&
+                                p.cls != logrid::ProjectionClass::Invalid,
+                            "a box in front of the near plane was classed %d", int(p.cls));
+        }
+        if (in_front && before_far) {
+          for (std::uint32_t y = 0; y < camera.height; ++y) {
+            for (std::uint32_t x = 0; x < camera.width; ++x) {
+              // Centres inside the hull by 1e-3 pixel: rounding cannot decide those.
+              if (!insideHull(corners, x + 0.5, y + 0.5, 1e-3)) continue;
+              LOGRID_FUZZ_CHECK(p.cls == logrid::ProjectionClass::Inside,
+                                "pixel centre (%u, %u) lies inside the box's projection but the "
+                                "box was classed %d",
+                                x, y, int(p.cls));
+              LOGRID_FUZZ_CHECK(contains(p.rect, std::int32_t(x), std::int32_t(y)),
+                                "pixel centre (%u, %u) lies inside the box's projection but "
+                                "outside its rect [%d,%d)x[%d,%d)",
+                                x, y, p.rect.x0, p.rect.x1, p.rect.y0, p.rect.y1);
+            }
+          }
+          if (p.cls == logrid::ProjectionClass::Inside) {
+            LOGRID_FUZZ_CHECK(double(p.occlusionThreshold()) <= min_key,
+                              "occlusion threshold %.9g beyond the box's nearest key %.9g",
+                              double(p.occlusionThreshold()), min_key);
+          }
+        }
+        if (p.cls == logrid::ProjectionClass::Inside) {
+          LOGRID_FUZZ_CHECK(!p.rect.empty() && p.rect.x0 >= 0 && p.rect.y0 >= 0 &&
+                                p.rect.x1 <= std::int32_t(camera.width) &&
+                                p.rect.y1 <= std::int32_t(camera.height),
+                            "rect [%d,%d)x[%d,%d) outside the %ux%u viewport", p.rect.x0, p.rect.x1,
+                            p.rect.y0, p.rect.y1, camera.width, camera.height);
+          checkTest(grid, buffer, p.rect, state ? projector.clearKey() : p.occlusionThreshold());
+        }
+        break;
+      }
+    }
+  }
+  return 0;
+}
