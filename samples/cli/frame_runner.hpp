@@ -12,8 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "logrid/cpu/software_depth.hpp"
-#include "logrid/cpu/software_rasterizer.hpp"
+#include "cli/readers.hpp"
 #include "logrid/culler.hpp"
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
@@ -21,10 +20,6 @@
 #include "scene/view.hpp"
 
 namespace logrid::samples {
-
-enum class Reader : std::uint8_t { ReadPixels, Pbo, Query, Software };
-const char* toString(Reader reader);
-std::optional<Reader> parseReader(const std::string& name);
 
 // A method name: one of logrid::Method's, or "oracle" (draws exactly the visible set
 // found by an ID pass that is not timed: the floor no culling method can beat).
@@ -51,8 +46,8 @@ struct FrameHooks {
 
 struct RunConfig {
   MethodChoice method{Method::LogState};
-  CullerDesc culler;  // method is taken from `method`
-  Reader reader = Reader::ReadPixels;
+  CullerDesc culler;                  // method is taken from `method`
+  std::string reader = "readpixels";  // a name of readerTable()
   ViewSettings view;
   std::size_t frames = 100;  // frames spread over the whole path
   bool verify = false;       // object-ID check after each frame
@@ -112,14 +107,12 @@ class FrameRunner {
   // The ID pass of a frame, from the shared cache when another runner did it.
   OracleFrame visibleSet(std::size_t frame, const Camera& camera);
   void writeImages(std::size_t frame, const Camera& camera);
-  void rasterizeObject(ObjectId id, cpu::SoftwareRasterizer& raster);
 
   const PreparedScene& scene_;
   gl::MeshRenderer& renderer_;
   RunConfig config_;
   std::unique_ptr<gl::Framebuffer> framebuffer_;
-  std::unique_ptr<DepthSource> source_;
-  std::unique_ptr<cpu::SoftwareDepthBuffer> software_;
+  std::unique_ptr<FrameReader> reader_;
   std::unique_ptr<Culler> culler_;
   std::unique_ptr<Culler> vfc_;  // for the ID pass
   struct Observer;

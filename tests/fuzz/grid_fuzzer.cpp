@@ -4,15 +4,22 @@
 // An input decodes into a camera (size, depth set-up, perspective or orthographic, eye,
 // target, planes), a grid (tile size, variant) over a software depth buffer, and a
 // sequence of operations: draws (a rectangle at a depth, kept only where nearer, as the
-// depth test does), clears, busy refreshes, and tests of boxes and of bare rectangles.
-// For every test the grid answers Occluded, a brute-force scan of the rectangle must find
-// no pixel whose key is at or beyond the threshold. For every box wholly in front of the
+// depth test does), clears at the start of a frame and mid-frame (OcclusionGrid::fill),
+// busy refreshes, refreshes of every outdated tile, and tests of boxes and of bare
+// rectangles, one at a time (OcclusionGrid::test) or as batches (plan, submit, draws
+// while the batch is in flight, collect, apply, resolve). The depth source is the
+// software buffer itself, or an asynchronous wrapper that answers as of submit() but only
+// in collect() (as GL does), reading depth or counting only (as occlusion queries do).
+// For every test the grid answers Occluded, a brute-force scan of the rectangle, in the
+// buffer as it was when the test's reads were submitted, must find no pixel whose key is
+// at or beyond the threshold. For every box wholly in front of the
 // near plane, every pixel centre inside the exact projected hull of its corners must lie
 // in the projected rectangle, the box may not be called outside, and its occlusion
 // threshold may not exceed the exact nearest key of its corners.
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "fuzz_check.hpp"
@@ -74,10 +81,6 @@ bool contains(const logrid::PixelRect& r, std::int32_t x, std::int32_t y) {
   return x >= r.x0 && x < r.x1 && y >= r.y0 && y < r.y1;
 }
 
-float key(const logrid::cpu::SoftwareDepthBuffer& b, std::uint32_t x, std::uint32_t y) {
-  return logrid::depthKey(b.convention(), b.at(x, y));
-}
-
 // A value from the input as a window depth: mostly in [0, 1], sometimes exactly a plane,
 // sometimes outside the range or not a number (what a broken application may store).
 float windowDepth(Reader& in) {
@@ -97,21 +100,135 @@ logrid::PixelRect rectIn(Reader& in, std::uint32_t w, std::uint32_t h) {
   return {x0, y0, x1, y1};
 }
 
-// Asks the grid and checks an Occluded answer against the buffer.
-void checkTest(logrid::OcclusionGrid& grid, logrid::cpu::SoftwareDepthBuffer& buffer,
-               const logrid::PixelRect& rect, float threshold) {
-  logrid::GridTestCounts counts;
-  const logrid::Visibility v = grid.test(rect, threshold, buffer, counts);
-  if (v != logrid::Visibility::Occluded) return;
+// An asynchronous source over the software buffer: submit() computes the answers as the
+// buffer is then (a GPU's reads see the commands before them) but hands them out only in
+// collect(); until then the answer array holds values that would cull everything.
+class Deferred final : public logrid::DepthSource {
+ public:
+  Deferred(logrid::cpu::SoftwareDepthBuffer& buffer, bool reads_depth)
+      : buffer_(buffer), reads_depth_(reads_depth) {}
+  logrid::DepthSourceTraits traits() const override {
+    return {reads_depth_ ? "deferred" : "deferred-count", reads_depth_, true};
+  }
+  void beginFrame(const logrid::Camera& camera) override { buffer_.beginFrame(camera); }
+  void submit(const logrid::AreaRequest* requests, std::size_t count,
+              logrid::AreaAnswer* answers) override {
+    for (std::size_t i = 0; i < count; ++i) {
+      LOGRID_FUZZ_CHECK(reads_depth_ || requests[i].ask == logrid::AreaAsk::Count,
+                        "a Summary request to a count-only source");
+    }
+    const std::size_t first = real_.size();
+    real_.resize(first + count);
+    buffer_.submit(requests, count, real_.data() + first);
+    buffer_.collect();
+    constexpr float kNear = -std::numeric_limits<float>::infinity();
+    for (std::size_t i = 0; i < count; ++i) {
+      out_.push_back(answers + i);
+      answers[i] = {{kNear, kNear, 0}, 0};
+    }
+  }
+  void collect() override {
+    for (std::size_t i = 0; i < out_.size(); ++i) *out_[i] = real_[i];
+    out_.clear();
+    real_.clear();
+  }
+  void readKeys(const logrid::PixelRect& rect, float* keys) override {
+    LOGRID_FUZZ_CHECK(reads_depth_, "readKeys() on a count-only source");
+    buffer_.readKeys(rect, keys);
+  }
+
+ private:
+  logrid::cpu::SoftwareDepthBuffer& buffer_;
+  bool reads_depth_;
+  std::vector<logrid::AreaAnswer> real_;
+  std::vector<logrid::AreaAnswer*> out_;
+};
+
+// Keys of the buffer, a copy (the state a batch's reads saw).
+std::vector<float> keysOf(const logrid::cpu::SoftwareDepthBuffer& b) {
+  std::vector<float> keys(std::size_t(b.width()) * b.height());
+  for (std::size_t i = 0; i < keys.size(); ++i)
+    keys[i] = logrid::depthKey(b.convention(), b.data()[i]);
+  return keys;
+}
+
+// An Occluded answer must find no pixel of `rect` at or beyond `threshold` in `keys`.
+void checkOccluded(const logrid::OcclusionGrid& grid, const std::vector<float>& keys,
+                   std::uint32_t width, const logrid::PixelRect& rect, float threshold,
+                   const char* how) {
   for (std::int32_t y = rect.y0; y < rect.y1; ++y) {
     for (std::int32_t x = rect.x0; x < rect.x1; ++x) {
-      const float k = key(buffer, std::uint32_t(x), std::uint32_t(y));
+      const float k = keys[std::size_t(y) * width + std::size_t(x)];
       LOGRID_FUZZ_CHECK(!(k >= threshold),
-                        "grid (%s, tile %u) said occluded for rect [%d,%d)x[%d,%d) at threshold "
-                        "%.9g, but pixel (%d, %d) has key %.9g",
-                        logrid::toString(grid.desc().variant), grid.desc().tile_size, rect.x0,
+                        "grid (%s, tile %u, %s) said occluded for rect [%d,%d)x[%d,%d) at "
+                        "threshold %.9g, but pixel (%d, %d) has key %.9g",
+                        logrid::toString(grid.desc().variant), grid.desc().tile_size, how, rect.x0,
                         rect.x1, rect.y0, rect.y1, double(threshold), x, y, double(k));
     }
+  }
+}
+
+// Asks the grid one test at a time and checks an Occluded answer against the buffer.
+void checkTest(logrid::OcclusionGrid& grid, logrid::cpu::SoftwareDepthBuffer& buffer,
+               logrid::DepthSource& source, const logrid::PixelRect& rect, float threshold) {
+  logrid::GridTestCounts counts;
+  const logrid::Visibility v = grid.test(rect, threshold, source, counts);
+  if (v != logrid::Visibility::Occluded) return;
+  checkOccluded(grid, keysOf(buffer), buffer.width(), rect, threshold, "test");
+}
+
+// The projection against brute force, for boxes wholly in front of the near plane: not
+// classed as crossing it; and, for boxes also wholly before the far plane (where the hull
+// of the projected corners is exactly what the box covers, the side planes clipping at
+// the viewport), every pixel centre inside that hull lies in the rectangle of an Inside
+// box, and the occlusion threshold does not exceed the corners' nearest exact key.
+void checkProjection(const logrid::Camera& camera, const logrid::Projector& projector,
+                     const logrid::Aabb& box, const logrid::BoxProjection& p) {
+  std::vector<Window> corners;
+  bool in_front = true;
+  double min_key = std::numeric_limits<double>::infinity();
+  double max_key = -std::numeric_limits<double>::infinity();
+  const double near_key = double(projector.nearKey());
+  for (int c = 0; c < 8; ++c) {
+    const logrid::Vec3 v{c & 1 ? box.max.x : box.min.x, c & 2 ? box.max.y : box.min.y,
+                         c & 4 ? box.max.z : box.min.z};
+    const Window wv = toWindow(camera, v);
+    // In front of the near plane with room to spare.
+    in_front = in_front && wv.w > 1e-6 && std::isfinite(wv.key) &&
+               wv.key > near_key + 1e-6 * (1 + std::abs(near_key));
+    min_key = std::min(min_key, wv.key);
+    max_key = std::max(max_key, wv.key);
+    corners.push_back(wv);
+  }
+  if (!in_front) return;
+  LOGRID_FUZZ_CHECK(
+      p.cls != logrid::ProjectionClass::CrossesNear && p.cls != logrid::ProjectionClass::Invalid,
+      "a box in front of the near plane was classed %d", int(p.cls));
+  const double clear = double(projector.clearKey());
+  if (!(max_key < clear - 1e-6 * (1 + std::abs(clear)))) return;
+  for (std::uint32_t y = 0; y < camera.height; ++y) {
+    for (std::uint32_t x = 0; x < camera.width; ++x) {
+      // Centres inside the hull by 1e-3 pixel: rounding cannot decide those.
+      if (!insideHull(corners, x + 0.5, y + 0.5, 1e-3)) continue;
+      LOGRID_FUZZ_CHECK(p.cls == logrid::ProjectionClass::Inside,
+                        "pixel centre (%u, %u) lies inside the box's projection but the box "
+                        "was classed %d",
+                        x, y, int(p.cls));
+      LOGRID_FUZZ_CHECK(contains(p.rect, std::int32_t(x), std::int32_t(y)),
+                        "pixel centre (%u, %u) lies inside the box's projection but outside "
+                        "its rect [%d,%d)x[%d,%d)",
+                        x, y, p.rect.x0, p.rect.x1, p.rect.y0, p.rect.y1);
+    }
+  }
+  if (p.cls == logrid::ProjectionClass::Inside) {
+    LOGRID_FUZZ_CHECK(double(p.occlusionThreshold()) <= min_key,
+                      "occlusion threshold %.9g beyond the box's nearest key %.9g",
+                      double(p.occlusionThreshold()), min_key);
+    LOGRID_FUZZ_CHECK(!p.rect.empty() && p.rect.x0 >= 0 && p.rect.y0 >= 0 &&
+                          p.rect.x1 <= std::int32_t(camera.width) &&
+                          p.rect.y1 <= std::int32_t(camera.height),
+                      "rect [%d,%d)x[%d,%d) outside the %ux%u viewport", p.rect.x0, p.rect.x1,
+                      p.rect.y0, p.rect.y1, camera.width, camera.height);
   }
 }
 
@@ -156,7 +273,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (!logrid::validateCamera(camera).empty()) return 0;
   const logrid::Projector projector(camera);
 
-  // --- Grid and buffer ---
+  // --- Grid, buffer and source ---
   logrid::GridDesc desc;
   desc.width = camera.width;
   desc.height = camera.height;
@@ -164,97 +281,108 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   desc.variant = in.byte() & 1 ? logrid::GridVariant::Zfar : logrid::GridVariant::OcclusionState;
   logrid::OcclusionGrid grid(desc);
   logrid::cpu::SoftwareDepthBuffer buffer(camera.width, camera.height, camera.depth.convention);
-  buffer.beginFrame(camera);
+  const std::uint8_t source_kind = in.byte() % 3;
+  Deferred deferred(buffer, source_kind == 1);
+  logrid::DepthSource& source = source_kind == 0 ? static_cast<logrid::DepthSource&>(buffer)
+                                                 : static_cast<logrid::DepthSource&>(deferred);
+  source.beginFrame(camera);
   buffer.clear();
   grid.reset(projector.clearKey());
   const bool state = desc.variant == logrid::GridVariant::OcclusionState;
+  const std::uint32_t w = camera.width, h = camera.height;
+
+  // A box from the input: its projection checked by brute force, and the test the
+  // culler would make of it (nullopt when the projection decides alone).
+  struct Asked {
+    logrid::PixelRect rect;
+    float threshold;
+  };
+  auto boxTest = [&]() -> std::optional<Asked> {
+    logrid::Vec3 lo{float(in.range(-15, 15)), float(in.range(-15, 15)), float(in.range(-15, 15))};
+    const logrid::Vec3 hi{lo.x + float(in.range(0, 8)), lo.y + float(in.range(0, 8)),
+                          lo.z + float(in.range(0, 8))};
+    const logrid::BoxProjection p = projector.project({lo, hi});
+    checkProjection(camera, projector, {lo, hi}, p);
+    if (p.cls != logrid::ProjectionClass::Inside) return std::nullopt;
+    return Asked{p.rect, state ? projector.clearKey() : p.occlusionThreshold()};
+  };
+  // A bare rectangle; the zfar grid takes any threshold.
+  auto rectTest = [&]() -> Asked {
+    const logrid::PixelRect r = rectIn(in, w, h);
+    return {r, state ? projector.clearKey() : float(in.range(-1.1, 1.1))};
+  };
+  auto draw = [&]() {
+    const logrid::PixelRect r = rectIn(in, w, h);
+    buffer.fillRect(r, windowDepth(in));
+    grid.markOutdated(r);
+  };
 
   // --- Operations ---
   for (int op = 0; op < 64 && in.left() > 0; ++op) {
-    switch (in.byte() % 6) {
+    switch (in.byte() % 9) {
       case 0:
-      case 1: {  // draw a rectangle at a depth (nearer values win)
-        const logrid::PixelRect r = rectIn(in, camera.width, camera.height);
-        buffer.fillRect(r, windowDepth(in));
-        grid.markOutdated(r);
-        break;
-      }
-      case 2: {  // a clear
+      case 1: draw(); break;
+      case 2:  // a new frame
         buffer.clear();
         grid.reset(projector.clearKey());
         break;
-      }
-      case 3: {  // busy refresh (BOG)
-        const logrid::PixelRect r = rectIn(in, camera.width, camera.height);
-        grid.refreshNow(r, buffer);
+      case 3: {  // a mid-frame clear, to the clear key or a nearer value
+        const float k =
+            in.byte() & 1
+                ? projector.clearKey()
+                : float(in.range(double(projector.nearKey()), double(projector.clearKey())));
+        const float d = logrid::windowDepth(camera.depth.convention, k);
+        for (std::size_t i = 0; i < std::size_t(w) * h; ++i) buffer.data()[i] = d;
+        // The buffer holds d; its key may round away from k: fill with the stored key.
+        grid.fill(logrid::depthKey(camera.depth.convention, d));
         break;
       }
-      case 4: {  // a bare rectangle; the zfar grid takes any threshold
-        const logrid::PixelRect r = rectIn(in, camera.width, camera.height);
-        const float t = state ? projector.clearKey() : float(in.range(-1.1, 1.1));
-        checkTest(grid, buffer, r, t);
+      case 4: grid.refreshNow(rectIn(in, w, h), source); break;
+      case 5: {
+        logrid::GridTestCounts counts;
+        grid.refreshOutdated(source, counts);
         break;
       }
-      default: {  // a box
-        logrid::Vec3 lo{float(in.range(-15, 15)), float(in.range(-15, 15)),
-                        float(in.range(-15, 15))};
-        const logrid::Vec3 hi{lo.x + float(in.range(0, 8)), lo.y + float(in.range(0, 8)),
-                              lo.z + float(in.range(0, 8))};
-        const logrid::Aabb box{lo, hi};
-        const logrid::BoxProjection p = projector.project(box);
-        // Brute force of the projection, for boxes wholly in front of the near plane.
-        std::vector<Window> corners;
-        bool in_front = true;
-        double min_key = std::numeric_limits<double>::infinity();
-        double max_key = -std::numeric_limits<double>::infinity();
-        for (int c = 0; c < 8; ++c) {
-          const logrid::Vec3 v{c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z};
-          const Window wv = toWindow(camera, v);
-          const double near_key = double(projector.nearKey());
-          // In front of the near plane with room to spare (w > 0, key beyond the near key).
-          in_front = in_front && wv.w > 1e-6 && std::isfinite(wv.key) &&
-                     wv.key > near_key + 1e-6 * (1 + std::abs(near_key));
-          min_key = std::min(min_key, wv.key);
-          max_key = std::max(max_key, wv.key);
-          corners.push_back(wv);
+      case 6: {
+        const Asked a = rectTest();
+        checkTest(grid, buffer, source, a.rect, a.threshold);
+        break;
+      }
+      case 7: {
+        if (const std::optional<Asked> a = boxTest()) {
+          checkTest(grid, buffer, source, a->rect, a->threshold);
         }
-        // Wholly between the planes (with room to spare): the hull of the projected
-        // corners is exactly what the box covers (the side planes clip at the viewport).
-        const double clear = double(projector.clearKey());
-        const bool before_far = max_key < clear - 1e-6 * (1 + std::abs(clear));
-        if (in_front) {
-          LOGRID_FUZZ_CHECK(p.cls != logrid::ProjectionClass::CrossesNear &&
-                                p.cls != logrid::ProjectionClass::Invalid,
-                            "a box in front of the near plane was classed %d", int(p.cls));
-        }
-        if (in_front && before_far) {
-          for (std::uint32_t y = 0; y < camera.height; ++y) {
-            for (std::uint32_t x = 0; x < camera.width; ++x) {
-              // Centres inside the hull by 1e-3 pixel: rounding cannot decide those.
-              if (!insideHull(corners, x + 0.5, y + 0.5, 1e-3)) continue;
-              LOGRID_FUZZ_CHECK(p.cls == logrid::ProjectionClass::Inside,
-                                "pixel centre (%u, %u) lies inside the box's projection but the "
-                                "box was classed %d",
-                                x, y, int(p.cls));
-              LOGRID_FUZZ_CHECK(contains(p.rect, std::int32_t(x), std::int32_t(y)),
-                                "pixel centre (%u, %u) lies inside the box's projection but "
-                                "outside its rect [%d,%d)x[%d,%d)",
-                                x, y, p.rect.x0, p.rect.x1, p.rect.y0, p.rect.y1);
-            }
-          }
-          if (p.cls == logrid::ProjectionClass::Inside) {
-            LOGRID_FUZZ_CHECK(double(p.occlusionThreshold()) <= min_key,
-                              "occlusion threshold %.9g beyond the box's nearest key %.9g",
-                              double(p.occlusionThreshold()), min_key);
+        break;
+      }
+      default: {  // a batch: plan, submit, draw while it is in flight, collect, resolve
+        logrid::GridBatch batch;
+        std::vector<Asked> batched;
+        const std::vector<float> planned = keysOf(buffer);
+        const int tests = 1 + in.byte() % 8;
+        for (int t = 0; t < tests; ++t) {
+          std::optional<Asked> a = in.byte() & 1 ? boxTest() : std::optional<Asked>(rectTest());
+          if (!a) continue;
+          logrid::GridTestCounts counts;
+          const std::optional<logrid::Visibility> now =
+              grid.plan(a->rect, a->threshold, source.traits(), batch, counts);
+          if (!now) {
+            batched.push_back(*a);
+          } else if (*now == logrid::Visibility::Occluded) {
+            checkOccluded(grid, planned, w, a->rect, a->threshold, "plan");
           }
         }
-        if (p.cls == logrid::ProjectionClass::Inside) {
-          LOGRID_FUZZ_CHECK(!p.rect.empty() && p.rect.x0 >= 0 && p.rect.y0 >= 0 &&
-                                p.rect.x1 <= std::int32_t(camera.width) &&
-                                p.rect.y1 <= std::int32_t(camera.height),
-                            "rect [%d,%d)x[%d,%d) outside the %ux%u viewport", p.rect.x0, p.rect.x1,
-                            p.rect.y0, p.rect.y1, camera.width, camera.height);
-          checkTest(grid, buffer, p.rect, state ? projector.clearKey() : p.occlusionThreshold());
+        LOGRID_FUZZ_CHECK(batch.tests() == batched.size(), "batch holds %zu tests, %zu planned",
+                          batch.tests(), batched.size());
+        grid.submit(batch, source);
+        const int draws = in.byte() % 4;
+        for (int d = 0; d < draws; ++d) draw();
+        source.collect();
+        grid.apply(batch);
+        for (std::size_t i = 0; i < batched.size(); ++i) {
+          logrid::GridTestCounts counts;
+          if (grid.resolve(batch, i, counts) == logrid::Visibility::Occluded) {
+            checkOccluded(grid, planned, w, batched[i].rect, batched[i].threshold, "batch");
+          }
         }
         break;
       }

@@ -81,13 +81,13 @@ struct Run {
   DepthFormat format = DepthFormat::D32F;
   DepthConvention convention = DepthConvention::Standard;
   Method method = Method::LogState;
-  Reader reader = Reader::ReadPixels;
+  std::string reader = "readpixels";
 
   std::string describe() const {
     std::ostringstream out;
     out << scene << " scale " << scale << " seed " << seed << ", " << width << "x" << height
         << " tile " << tile << ", " << toString(format) << " " << toString(convention) << ", "
-        << toString(method) << " / " << samples::toString(reader) << ", samples " << samples;
+        << toString(method) << " / " << reader << ", samples " << samples;
     return out.str();
   }
 };
@@ -110,10 +110,10 @@ Run randomRun(std::mt19937_64& rng) {
   r.convention = pick(rng, {DepthConvention::Standard, DepthConvention::Reversed});
   r.method = pick(
       rng, {Method::LogState, Method::LogZfar, Method::Bog, Method::Hzb, Method::Pq, Method::Vfc});
-  r.reader = pick(rng, {Reader::ReadPixels, Reader::Pbo, Reader::Query, Reader::Software});
-  if (r.method == Method::Hzb && r.reader == Reader::Query) r.reader = Reader::ReadPixels;
+  r.reader = pick<std::string>(rng, {"readpixels", "pbo", "query", "reduce", "software"});
+  if (r.method == Method::Hzb && r.reader == "query") r.reader = "readpixels";
   // The software reader rasterises inner coverage itself: single-sampled runs only.
-  r.samples = r.reader == Reader::Software ? 0u : pick(rng, {0u, 0u, 0u, 2u, 4u});
+  r.samples = r.reader == "software" ? 0u : pick(rng, {0u, 0u, 0u, 2u, 4u});
   return r;
 }
 
@@ -217,7 +217,7 @@ int main(int argc, char** argv) {
           const FrameRecord r = runner.renderFrame(f);
           ++t.frames;
           frames_by_method[toString(run.method)]++;
-          frames_by_reader[samples::toString(run.reader)]++;
+          frames_by_reader[run.reader]++;
           t.visible += std::uint64_t(std::max<std::int64_t>(r.visible, 0));
           t.artifacts += std::uint64_t(std::max<std::int64_t>(r.artifacts, 0));
           t.drawn += r.stats.objects_drawn;

@@ -325,6 +325,12 @@ void GlStateGuard::Scope::bindTexture(std::uint32_t unit, std::uint32_t target,
   if (s.has_depth_stencil_mode) {
     glGetTextureParameteriv(texture, GL_DEPTH_STENCIL_TEXTURE_MODE, &s.depth_stencil_mode);
   }
+  s.has_levels = target != GL_TEXTURE_2D_MULTISAMPLE && target != GL_TEXTURE_2D_MULTISAMPLE_ARRAY &&
+                 target != GL_TEXTURE_RECTANGLE;
+  if (s.has_levels) {
+    glGetTextureParameteriv(texture, GL_TEXTURE_BASE_LEVEL, &s.base_level);
+    glGetTextureParameteriv(texture, GL_TEXTURE_MAX_LEVEL, &s.max_level);
+  }
   ++textures_saved_;
   glBindTexture(target, texture);
   glBindSampler(unit, guard_.sampler_);
@@ -332,6 +338,37 @@ void GlStateGuard::Scope::bindTexture(std::uint32_t unit, std::uint32_t target,
   glTextureParameteriv(texture, GL_TEXTURE_SWIZZLE_RGBA, identity);
   if (s.has_depth_stencil_mode) {
     glTextureParameteri(texture, GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
+  }
+  if (s.has_levels) {
+    glTextureParameteri(texture, GL_TEXTURE_BASE_LEVEL, 0);
+    glTextureParameteri(texture, GL_TEXTURE_MAX_LEVEL, 1000);
+  }
+}
+
+void GlStateGuard::Scope::bindStorageBuffer(std::uint32_t index, std::uint32_t buffer,
+                                            std::int64_t offset, std::int64_t size) {
+  int slot = storage_saved_;
+  for (int i = 0; i < storage_saved_; ++i) {
+    if (storage_[i].index == index) slot = i;
+  }
+  if (slot == kMaxStorageBuffers) {
+    throw Error(ErrorCode::InvalidArgument, std::string(who_) + ": bindStorageBuffer: more than " +
+                                                std::to_string(kMaxStorageBuffers) +
+                                                " binding points in one scope");
+  }
+  if (slot == storage_saved_) {
+    StorageState& s = storage_[slot];
+    s.index = index;
+    s.generic = integer(GL_SHADER_STORAGE_BUFFER_BINDING);
+    glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, index, &s.buffer);
+    glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_START, index, &s.start);
+    glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_SIZE, index, &s.size);
+    ++storage_saved_;
+  }
+  if (size > 0) {
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, index, buffer, GLintptr(offset), GLsizeiptr(size));
+  } else {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, index, buffer);
   }
 }
 
@@ -347,11 +384,27 @@ void GlStateGuard::Scope::check(const char* call) {
 void GlStateGuard::Scope::restore() {
   // Nothing here may throw; errors are left for the next check (there is none after
   // this, so a failed restore shows in the application's own glGetError).
+  for (int i = storage_saved_ - 1; i >= 0; --i) {
+    const StorageState& s = storage_[i];
+    const GLuint buffer = exists(glIsBuffer, s.buffer);
+    if (buffer && s.size > 0) {
+      glBindBufferRange(GL_SHADER_STORAGE_BUFFER, s.index, buffer, GLintptr(s.start),
+                        GLsizeiptr(s.size));
+    } else {
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, s.index, buffer);
+    }
+    // Binding an indexed point also sets the generic binding.
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, exists(glIsBuffer, s.generic));
+  }
   for (int i = textures_saved_ - 1; i >= 0; --i) {
     const TextureState& s = textures_[i];
     glTextureParameteriv(s.texture, GL_TEXTURE_SWIZZLE_RGBA, s.swizzle);
     if (s.has_depth_stencil_mode) {
       glTextureParameteri(s.texture, GL_DEPTH_STENCIL_TEXTURE_MODE, s.depth_stencil_mode);
+    }
+    if (s.has_levels) {
+      glTextureParameteri(s.texture, GL_TEXTURE_BASE_LEVEL, s.base_level);
+      glTextureParameteri(s.texture, GL_TEXTURE_MAX_LEVEL, s.max_level);
     }
     glBindSampler(s.unit, exists(glIsSampler, s.sampler));
     glBindTexture(s.target, exists(glIsTexture, s.bound));

@@ -24,7 +24,9 @@
 //   bindTexture()   a texture on a texture unit for the source's shaders to fetch from:
 //                   the active texture unit, the unit's binding for the target and its
 //                   sampler object (replaced by a nearest, no-compare sampler), and the
-//                   texture's swizzle and depth-stencil mode.
+//                   texture's swizzle, depth-stencil mode and base and maximum level.
+//   bindStorageBuffer() a buffer range on an indexed shader-storage binding point: the
+//                   point's buffer, offset and size, and the generic binding.
 //
 // What cannot be saved is refused, with a logrid::Error that says what to change, before
 // anything is set:
@@ -54,6 +56,7 @@ class GlStateGuard {
   static constexpr int kMaxDrawBuffers = 32;
   static constexpr int kMaxSampleMaskWords = 4;
   static constexpr int kMaxTextures = 2;
+  static constexpr int kMaxStorageBuffers = 2;
 
   // Needs a current GL 4.5 context; creates the query object of the conditional-rendering
   // probe. Not copyable: the query belongs to this context.
@@ -103,10 +106,16 @@ class GlStateGuard::Scope {
   // if conditional rendering or unpaused transform feedback is active.
   void prepareProgram();
   // Binds `texture` (of `target`, e.g. GL_TEXTURE_2D_MULTISAMPLE) to texture unit `unit`
-  // with a nearest, no-compare sampler, identity swizzle and, for depth-stencil formats,
-  // depth (not stencil) sampling. At most kMaxTextures textures per scope, on different
+  // with a nearest, no-compare sampler, identity swizzle, base level 0 (texelFetch's
+  // level is then the texture's level) and, for depth-stencil formats, depth (not
+  // stencil) sampling. At most kMaxTextures textures per scope, on different
   // units; binding the same texture to the same unit again does nothing.
   void bindTexture(std::uint32_t unit, std::uint32_t target, std::uint32_t texture);
+
+  // Binds [offset, offset + size) of `buffer` to shader-storage binding point `index`
+  // (size 0: the whole buffer). At most kMaxStorageBuffers per scope.
+  void bindStorageBuffer(std::uint32_t index, std::uint32_t buffer, std::int64_t offset,
+                         std::int64_t size);
 
   // Throws logrid::Error naming `call` if GL reported an error since the last check.
   void check(const char* call);
@@ -124,6 +133,7 @@ class GlStateGuard::Scope {
   bool read_saved_ = false;
   bool program_saved_ = false;
   int textures_saved_ = 0;
+  int storage_saved_ = 0;
 
   struct DrawState {
     std::uint8_t cull_face = 0, depth_test = 0, stencil_test = 0, depth_clamp = 0,
@@ -155,8 +165,15 @@ class GlStateGuard::Scope {
     std::int32_t active = 0, bound = 0, sampler = 0;
     std::int32_t swizzle[4] = {};
     std::int32_t depth_stencil_mode = 0;
+    std::int32_t base_level = 0, max_level = 1000;
     bool has_depth_stencil_mode = false;
+    bool has_levels = false;
   } textures_[kMaxTextures];
+  struct StorageState {
+    std::uint32_t index = 0;
+    std::int32_t generic = 0, buffer = 0;
+    std::int64_t start = 0, size = 0;
+  } storage_[kMaxStorageBuffers];
 };
 
 }  // namespace logrid::zread
