@@ -131,39 +131,6 @@ void forgetProvokedErrors() {
   }
 }
 
-struct Hostile {
-  const char* name;
-  std::function<void()> set;
-  // GL leaves the unguarded result undefined (it may happen to be right on a driver).
-  bool undefined = false;
-};
-
-// State that changes which fragments a draw produces or where it goes. Each one alone
-// makes the unguarded count wrong (asserted below, so that the list stays meaningful).
-std::vector<Hostile> hostileStates() {
-  return {
-      {"cull front faces", [] { glEnable(GL_CULL_FACE), glCullFace(GL_FRONT); }},
-      {"clockwise winding, cull back", [] { glEnable(GL_CULL_FACE), glFrontFace(GL_CW); }},
-      {"cull front and back", [] { glEnable(GL_CULL_FACE), glCullFace(GL_FRONT_AND_BACK); }},
-      {"polygon mode line", [] { glPolygonMode(GL_FRONT_AND_BACK, GL_LINE); }},
-      {"polygon mode point", [] { glPolygonMode(GL_FRONT_AND_BACK, GL_POINT); }},
-      {"stencil test failing everything",
-       [] { glEnable(GL_STENCIL_TEST), glStencilFunc(GL_NEVER, 0, 0xFF); }},
-      {"rasterizer discard", [] { glEnable(GL_RASTERIZER_DISCARD); }},
-      {"depth clamp into a narrow depth range",
-       [] { glEnable(GL_DEPTH_CLAMP), glDepthRangeIndexed(0, 0.0, 0.1); }},
-      {"depth test off", [] { glDisable(GL_DEPTH_TEST); }},
-      {"viewport of one pixel", [] { glViewportIndexedf(0, 0, 0, 1, 1); }},
-      // The draw's shader writes no gl_ClipDistance: undefined (llvmpipe draws all).
-      {"clip distances enabled",
-       [] {
-         for (int i = 0; i < 8; ++i) glEnable(GLenum(GL_CLIP_DISTANCE0 + i));
-       },
-       true},
-      {"polygon offset", [] { glEnable(GL_POLYGON_OFFSET_FILL), glPolygonOffset(0, -1e6f); }, true},
-  };
-}
-
 class GlStateTest : public testing::Test {
  protected:
   void SetUp() override {
@@ -180,7 +147,7 @@ TEST_F(GlStateTest, EachHostileStateBreaksAnUnguardedCountAndNotAGuardedOne) {
   CountingDraw counting;
   zread::GlStateGuard guard;
   const GLuint all = GLuint(kWidth * kHeight);
-  for (const Hostile& h : hostileStates()) {
+  for (const test::HostileState& h : test::hostileGlStates()) {
     SCOPED_TRACE(h.name);
     // Stored depth 0.3: a draw at 0.2 must count every pixel, one at 0.5 none.
     defaultState();
@@ -224,13 +191,13 @@ TEST_F(GlStateTest, MultisampleStateDoesNotChangeTheCount) {
   CountingDraw counting;
   zread::GlStateGuard guard;
   const GLuint all = GLuint(4 * kWidth * kHeight);
-  const std::vector<Hostile> hostile = {
+  const std::vector<test::HostileState> hostile = {
       {"sample mask 0", [] { glEnable(GL_SAMPLE_MASK), glSampleMaski(0, 0); }},
       {"sample coverage 0", [] { glEnable(GL_SAMPLE_COVERAGE), glSampleCoverage(0, GL_FALSE); }},
       {"inverted full coverage",
        [] { glEnable(GL_SAMPLE_COVERAGE), glSampleCoverage(1, GL_TRUE); }},
   };
-  for (const Hostile& h : hostile) {
+  for (const test::HostileState& h : hostile) {
     SCOPED_TRACE(h.name);
     defaultState();
     fb.clear(0.3f);

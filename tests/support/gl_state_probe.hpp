@@ -7,6 +7,7 @@
 #include <epoxy/gl.h>
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <random>
 #include <sstream>
@@ -395,6 +396,49 @@ inline std::string setRandomGlState(std::mt19937& rng, const AppObjects& objects
     glClampColor(GL_CLAMP_READ_COLOR, pick({GL_TRUE, GL_FALSE, GL_FIXED_ONLY}));
   }
   return what.str();
+}
+
+// One piece of state that changes which fragments a depth source's draw produces or
+// where it goes (each alone made an unguarded occlusion-query draw count wrong).
+struct HostileState {
+  const char* name;
+  std::function<void()> set;
+  // GL leaves the unguarded result undefined (it may happen to be right on a driver).
+  bool undefined = false;
+};
+
+inline std::vector<HostileState> hostileGlStates() {
+  return {
+      {"cull front faces", [] { glEnable(GL_CULL_FACE), glCullFace(GL_FRONT); }},
+      {"clockwise winding, cull back", [] { glEnable(GL_CULL_FACE), glFrontFace(GL_CW); }},
+      {"cull front and back", [] { glEnable(GL_CULL_FACE), glCullFace(GL_FRONT_AND_BACK); }},
+      {"polygon mode line", [] { glPolygonMode(GL_FRONT_AND_BACK, GL_LINE); }},
+      {"polygon mode point", [] { glPolygonMode(GL_FRONT_AND_BACK, GL_POINT); }},
+      {"stencil test failing everything",
+       [] { glEnable(GL_STENCIL_TEST), glStencilFunc(GL_NEVER, 0, 0xFF); }},
+      {"rasterizer discard", [] { glEnable(GL_RASTERIZER_DISCARD); }},
+      {"depth clamp into a narrow depth range",
+       [] { glEnable(GL_DEPTH_CLAMP), glDepthRangeIndexed(0, 0.0, 0.1); }},
+      {"depth test off", [] { glDisable(GL_DEPTH_TEST); }},
+      {"viewport of one pixel", [] { glViewportIndexedf(0, 0, 0, 1, 1); }},
+      // The draw's shader writes no gl_ClipDistance: undefined (llvmpipe draws all).
+      {"clip distances enabled",
+       [] {
+         for (int i = 0; i < 8; ++i) glEnable(GLenum(GL_CLIP_DISTANCE0 + i));
+       },
+       true},
+      // The draw writes gl_FragDepth, which polygon offset does not move.
+      {"polygon offset", [] { glEnable(GL_POLYGON_OFFSET_FILL), glPolygonOffset(0, -1e6f); }, true},
+      {"pack row length, skips and alignment",
+       [] {
+         glPixelStorei(GL_PACK_ROW_LENGTH, 77);
+         glPixelStorei(GL_PACK_SKIP_PIXELS, 3);
+         glPixelStorei(GL_PACK_SKIP_ROWS, 2);
+         glPixelStorei(GL_PACK_ALIGNMENT, 8);
+       },
+       true},
+      {"read colour clamping", [] { glClampColor(GL_CLAMP_READ_COLOR, GL_TRUE); }, true},
+  };
 }
 
 // GL's initial values for what setRandomGlState() sets, with the viewport and scissor
