@@ -18,8 +18,10 @@
 #include "logrid/error.hpp"
 #include "logrid/gl/context.hpp"
 #include "logrid/gl/framebuffer.hpp"
+#include "logrid/zread/gl_sources.hpp"
 #include "logrid/zread/gl_state.hpp"
 #include "logrid/zread/program.hpp"
+#include "logrid/zread/reduction_source.hpp"
 
 namespace logrid {
 namespace {
@@ -288,6 +290,23 @@ TEST(MultisampleCheck, RefusesAMultisampledBufferUnlessTheCameraSaysSo) {
     EXPECT_NE(m.find("ReadPixelsSource"), std::string::npos) << m;
     EXPECT_NE(m.find("4 depth samples"), std::string::npos) << m;
     EXPECT_NE(m.find("Camera::multisample"), std::string::npos) << m;
+  }
+  // Every source refuses it in beginFrame(), and accepts it with Camera::multisample.
+  camera.depth.format = DepthFormat::D32F;
+  zread::ReadPixelsSource readpixels(multi.fbo);
+  zread::PboSource pbo(multi.fbo);
+  zread::QuerySource query(multi.fbo);
+  zread::ReductionSource reduce(multi.fbo);
+  for (DepthSource* s : std::initializer_list<DepthSource*>{&readpixels, &pbo, &query, &reduce}) {
+    camera.multisample = false;
+    try {
+      s->beginFrame(camera);
+      ADD_FAILURE() << s->traits().name << " accepted a multisampled buffer";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("Camera::multisample"), std::string::npos) << e.what();
+    }
+    camera.multisample = true;
+    EXPECT_NO_THROW(s->beginFrame(camera)) << s->traits().name;
   }
   camera.multisample = true;
   EXPECT_NO_THROW(zread::checkMultisample("ReadPixelsSource", a, camera));
