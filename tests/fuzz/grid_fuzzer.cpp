@@ -52,12 +52,12 @@ Window toWindow(const logrid::Camera& c, const logrid::Vec3& p) {
   return {(clip[0] / w * 0.5 + 0.5) * c.width, (clip[1] / w * 0.5 + 0.5) * c.height, key, w};
 }
 
-// Is (x, y) inside the convex hull of `points` by more than `eps` (in pixels)? Gift
-// wrapping is overkill for 8 points: test against every pair that has all points on one
-// side (the hull's edges).
-bool insideHull(const std::vector<Window>& pts, double x, double y, double eps) {
+// The edges of the convex hull of `pts` (counter-clockwise: every point on the left or
+// on the edge), as pairs of indices; empty when the points do not span an area. An
+// O(n^3) scan, done once per box: n is 8.
+std::vector<std::pair<std::size_t, std::size_t>> hullEdges(const std::vector<Window>& pts) {
+  std::vector<std::pair<std::size_t, std::size_t>> edges;
   const std::size_t n = pts.size();
-  bool any_edge = false;
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t j = 0; j < n; ++j) {
       if (i == j) continue;
@@ -68,13 +68,22 @@ bool insideHull(const std::vector<Window>& pts, double x, double y, double eps) 
       for (std::size_t k = 0; k < n && left_all; ++k) {
         left_all = ex * (pts[k].y - pts[i].y) - ey * (pts[k].x - pts[i].x) >= -1e-9 * len;
       }
-      if (!left_all) continue;
-      any_edge = true;
-      // Signed distance of (x, y) to the left of edge i->j.
-      if ((ex * (y - pts[i].y) - ey * (x - pts[i].x)) / len <= eps) return false;
+      if (left_all) edges.push_back({i, j});
     }
   }
-  return any_edge;
+  return edges;
+}
+
+// Is (x, y) inside the hull by more than `eps` (in pixels) from every edge?
+bool insideHull(const std::vector<Window>& pts,
+                const std::vector<std::pair<std::size_t, std::size_t>>& edges, double x, double y,
+                double eps) {
+  if (edges.empty()) return false;
+  for (const auto& [i, j] : edges) {
+    const double ex = pts[j].x - pts[i].x, ey = pts[j].y - pts[i].y;
+    if ((ex * (y - pts[i].y) - ey * (x - pts[i].x)) / std::hypot(ex, ey) <= eps) return false;
+  }
+  return true;
 }
 
 bool contains(const logrid::PixelRect& r, std::int32_t x, std::int32_t y) {
@@ -206,10 +215,11 @@ void checkProjection(const logrid::Camera& camera, const logrid::Projector& proj
       "a box in front of the near plane was classed %d", int(p.cls));
   const double clear = double(projector.clearKey());
   if (!(max_key < clear - 1e-6 * (1 + std::abs(clear)))) return;
+  const auto edges = hullEdges(corners);
   for (std::uint32_t y = 0; y < camera.height; ++y) {
     for (std::uint32_t x = 0; x < camera.width; ++x) {
       // Centres inside the hull by 1e-3 pixel: rounding cannot decide those.
-      if (!insideHull(corners, x + 0.5, y + 0.5, 1e-3)) continue;
+      if (!insideHull(corners, edges, x + 0.5, y + 0.5, 1e-3)) continue;
       LOGRID_FUZZ_CHECK(p.cls == logrid::ProjectionClass::Inside,
                         "pixel centre (%u, %u) lies inside the box's projection but the box "
                         "was classed %d",
