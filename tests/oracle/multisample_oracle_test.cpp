@@ -47,7 +47,7 @@ TEST_P(MultisampleOracleTest, NoVisibleObjectMissed) {
     View view;
     view.convention = c.convention;
     view.format = c.format;
-    RunConfig config = makeConfig(scene.prepared, c.method, c.reader, view, 6);
+    RunConfig config = makeConfig(scene.prepared, c.method, c.reader, view, 4);
     config.view.samples = kSamples;
     const WalkTotals t = checkedWalk(key, scene, config);
     std::printf("%s %s: %s\n", key.id().c_str(), caseName({c, 0}).c_str(), summary(t).c_str());
