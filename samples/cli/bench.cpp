@@ -131,10 +131,10 @@ const Row* findRow(const std::vector<Row>& rows, const std::string& label) {
 // The markdown of one scene × size cell: the measured table, the ratios beside the
 // paper's, and the targets.
 void writeCell(std::ostream& md, const std::string& scene, std::uint32_t width,
-               std::uint32_t height, const std::vector<Row>& rows, std::size_t frames,
+               std::uint32_t height, const std::vector<Row>& rows, const RunConfig& config,
                std::size_t repeats, const std::string& plot_prefix) {
   md << "\n### " << scene << " " << width << "×" << height << "\n\n";
-  md << frames << " frames along the walkthrough, " << repeats
+  md << framesAlong(config.frames, config.span) << ", " << repeats
      << " interleaved repetitions; ms/frame is the average over frames of the per-frame median, "
         "spread is (max − min) / median of the repetitions' averages.\n\n";
   md << "| method | reader | ms/frame | spread | drawn objects | drawn triangles | pixels read "
@@ -352,7 +352,7 @@ int runBench(const BenchOptions& o) {
                   "pixels (log scale)", px, true);
         if (!o.markdown.empty()) plot_prefix = linkFrom(o.markdown, o.plots) + "/" + stem;
       }
-      writeCell(md, scene.prepared.name, w, h, rows, configs.front().frames, o.repeat, plot_prefix);
+      writeCell(md, scene.prepared.name, w, h, rows, configs.front(), o.repeat, plot_prefix);
       report["cells"].push_back(std::move(cell));
     }
   }

@@ -27,6 +27,10 @@ void addWalkthroughOptions(CLI::App& app, WalkOptions& o) {
   app.add_option("--seed", o.seed, "seed of the procedural scenes");
   app.add_option("--path", o.path_file, "camera path JSON (keys: position, look_at, time)");
   app.add_option("--frames", o.frames, "frames along the path")->check(CLI::Range(1, 10000000));
+  app.add_option("--span", o.span,
+                 "fraction of the path the frames cover, from its start (1: all of it; small: "
+                 "consecutive frames as close as at a real frame rate)")
+      ->check(CLI::Range(1e-6, 1.0));
   app.add_option("--leaf", o.leaf, "objects (or triangles) per hierarchy leaf; 0: the scene's");
   app.add_option("--tree-parts", o.tree_parts,
                  "forest: each tree one object (whole), trunk and crown apart (trunk-crown), or "
@@ -226,6 +230,7 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
       depthSetupFor(parseDepthConvention(o.depth_convention), parseDepthFormat(o.depth_format));
   c.view.samples = o.samples;
   c.frames = o.frames;
+  c.span = o.span;
   c.verify = o.verify;
   c.images_dir = o.images;
   c.overlay = o.overlay;

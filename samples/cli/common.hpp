@@ -22,6 +22,7 @@ struct WalkOptions {
   std::uint64_t seed = 1;
   std::string path_file;
   std::size_t frames = 100;
+  double span = 1.0;  // fraction of the path the frames cover
   std::string method = "log-state";
   std::string size = "640x480";
   std::uint32_t tile = 32;

@@ -139,7 +139,8 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
 FrameRunner::~FrameRunner() = default;
 
 Camera FrameRunner::cameraFor(std::size_t frame) const {
-  return makeCamera(scene_.path.frame(frame, config_.frames), scene_.origin, config_.view);
+  return makeCamera(scene_.path.frame(frame, config_.frames, config_.span), scene_.origin,
+                    config_.view);
 }
 
 gl::OracleFrame FrameRunner::idPass(const Camera& camera) {

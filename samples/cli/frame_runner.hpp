@@ -58,7 +58,8 @@ struct RunConfig {
   CullerDesc culler;                  // method is taken from `method`
   std::string reader = "readpixels";  // a name of readerTable()
   ViewSettings view;
-  std::size_t frames = 100;  // frames spread over the whole path
+  std::size_t frames = 100;  // frames spread over the path's first `span`
+  double span = 1.0;         // fraction of the path the frames cover (0, 1]
   bool verify = false;       // object-ID check after each frame
   std::string images_dir;    // write PNG frames here when set
   bool overlay = false;      // and overlay pictures (tile grid, boxes)

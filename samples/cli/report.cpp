@@ -99,6 +99,7 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
   nlohmann::json j = {{"method", config.method.name()},
                       {"reader", config.reader},
                       {"frames", records.size()},
+                      {"span", config.span},
                       {"width", config.view.width},
                       {"height", config.view.height},
                       {"tile", config.culler.tile_size},
@@ -143,6 +144,12 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
     j["per_frame"] = std::move(frames);
   }
   return j;
+}
+
+std::string framesAlong(std::size_t frames, double span) {
+  std::string text = std::to_string(frames) + " frames along the ";
+  if (span < 1.0) text += "first " + formatFixed(100.0 * span, span < 0.01 ? 2 : 1) + "% of the ";
+  return text + "walkthrough";
 }
 
 std::string grouped(double v) {
