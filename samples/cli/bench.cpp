@@ -10,6 +10,7 @@
 #include <memory>
 #include <sstream>
 
+#include "cli/bench_motion.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/experiment.hpp"
@@ -68,6 +69,7 @@ struct BenchOptions {
   std::string json;
   std::string plots;
   bool tradeoff = false;
+  MotionBenchOptions motion;  // --motion: bench_motion.cpp
 };
 
 std::vector<std::string> splitList(const std::string& text) {
@@ -224,6 +226,11 @@ int runBench(const BenchOptions& o) {
   if (o.tradeoff)
     return runTradeoff(o.walk, splitList(o.scenes), splitList(o.sizes), o.forest_scale,
                        o.city_scale, o.repeat, o.markdown, o.json, o.plots);
+  if (o.motion.enabled) {
+    return runMotionBench(o.motion, {o.walk, splitList(o.scenes), splitList(o.sizes),
+                                     o.forest_scale, o.city_scale, o.repeat, o.warmup,
+                                     !o.no_verify, o.markdown, o.json, o.plots});
+  }
   if (o.repeat < 1) throw Error(ErrorCode::InvalidArgument, "--repeat must be at least 1");
   const std::vector<std::string> scenes = splitList(o.scenes);
   const std::vector<std::string> sizes = splitList(o.sizes);
@@ -386,6 +393,7 @@ void addBenchCommand(CLI::App& app) {
   bench->add_option("--plots", o->plots, "write PNG plots (gnuplot) into this folder");
   bench->add_flag("--tradeoff", o->tradeoff,
                   "sweep the approximate knobs instead: time vs error, Pareto plot");
+  addMotionBenchOptions(*bench, o->motion);
   bench->final_callback([o] { throw CLI::RuntimeError(runBench(*o)); });
 }
 

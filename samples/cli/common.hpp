@@ -40,6 +40,12 @@ struct WalkOptions {
   int lp_threads = -1;              // >= 0: LP_NUM_THREADS for llvmpipe (PLATFORM.md); -1: leave it
   std::uint32_t leaf = 0;           // 0: the scene's default
   GridApproximation approximation;  // off by default
+  // Motion (motion.hpp, movers.hpp).
+  std::uint32_t movers = 0;        // moving objects added to the scene
+  std::string motion_file;         // a scene from a file: its meshes' paths
+  std::string hierarchy = "auto";  // RunConfig::hierarchy
+  double time_step = 0;            // RunConfig::time_step
+  bool colliding = false;          // CullerDesc::detect_colliding
 };
 
 // Adds the options every walkthrough command has (--scene ... --platform).

@@ -30,6 +30,14 @@ nlohmann::json frameJson(const FrameRecord& r) {
                       {"cull_ms", s.seconds * 1e3},
                       {"order_fallbacks", s.order_fallbacks},
                       {"invalid_boxes", s.invalid_boxes}};
+  if (r.update.seconds > 0 || r.moved > 0) {  // a motion hierarchy (docs/MOTION.md)
+    j["time"] = r.time;
+    j["moved_objects"] = r.moved;
+    j["update_ms"] = r.update.seconds * 1e3;
+    j["measure_ms"] = r.measure.seconds * 1e3;
+    j["measure_requests"] = r.measure.requests;
+    j["colliding_waits"] = s.colliding_waits;
+  }
   if (r.visible >= 0) {
     j["visible_objects"] = r.visible;
     j["missed_visible_objects"] = r.missed;
