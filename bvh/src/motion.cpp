@@ -114,6 +114,8 @@ const std::vector<MotionInfo>& motionTable() {
       {MotionKind::Rebuild, "rebuild", "BVH rebuilt from every object's box each frame"},
       {MotionKind::Ternary, "ternary",
        "ternary tree with tight boxes and split/merge from pixel statistics (Kovalcik)"},
+      {MotionKind::TernaryObjects, "ternary-objects",
+       "the ternary tree with every object tested on its own box (not in the paper)"},
       {MotionKind::Binary, "binary",
        "the paper's old algorithm: BSP tree, straddling objects in the inner node"},
   };
@@ -185,6 +187,11 @@ std::unique_ptr<MotionHierarchy> makeMotionHierarchy(MotionKind kind,
       return std::make_unique<RefitMotion>(boxes, desc.build, desc.rebuild_growth);
     case MotionKind::Rebuild: return std::make_unique<RebuildMotion>(boxes, desc.build);
     case MotionKind::Ternary: return std::make_unique<TernaryTree>(boxes, desc.ternary);
+    case MotionKind::TernaryObjects: {
+      TernaryDesc d = desc.ternary;
+      d.object_nodes = true;
+      return std::make_unique<TernaryTree>(boxes, d);
+    }
     case MotionKind::Binary:
       return std::make_unique<TernaryTree>(boxes, binaryTreeDesc(desc.ternary));
   }

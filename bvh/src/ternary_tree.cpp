@@ -88,8 +88,8 @@ TernaryTree::TernaryTree(const std::vector<Aabb>& boxes, const TernaryDesc& desc
   const std::string problem = validateMotionDesc(check);
   if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
   if (desc_.build_leaf == 0) desc_.build_leaf = desc_.o_split;
-  if (boxes.size() >= std::size_t(kNone)) {
-    throw Error(ErrorCode::BadInput, "TernaryTree: too many objects (at most 2^32 - 2)");
+  if (boxes.size() >= std::size_t(kObjectNode)) {
+    throw Error(ErrorCode::BadInput, "TernaryTree: too many objects (at most 2^31 - 1)");
   }
   touched_.resize(std::size_t(desc_.still_frames) + 1);
   objects_.resize(boxes.size());
@@ -153,20 +153,24 @@ NodeId TernaryTree::root() const {
 }
 
 std::uint32_t TernaryTree::childCount(NodeId node) const {
+  if (node & kObjectNode) return 0;
   const Node& n = nodes_[node];
-  if (n.kind != Kind::Inner) return 0;
-  std::uint32_t count = 0;
+  std::uint32_t count = desc_.object_nodes ? static_cast<std::uint32_t>(n.objects.size()) : 0;
+  if (n.kind != Kind::Inner) return count;
   for (std::uint32_t c : n.child) count += c != kNone && nodes_[c].subtree_objects > 0;
   return count;
 }
 
 NodeId TernaryTree::child(NodeId node, std::uint32_t index) const {
   const Node& n = nodes_[node];
-  for (std::uint32_t c : n.child) {
-    if (c != kNone && nodes_[c].subtree_objects > 0 && index-- == 0) return c;
+  if (n.kind == Kind::Inner) {
+    for (std::uint32_t c : n.child) {
+      if (c != kNone && nodes_[c].subtree_objects > 0 && index-- == 0) return c;
+    }
   }
-  assert(false && "TernaryTree::child: index out of range");
-  return kNoNode;
+  assert(desc_.object_nodes && index < n.objects.size() &&
+         "TernaryTree::child: index out of range");
+  return kObjectNode | n.objects[index];
 }
 
 double TernaryTree::measuredRatio(NodeId node) const {
@@ -493,7 +497,7 @@ MeasureStats TernaryTree::measure(const Camera& camera, DepthSource& depth) {
   std::vector<AreaRequest> requests;
   std::vector<std::uint32_t> asked;
   for (const Recorder::Entry& e : recorder_->entries) {
-    if (e.node >= nodes_.size() || !nodes_[e.node].alive) continue;
+    if ((e.node & kObjectNode) || e.node >= nodes_.size() || !nodes_[e.node].alive) continue;
     Node& n = nodes_[e.node];
     if (n.kind == Kind::Inner) continue;  // only leaves are split or merged
     ++out.nodes;

@@ -450,7 +450,7 @@ TEST_P(EveryHierarchy, KeepsTheContractUnderRandomMotion) {
   }
   std::printf("[ motion ] %s: %u splits, %u merges, %u relocated, %u rebuilds\n",
               bvh::motionInfo(GetParam()).name, splits, merges, relocated, rebuilds);
-  if (GetParam() == MotionKind::Ternary) {
+  if (GetParam() == MotionKind::Ternary || GetParam() == MotionKind::TernaryObjects) {
     EXPECT_GT(splits, 0u);
     EXPECT_GT(merges, 0u);
     EXPECT_GT(relocated, 0u);
@@ -485,9 +485,12 @@ TEST_P(EveryHierarchy, RefusesABadBoxAndStaysUsable) {
 
 INSTANTIATE_TEST_SUITE_P(Kinds, EveryHierarchy,
                          testing::Values(MotionKind::Refit, MotionKind::Rebuild,
-                                         MotionKind::Ternary, MotionKind::Binary),
+                                         MotionKind::Ternary, MotionKind::TernaryObjects,
+                                         MotionKind::Binary),
                          [](const testing::TestParamInfo<MotionKind>& p) {
-                           return std::string(bvh::motionInfo(p.param).name);
+                           std::string s = bvh::motionInfo(p.param).name;
+                           for (char& ch : s) ch = ch == '-' ? '_' : ch;
+                           return s;
                          });
 
 TEST(FlatHierarchyRefit, PartialRefitEqualsFullRefit) {
@@ -587,7 +590,7 @@ TEST_P(MovingBoxes, NoVisibleBoxIsMissed) {
     waits += stats.colliding_waits;
   }
   EXPECT_GT(occluded, 0u);
-  if (c.kind == MotionKind::Ternary) {
+  if (c.kind == MotionKind::Ternary || c.kind == MotionKind::TernaryObjects) {
     EXPECT_GT(measured, 0u) << "§3.3: visible leaves are counted after each frame";
     EXPECT_GT(splits, 0u) << "the statistics drive splits or merges";
   }
@@ -604,8 +607,8 @@ TEST_P(MovingBoxes, NoVisibleBoxIsMissed) {
 
 std::vector<CullCase> cullCases() {
   std::vector<CullCase> out;
-  for (MotionKind k :
-       {MotionKind::Refit, MotionKind::Rebuild, MotionKind::Ternary, MotionKind::Binary}) {
+  for (const bvh::MotionInfo& info : bvh::motionTable()) {
+    const MotionKind k = info.kind;
     for (Method m : {Method::LogState, Method::LogZfar}) {
       out.push_back({k, m, 1, false, DepthConvention::Standard});
       out.push_back({k, m, kUnlimitedLookahead, true, DepthConvention::Reversed});

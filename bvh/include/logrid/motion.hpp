@@ -11,6 +11,9 @@
 //   ternary   the ternary tree of Kovalčík and Sochor (ternary_tree.hpp): straddling
 //             objects in a third child, tight boxes for still nodes, split and merge of
 //             leaves from per-node pixel statistics, view-dependent split planes.
+//   ternary-objects  the ternary tree with each object of a node shown as a child with
+//             its own box, so that the culler tests objects one by one (not in the
+//             paper: there every test is a hardware query; a grid test is cheap).
 //   binary    the same tree without those improvements: the axis-aligned BSP tree of
 //             the paper's "old" algorithm, straddling objects kept in the inner node.
 //
@@ -90,7 +93,7 @@ class MotionHierarchy : public Hierarchy {
   virtual std::size_t objectTotal() const = 0;
 };
 
-enum class MotionKind : std::uint8_t { Refit, Rebuild, Ternary, Binary };
+enum class MotionKind : std::uint8_t { Refit, Rebuild, Ternary, TernaryObjects, Binary };
 
 struct MotionInfo {
   MotionKind kind;
@@ -101,7 +104,7 @@ struct MotionInfo {
 const std::vector<MotionInfo>& motionTable();
 const MotionInfo& motionInfo(MotionKind kind);
 std::optional<MotionKind> parseMotionKind(const std::string& name);
-std::string motionNames();  // "refit, rebuild, ternary, binary"
+std::string motionNames();  // "refit, rebuild, ternary, ternary-objects, binary"
 
 // The ternary tree's settings (ternary_tree.hpp explains each against the paper).
 struct TernaryDesc {
@@ -120,6 +123,9 @@ struct TernaryDesc {
   // The initial tree: leaves with at least this many objects are split (longest axis,
   // in halves) down to max_depth. 0: o_split.
   std::uint32_t build_leaf = 0;
+  // Not in the paper: show each object of a node as a child with its own box, so the
+  // culler tests objects one by one (MotionKind::TernaryObjects, ternary_tree.hpp).
+  bool object_nodes = false;
 };
 
 // The paper's "old" algorithm as this library reads it: `base` with straddling objects

@@ -66,6 +66,12 @@
 //     or more (default o_split), down to max_depth.
 //   * §3.5 (colliding queries) is a rule of the traversal, not of the tree: it is
 //     CullerDesc::detect_colliding (culler.hpp) and works with every hierarchy.
+//
+// Beyond the paper (TernaryDesc::object_nodes, MotionKind::TernaryObjects): the paper
+// draws every object of a visible node, because each further test would cost a
+// hardware query. A lazy occlusion grid tests boxes cheaply, so this variant shows each
+// object of a node as a child with its own box, and the culler tests those too. The
+// tree, its statistics and its rules are unchanged.
 #pragma once
 
 #include <cstdint>
@@ -84,15 +90,21 @@ class TernaryTree final : public MotionHierarchy {
   ~TernaryTree() override;
 
   // Hierarchy. Nodes whose subtree holds no object are not shown to the culler.
+  // With TernaryDesc::object_nodes, a node's objects are shown as children instead, one
+  // node per object (id kObjectNode | object) whose box is the object's own.
+  static constexpr NodeId kObjectNode = NodeId{1} << 31;
   NodeId root() const override;
-  Aabb bounds(NodeId node) const override { return nodes_[node].box; }
+  Aabb bounds(NodeId node) const override {
+    return node & kObjectNode ? objects_[node & ~kObjectNode].box : nodes_[node].box;
+  }
   std::uint32_t childCount(NodeId node) const override;
   NodeId child(NodeId node, std::uint32_t index) const override;
   std::uint32_t objectCount(NodeId node) const override {
-    return static_cast<std::uint32_t>(nodes_[node].objects.size());
+    if (node & kObjectNode) return 1;
+    return desc_.object_nodes ? 0 : static_cast<std::uint32_t>(nodes_[node].objects.size());
   }
   ObjectId object(NodeId node, std::uint32_t index) const override {
-    return nodes_[node].objects[index];
+    return node & kObjectNode ? node & ~kObjectNode : nodes_[node].objects[index];
   }
   std::uint64_t revision() const override { return revision_; }
 
@@ -108,6 +120,8 @@ class TernaryTree final : public MotionHierarchy {
   enum class Kind : std::uint8_t { Leaf, Inner, Straddle };
   Kind kind(NodeId node) const { return nodes_[node].kind; }
   NodeId parent(NodeId node) const { return nodes_[node].parent; }
+  // The objects a tree node holds (whether or not they are shown as object nodes).
+  const std::vector<ObjectId>& heldObjects(NodeId node) const { return nodes_[node].objects; }
   Aabb cell(NodeId node) const { return nodes_[node].cell; }
   bool tight(NodeId node) const { return nodes_[node].tight; }
   // The node holding an object.
