@@ -60,6 +60,9 @@ std::uint64_t nextTreeRevision() {
   return (std::uint64_t{1} << 63) | ++counter;
 }
 
+// Rows of a tall rectangle a pixel-reading source counts for the statistics (measure()).
+constexpr std::int32_t kSampledRows = 8;
+
 double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -494,8 +497,15 @@ MeasureStats TernaryTree::measure(const Camera& camera, DepthSource& depth) {
   if (!desc_.split_merge) return out;
   const auto start = std::chrono::steady_clock::now();
   const ReadCounters before = depth.counters();
+  // A source that reads pixels pays per pixel: it counts every row of rectangles up to
+  // kSampledRows rows and kSampledRows evenly spaced rows of taller ones (an estimate,
+  // scaled to the rectangle). A hardware query pays per request: it counts the whole
+  // rectangle at once.
+  const bool sample_rows = depth.traits().reads_depth;
   std::vector<AreaRequest> requests;
-  std::vector<std::uint32_t> asked;
+  std::vector<std::uint32_t> asked;          // per Count request: its node
+  std::vector<std::uint64_t> sampled;        // per node asked: pixels its requests cover
+  std::vector<std::uint32_t> first_request;  // per node asked: its first request
   for (const Recorder::Entry& e : recorder_->entries) {
     if ((e.node & kObjectNode) || e.node >= nodes_.size() || !nodes_[e.node].alive) continue;
     Node& n = nodes_[e.node];
@@ -507,23 +517,43 @@ MeasureStats TernaryTree::measure(const Camera& camera, DepthSource& depth) {
     } else if (e.projection.cls != ProjectionClass::Inside || e.projection.rect.empty()) {
       n.ratio = 1;  // crossing the near plane (or an invalid box): counts as fully visible
     } else {
-      requests.push_back({e.projection.rect, AreaAsk::Count, e.projection.occlusionThreshold()});
+      const PixelRect& r = e.projection.rect;
+      const float threshold = e.projection.occlusionThreshold();
+      first_request.push_back(static_cast<std::uint32_t>(requests.size()));
       asked.push_back(e.node);
+      const std::int32_t rows = r.y1 - r.y0;
+      if (!sample_rows || rows <= kSampledRows) {
+        requests.push_back({r, AreaAsk::Count, threshold});
+        sampled.push_back(std::uint64_t(r.area()));
+      } else {
+        for (std::int32_t k = 0; k < kSampledRows; ++k) {
+          const std::int32_t y =
+              r.y0 + std::int32_t((std::int64_t(2 * k + 1) * rows) / (2 * kSampledRows));
+          requests.push_back({{r.x0, y, r.x1, y + 1}, AreaAsk::Count, threshold});
+        }
+        sampled.push_back(std::uint64_t(r.x1 - r.x0) * kSampledRows);
+      }
     }
   }
+  first_request.push_back(static_cast<std::uint32_t>(requests.size()));
   std::vector<AreaAnswer> answers(requests.size());
   if (!requests.empty()) {
     depth.submit(requests.data(), requests.size(), answers.data());
     depth.collect();
   }
   for (std::size_t i = 0; i < asked.size(); ++i) {
-    const double area = double(requests[i].rect.area());
-    nodes_[asked[i]].ratio = static_cast<float>(std::min(1.0, double(answers[i].count) / area));
+    std::uint64_t visible = 0;
+    for (std::uint32_t q = first_request[i]; q < first_request[i + 1]; ++q) {
+      visible += answers[q].count;
+    }
+    nodes_[asked[i]].ratio =
+        static_cast<float>(std::min(1.0, double(visible) / double(sampled[i])));
   }
   last_measure_ = frame_;
   recorder_->entries.clear();
   const ReadCounters& after = depth.counters();
   out.requests = requests.size();
+  out.counted = asked.size();
   out.pixels = after.pixels - before.pixels;
   out.queries = after.queries - before.queries;
   out.seconds = secondsSince(start);

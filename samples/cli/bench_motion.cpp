@@ -78,7 +78,7 @@ Row makeRow(const std::string& hierarchy, const ConfigResult& r) {
     row.objects += double(f.stats.objects_drawn) / n;
     row.triangles += double(f.triangles) / n;
     row.tests += double(f.stats.boxes_tested) / n;
-    row.additional += double(f.measure.requests) / n;
+    row.additional += double(f.measure.counted) / n;
     row.moved += double(f.moved) / n;
     row.waits += double(f.stats.colliding_waits) / n;
     row.rebuilds += f.update.rebuilds;

@@ -35,7 +35,12 @@ nlohmann::json frameJson(const FrameRecord& r) {
     j["moved_objects"] = r.moved;
     j["update_ms"] = r.update.seconds * 1e3;
     j["measure_ms"] = r.measure.seconds * 1e3;
+    j["measure_counted_nodes"] = r.measure.counted;
     j["measure_requests"] = r.measure.requests;
+    j["rebuilds"] = r.update.rebuilds;
+    j["splits"] = r.update.splits;
+    j["merges"] = r.update.merges;
+    j["relocated"] = r.update.relocated;
     j["colliding_waits"] = s.colliding_waits;
   }
   if (r.visible >= 0) {

@@ -17,6 +17,7 @@
 #include <functional>
 #include <random>
 #include <set>
+#include <tuple>
 
 #include "box_world.hpp"
 #include "logrid/error.hpp"
@@ -375,6 +376,71 @@ TEST(TernaryTree, StillNodesGetTightBoxesAndAMoveUndoesThem) {
 }
 
 // ---------------------------------------------------------------------------
+// §3.3 the pixel statistics.
+// ---------------------------------------------------------------------------
+
+// Records what the culler tested, and passes it on to the tree's recorder.
+struct Tap final : CullObserver {
+  CullObserver* next = nullptr;
+  std::vector<std::tuple<NodeId, BoxProjection, Visibility>> tested;
+  void onTested(NodeId n, const BoxProjection& p, Visibility v) override {
+    tested.emplace_back(n, p, v);
+    if (next) next->onTested(n, p, v);
+  }
+};
+
+TEST(TernaryTree, MeasureCountsTheVisiblePixelsOfEachLeaf) {
+  for (bool count_only : {false, true}) {
+    const test::BoxWorld world = test::makeBoxWorld(41);
+    TernaryDesc d;
+    d.o_split = 4;  // many small leaves
+    TernaryTree tree(world.boxes, d);
+    Culler culler;
+    Tap tap;
+    tap.next = tree.observer();
+    culler.setObserver(&tap);
+    const Camera cam = test::boxCamera(160, 96, DepthConvention::Standard, 0.1);
+    cpu::SoftwareDepthBuffer depth(cam.width, cam.height, cam.depth.convention);
+    test::CountOnlySource queries(depth);
+    DepthSource& source = count_only ? static_cast<DepthSource&>(queries) : depth;
+    cpu::SoftwareRasterizer raster(cam, depth, nullptr);
+    culler.cullFrame(cam, tree, source,
+                     [&](ObjectId id) { test::drawBox(raster, world.boxes[id], id); });
+    const bvh::MeasureStats m = tree.measure(cam, source);
+    EXPECT_GT(m.counted, 0u);
+    EXPECT_EQ(m.queries > 0, count_only) << "a count-only source answers with queries";
+    std::size_t occluded = 0, tall = 0;
+    for (const auto& [node, p, v] : tap.tested) {
+      if (!tree.alive(node) || tree.kind(node) == Kind::Inner) continue;
+      const double ratio = tree.measuredRatio(node);
+      ASSERT_GE(ratio, 0.0) << "leaf " << node << " tested but not measured";
+      if (v == Visibility::Occluded) {
+        EXPECT_EQ(ratio, 0.0) << "an occluded leaf shows nothing";
+        ++occluded;
+        continue;
+      }
+      if (p.cls != ProjectionClass::Inside) {
+        EXPECT_EQ(ratio, 1.0);
+        continue;
+      }
+      std::uint32_t exact = 0;
+      depth.countAtOrBeyond(&p.rect, 1, p.occlusionThreshold(), &exact);
+      const double want = double(exact) / double(p.rect.area());
+      if (count_only || p.rect.y1 - p.rect.y0 <= 8) {
+        EXPECT_NEAR(ratio, want, 1e-6) << "leaf " << node << ": the whole rectangle is counted";
+      } else {
+        ++tall;  // counted on 8 rows: an estimate
+        EXPECT_LE(ratio, 1.0);
+      }
+    }
+    EXPECT_GT(occluded, 0u);
+    if (!count_only) {
+      EXPECT_GT(tall, 0u) << "some leaves are taller than 8 rows";
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------
 // Every hierarchy under random motion.
 // ---------------------------------------------------------------------------
 
@@ -581,7 +647,7 @@ TEST_P(MovingBoxes, NoVisibleBoxIsMissed) {
       test::drawBox(raster, world.boxes[id], id);
       EXPECT_TRUE(seen.insert(id).second) << "drawn twice: " << id;
     });
-    measured += h->measure(cam, depth).requests;
+    measured += h->measure(cam, depth).counted;
     for (ObjectId id : test::visibleBoxes(world.boxes, cam)) {
       EXPECT_TRUE(seen.count(id)) << "frame " << frame << ": visible box " << id << " culled";
     }

@@ -68,10 +68,11 @@ struct UpdateStats {
 // What one measure() asked the depth source.
 struct MeasureStats {
   double seconds = 0;
-  std::uint64_t requests = 0;  // Count requests (the "additional queries", §3.3)
+  std::uint64_t counted = 0;   // nodes counted: the paper's "additional queries" (§3.3)
+  std::uint64_t requests = 0;  // Count requests made for them (rows, for pixel readers)
   std::uint64_t pixels = 0;    // pixels the source read or scanned for them
   std::uint64_t queries = 0;   // hardware occlusion queries among them
-  std::uint64_t nodes = 0;     // nodes whose statistics were updated
+  std::uint64_t nodes = 0;     // nodes whose statistics were updated (counted or not)
 };
 
 class MotionHierarchy : public Hierarchy {

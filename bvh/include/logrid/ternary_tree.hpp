@@ -29,11 +29,14 @@
 // nearest key), from any depth source: read pixels, a compute reduction or a hardware
 // occlusion query (DepthSource Count requests). The "total pixels" of the paper's
 // additional query are the rectangle's area, the same upper bound of the box's
-// footprint with no query at all. The ratio visible / total is thus the fraction of the
-// box's rectangle not hidden in front of the box. Leaves found occluded have ratio 0
-// and need no request; leaves crossing the near plane count as fully visible (ratio 1);
-// leaves the traversal never reached (an ancestor was occluded or outside the view)
-// have ratio 0.
+// footprint with no query at all. What a count costs differs: a hardware query is paid
+// per request and counts the whole rectangle; a source that reads pixels is paid per
+// pixel, so for it rectangles taller than 8 rows are counted on 8 evenly spaced rows and
+// the ratio is that of the rows (an estimate for tall rectangles, exact for the rest; the
+// statistics only shape the tree, never what is culled). The ratio visible / total is thus the
+// fraction of the box's rectangle not hidden in front of the box. Leaves found occluded have ratio
+// 0 and need no request; leaves crossing the near plane count as fully visible (ratio 1); leaves
+// the traversal never reached (an ancestor was occluded or outside the view) have ratio 0.
 //
 // Split and merge (§3.4), in update(), from the last measured frame: a leaf is split if
 // ratio >= r_split and objects >= o_split; the leaves under one parent are merged into
