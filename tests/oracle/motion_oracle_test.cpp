@@ -8,7 +8,8 @@
 //                   motion: tight boxes, splits and merges develop).
 //   MovingTraversal the ternary tree with lookahead, colliding-query detection and
 //                   temporal coherence (its node ids change), with several depth readers,
-//                   so the §3.3 statistics come from pixel reads and hardware queries.
+//                   so the §3.3 statistics come from pixel reads and hardware queries;
+//                   and pq (one hardware occlusion query per box) in both conventions.
 //   MotionScenario  the walks above contain what they claim: movers that leave the
 //                   scene bounds, pass through each other, and stop and start again.
 #include <gtest/gtest.h>
@@ -86,6 +87,7 @@ struct TraversalCase {
   std::string reader;
   std::uint32_t lookahead;
   bool coherence;
+  DepthConvention convention = DepthConvention::Standard;
 };
 
 class MovingTraversal : public testing::TestWithParam<TraversalCase> {};
@@ -100,6 +102,7 @@ TEST_P(MovingTraversal, NoVisibleObjectIsMissed) {
   v.height = 150;
   v.tile = 16;
   v.format = DepthFormat::D24;
+  v.convention = c.convention;
   RunConfig config = makeConfig(scene.prepared, c.method, c.reader, v, kMotionFrames);
   config.hierarchy = "ternary";
   // Small motion in the forest; frames over the whole path in the city, whose first
@@ -109,8 +112,9 @@ TEST_P(MovingTraversal, NoVisibleObjectIsMissed) {
   config.culler.detect_colliding = true;
   config.culler.temporal_coherence = c.coherence;
   const WalkTotals t = checkedWalk(key, scene, config);
-  std::printf("[ oracle ] %s ternary %s %s K=%u tc=%d: %s\n", c.scene.c_str(), toString(c.method),
-              c.reader.c_str(), c.lookahead, int(c.coherence), summary(t).c_str());
+  std::printf("[ oracle ] %s ternary %s %s %s K=%u tc=%d: %s\n", c.scene.c_str(),
+              toString(c.method), c.reader.c_str(), toString(c.convention), c.lookahead,
+              int(c.coherence), summary(t).c_str());
   EXPECT_EQ(t.missed, 0u) << reproducer(key, config);
   EXPECT_GT(t.occluded, 0u);
 }
@@ -120,11 +124,16 @@ INSTANTIATE_TEST_SUITE_P(
     testing::Values(TraversalCase{"forest", Method::LogState, "pbo", kUnlimitedLookahead, true},
                     TraversalCase{"forest", Method::LogZfar, "query", 16, false},
                     TraversalCase{"city", Method::LogState, "query", kUnlimitedLookahead, true},
-                    TraversalCase{"city", Method::LogZfar, "software", 16, true}),
+                    TraversalCase{"city", Method::LogZfar, "software", 16, true},
+                    // The hardware-query method: one occlusion query per tested box.
+                    TraversalCase{"forest", Method::Pq, "query", 16, false,
+                                  DepthConvention::Reversed},
+                    TraversalCase{"city", Method::Pq, "query", kUnlimitedLookahead, true,
+                                  DepthConvention::Standard}),
     [](const testing::TestParamInfo<TraversalCase>& p) {
       const TraversalCase& c = p.param;
       return sanitize(c.scene + "_" + toString(c.method) + "_" + c.reader +
-                      (c.coherence ? "_tc" : ""));
+                      (c.coherence ? "_tc" : "") + "_" + toString(c.convention));
     });
 
 // The motion of the walks above (the same scenes, frames and times) has movers leaving
