@@ -20,23 +20,24 @@
 // theirs. The third child's box is always the union of its objects ("we form a bounding
 // box for group of objects intersecting the cutting plane"), recomputed when they move.
 //
-// Statistics (§3.3). After each culled frame, measure() asks the depth source one Count
-// request per leaf the culler found visible: the pixels of the leaf's projected
-// rectangle whose depth key is at or beyond the leaf's occlusion threshold (its nearest
-// key minus the depth margin), i.e. where a surface at the box's nearest depth would
-// pass the depth test against the finished frame. That is an upper bound of the box's
-// visible pixels (the box covers at most its rectangle and lies at or behind its
-// nearest key), from any depth source: read pixels, a compute reduction or a hardware
-// occlusion query (DepthSource Count requests). The "total pixels" of the paper's
-// additional query are the rectangle's area, the same upper bound of the box's
+// Statistics (§3.3). After each culled frame, measure() has the depth source count, for
+// each leaf the culler found visible (Count requests), the pixels of the leaf's
+// projected rectangle whose depth key is at or beyond the leaf's occlusion threshold
+// (its nearest key minus the depth margin), i.e. where a surface at the box's nearest
+// depth would pass the depth test against the finished frame. That is an upper bound of
+// the box's visible pixels (the box covers at most its rectangle and lies at or behind
+// its nearest key), from any depth source: read pixels, a compute reduction or a
+// hardware occlusion query (DepthSource Count requests). The "total pixels" of the
+// paper's additional query are the rectangle's area, the same upper bound of the box's
 // footprint with no query at all. What a count costs differs: a hardware query is paid
 // per request and counts the whole rectangle; a source that reads pixels is paid per
 // pixel, so for it rectangles taller than 8 rows are counted on 8 evenly spaced rows and
-// the ratio is that of the rows (an estimate for tall rectangles, exact for the rest; the
-// statistics only shape the tree, never what is culled). The ratio visible / total is thus the
-// fraction of the box's rectangle not hidden in front of the box. Leaves found occluded have ratio
-// 0 and need no request; leaves crossing the near plane count as fully visible (ratio 1); leaves
-// the traversal never reached (an ancestor was occluded or outside the view) have ratio 0.
+// the ratio is that of the rows (an estimate for tall rectangles, exact for the rest;
+// the statistics only shape the tree, never what is culled). The ratio visible / total
+// is thus the fraction of the box's rectangle not hidden in front of the box. Leaves
+// found occluded have ratio 0 and need no request; leaves crossing the near plane count
+// as fully visible (ratio 1); leaves the traversal never reached (an ancestor was
+// occluded or outside the view) have ratio 0.
 //
 // Split and merge (§3.4), in update(), from the last measured frame: a leaf is split if
 // ratio >= r_split and objects >= o_split; the leaves under one parent are merged into
