@@ -329,7 +329,7 @@ int runMotionBench(const MotionBenchOptions& m, const MotionBenchRun& run) {
       md << "- " << (t->objects < f->objects ? "met" : "**not met**") << ": " << c.scene << " "
          << c.size << ", " << thousands(c.movers) << " movers: " << name << " draws "
          << ratioText(t->objects, f->objects) << "× refit's objects (" << thousands(t->objects)
-         << " vs " << thousands(f->objects) << "; paper 0.41–0.93 against its old algorithm)\n";
+         << " vs " << thousands(f->objects) << "; the paper: 0.37–0.93 against its old algorithm)\n";
     }
   }
   std::int64_t missed = 0;
