@@ -74,7 +74,7 @@ struct BenchOptions {
   bool tradeoff = false;
   bool traversal = false;
   std::string lookaheads = "1,4,16,64,all";  // --traversal
-  MotionBenchOptions motion;  // --motion: bench_motion.cpp
+  MotionBenchOptions motion;                 // --motion: bench_motion.cpp
 };
 
 std::string ratio(double a, double b) { return b > 0 ? formatFixed(a / b, 2) + "×" : "–"; }
@@ -214,9 +214,9 @@ int runBench(const BenchOptions& o) {
     return runTradeoff(o.walk, splitList(o.scenes), splitList(o.sizes), o.forest_scale,
                        o.city_scale, o.repeat, o.markdown, o.json, o.plots);
   if (o.motion.enabled) {
-    return runMotionBench(o.motion, {o.walk, splitList(o.scenes), splitList(o.sizes),
-                                     o.forest_scale, o.city_scale, o.repeat, o.warmup,
-                                     !o.no_verify, o.markdown, o.json, o.plots});
+    return runMotionBench(
+        o.motion, {o.walk, splitList(o.scenes), splitList(o.sizes), o.forest_scale, o.city_scale,
+                   o.repeat, o.warmup, !o.no_verify, o.markdown, o.json, o.plots});
   }
   if (o.traversal) {
     TraversalSweepOptions t;

@@ -27,23 +27,6 @@ constexpr PaperRow kPaper[] = {{"power plant + moving bunnies", 0.71, 0.50, 3.82
                                {"teapots (moving)", 0.93, 0.93, 1.55},
                                {"teapots (static)", 0.92, 0.88, 2.04}};
 
-std::vector<std::string> split(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream in(text);
-  for (std::string item; std::getline(in, item, ',');) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
-
-std::string thousands(double v) {
-  std::string digits = std::to_string(static_cast<long long>(std::llround(v)));
-  for (int i = int(digits.size()) - 3; i > 0 && digits[std::size_t(i) - 1] != '-'; i -= 3) {
-    digits.insert(std::size_t(i), ",");
-  }
-  return digits;
-}
-
 std::string ratioText(double a, double b) { return b > 0 ? formatFixed(a / b, 2) : "–"; }
 
 // One hierarchy's figures in one cell (scene, movers, size): averages over the frames
@@ -138,7 +121,7 @@ void addMotionBenchOptions(CLI::App& bench, MotionBenchOptions& o) {
 
 int runMotionBench(const MotionBenchOptions& m, const MotionBenchRun& run) {
   std::vector<std::uint32_t> counts;
-  for (const std::string& c : split(m.movers)) {
+  for (const std::string& c : splitList(m.movers)) {
     char* end = nullptr;
     const unsigned long v = std::strtoul(c.c_str(), &end, 10);
     if (!end || *end || c.empty() || c[0] == '-' || v > kMaxMovers) {
@@ -148,7 +131,7 @@ int runMotionBench(const MotionBenchOptions& m, const MotionBenchRun& run) {
     }
     counts.push_back(std::uint32_t(v));
   }
-  const std::vector<std::string> hierarchies = split(m.hierarchies);
+  const std::vector<std::string> hierarchies = splitList(m.hierarchies);
   for (const std::string& h : hierarchies) {
     if (!bvh::parseMotionKind(h)) {
       throw Error(ErrorCode::InvalidArgument,
@@ -238,14 +221,13 @@ int runMotionBench(const MotionBenchOptions& m, const MotionBenchRun& run) {
           "|\n|--:|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n";
     for (const Cell* c : list) {
       for (const Row& r : c->rows) {
-        md << "| " << thousands(c->movers) << " | " << r.hierarchy << " | "
+        md << "| " << grouped(c->movers) << " | " << r.hierarchy << " | "
            << formatFixed(r.update_ms, 3) << " | " << formatFixed(100 * r.updateShare(), 1)
            << "% | " << formatFixed(r.measure_ms, 2) << " | " << formatFixed(r.frame_ms) << " | "
-           << formatFixed(100 * r.spread, 0) << "% | " << thousands(r.objects) << " | "
-           << thousands(r.triangles) << " | " << thousands(r.queries()) << " ("
-           << thousands(r.tests) << " + " << thousands(r.additional) << ") | " << r.rebuilds
-           << " / " << r.splits << " / " << r.merges << " | "
-           << (r.missed >= 0 ? std::to_string(r.missed) : "–") << " |\n";
+           << formatFixed(100 * r.spread, 0) << "% | " << grouped(r.objects) << " | "
+           << grouped(r.triangles) << " | " << grouped(r.queries()) << " (" << grouped(r.tests)
+           << " + " << grouped(r.additional) << ") | " << r.rebuilds << " / " << r.splits << " / "
+           << r.merges << " | " << (r.missed >= 0 ? std::to_string(r.missed) : "–") << " |\n";
       }
     }
     // The paper's Table 1 columns: new (ternary) against old (binary), and against refit.
@@ -257,7 +239,7 @@ int runMotionBench(const MotionBenchOptions& m, const MotionBenchRun& run) {
       const Row* b = find(c->rows, "binary");
       const Row* f = find(c->rows, "refit");
       if (!t) continue;
-      md << "| " << thousands(c->movers) << " | " << (b ? ratioText(t->frame_ms, b->frame_ms) : "–")
+      md << "| " << grouped(c->movers) << " | " << (b ? ratioText(t->frame_ms, b->frame_ms) : "–")
          << " | " << (b ? ratioText(t->objects, b->objects) : "–") << " | "
          << (b ? ratioText(t->queries(), b->queries()) : "–") << " | "
          << (f ? ratioText(t->frame_ms, f->frame_ms) : "–") << " | "
@@ -275,7 +257,7 @@ int runMotionBench(const MotionBenchOptions& m, const MotionBenchRun& run) {
       const std::string stem = run.plots + "/motion_" + scene + "_" + size;
       std::string xtics = "set xtics (";
       for (std::size_t i = 0; i < list.size(); ++i) {
-        xtics += std::string(i ? ", " : "") + "\"" + thousands(list[i]->movers) + "\" " +
+        xtics += std::string(i ? ", " : "") + "\"" + grouped(list[i]->movers) + "\" " +
                  std::to_string(i);
       }
       xtics += ")\n";
@@ -327,9 +309,9 @@ int runMotionBench(const MotionBenchOptions& m, const MotionBenchRun& run) {
       const Row* t = find(c.rows, name);
       if (!t || !f || c.movers == 0) continue;
       md << "- " << (t->objects < f->objects ? "met" : "**not met**") << ": " << c.scene << " "
-         << c.size << ", " << thousands(c.movers) << " movers: " << name << " draws "
-         << ratioText(t->objects, f->objects) << "× refit's objects (" << thousands(t->objects)
-         << " vs " << thousands(f->objects) << "; the paper: 0.37–0.93 against its old algorithm)\n";
+         << c.size << ", " << grouped(c.movers) << " movers: " << name << " draws "
+         << ratioText(t->objects, f->objects) << "× refit's objects (" << grouped(t->objects)
+         << " vs " << grouped(f->objects) << "; the paper: 0.37–0.93 against its old algorithm)\n";
     }
   }
   std::int64_t missed = 0;
