@@ -19,7 +19,7 @@ namespace logrid::samples {
 struct MotionBenchOptions {
   bool enabled = false;
   std::string movers = "0,100,1000,10000";
-  std::string hierarchies = "refit,rebuild,ternary,binary";
+  std::string hierarchies = "refit,rebuild,ternary,ternary-objects,binary";
   std::string method = "log-state";
 };
 
