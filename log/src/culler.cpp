@@ -142,6 +142,17 @@ FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy, D
       ++stats_.nodes_visited;
       Visibility v = Visibility::Visible;
       if (!forced(entry, v)) {
+        if (lookahead_ > 1 && desc_.detect_colliding && !pending_.empty() &&
+            collidesWithPending(entry.projection.rect)) {
+          // §3.5: wait for the nearer boxes' answers (and draws) before asking about this
+          // one; it comes off the test-list again after the batch.
+          --stats_.nodes_visited;
+          ++stats_.colliding_waits;
+          test_list_.push_back(entry);
+          std::push_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
+          resolvePending(hierarchy, depth, draw);
+          continue;
+        }
         const float threshold = thresholdFor(entry);
         ++stats_.boxes_tested;
         if (lookahead_ == 1) {
@@ -229,6 +240,15 @@ bool Culler::forced(const Entry& entry, Visibility& result) {
   if (!methodInfo(desc_.method).tests_occlusion) {
     result = Visibility::Visible;
     return true;
+  }
+  return false;
+}
+
+bool Culler::collidesWithPending(const PixelRect& r) const {
+  // Pending boxes came off the test-list first, so they are the nearer ones.
+  for (const Entry& e : pending_) {
+    const PixelRect& p = e.projection.rect;
+    if (r.x0 < p.x1 && p.x0 < r.x1 && r.y0 < p.y1 && p.y0 < r.y1) return true;
   }
   return false;
 }

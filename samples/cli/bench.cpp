@@ -12,6 +12,7 @@
 #include <memory>
 #include <sstream>
 
+#include "cli/bench_motion.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/experiment.hpp"
@@ -74,6 +75,7 @@ struct BenchOptions {
   bool tradeoff = false;
   bool traversal = false;
   std::string lookaheads = "1,4,16,64,all";  // --traversal
+  MotionBenchOptions motion;                 // --motion: bench_motion.cpp
 };
 
 std::string ratio(double a, double b) { return b > 0 ? formatFixed(a / b, 2) + "×" : "–"; }
@@ -134,7 +136,7 @@ void writeCell(std::ostream& md, const std::string& scene, std::uint32_t width,
                std::uint32_t height, const std::vector<Row>& rows, const RunConfig& config,
                std::size_t repeats, const std::string& plot_prefix) {
   md << "\n### " << scene << " " << width << "×" << height << "\n\n";
-  md << framesAlong(config.frames, config.span) << ", " << repeats
+  md << framesAlong(config.frames, config.time_step) << ", " << repeats
      << " interleaved repetitions; ms/frame is the average over frames of the per-frame median, "
         "spread is (max − min) / median of the repetitions' averages.\n\n";
   md << "| method | reader | ms/frame | spread | drawn objects | drawn triangles | pixels read "
@@ -212,6 +214,11 @@ int runBench(const BenchOptions& o) {
   if (o.tradeoff)
     return runTradeoff(o.walk, splitList(o.scenes), splitList(o.sizes), o.forest_scale,
                        o.city_scale, o.repeat, o.markdown, o.json, o.plots);
+  if (o.motion.enabled) {
+    return runMotionBench(
+        o.motion, {o.walk, splitList(o.scenes), splitList(o.sizes), o.forest_scale, o.city_scale,
+                   o.repeat, o.warmup, !o.no_verify, o.markdown, o.json, o.plots});
+  }
   if (o.traversal) {
     TraversalSweepOptions t;
     t.scenes = splitList(o.scenes);
@@ -398,6 +405,7 @@ void addBenchCommand(CLI::App& app) {
                   "sweep lookahead K x temporal coherence x --readers for log-state and log-zfar "
                   "instead: flushes, batches, bytes, time against the oracle");
   bench->add_option("--lookaheads", o->lookaheads, "with --traversal: the K values to sweep");
+  addMotionBenchOptions(*bench, o->motion);
   bench->final_callback([o] { throw CLI::RuntimeError(runBench(*o)); });
 }
 

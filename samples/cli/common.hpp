@@ -22,7 +22,6 @@ struct WalkOptions {
   std::uint64_t seed = 1;
   std::string path_file;
   std::size_t frames = 100;
-  double span = 1.0;  // fraction of the path the frames cover
   std::string method = "log-state";
   std::string size = "640x480";
   std::uint32_t tile = 32;
@@ -45,6 +44,12 @@ struct WalkOptions {
   std::uint32_t leaf = 0;  // 0: the scene's default
   std::string tree_parts = "whole";  // forest: whole, trunk-crown or tiers
   GridApproximation approximation;   // off by default
+  // Motion (motion.hpp, movers.hpp).
+  std::uint32_t movers = 0;        // moving objects added to the scene
+  std::string motion_file;         // a scene from a file: its meshes' paths
+  std::string hierarchy = "auto";  // RunConfig::hierarchy
+  double time_step = 0;            // RunConfig::time_step
+  bool colliding = false;          // CullerDesc::detect_colliding
 };
 
 // Adds the options every walkthrough command has (--scene ... --platform).

@@ -17,6 +17,7 @@
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
 #include "logrid/gl/object_id_oracle.hpp"
+#include "logrid/motion.hpp"
 #include "scene/prepare.hpp"
 #include "scene/view.hpp"
 
@@ -57,19 +58,30 @@ struct RunConfig {
   MethodChoice method{Method::LogState};
   CullerDesc culler;                  // method is taken from `method`
   std::string reader = "readpixels";  // a name of readerTable()
+  // The hierarchy culled: "static" (the scene's own, PreparedScene::hierarchy), a name of
+  // bvh::motionTable() (built over every object's box and updated each frame), or
+  // "auto": static for a scene without moving objects, refit for one with them.
+  std::string hierarchy = "auto";
+  bvh::MotionDesc motion;  // settings of the motion hierarchies
   ViewSettings view;
-  std::size_t frames = 100;  // frames spread over the path's first `span`
-  double span = 1.0;         // fraction of the path the frames cover (0, 1]
-  bool verify = false;       // object-ID check after each frame
-  std::string images_dir;    // write PNG frames here when set
-  bool overlay = false;      // and overlay pictures (tile grid, boxes)
+  std::size_t frames = 100;  // frames spread over the whole path
+  // > 0: frame f is at path time (first key) + f * time_step instead (the camera stops
+  // at the path's end; movers go on).
+  double time_step = 0;
+  bool verify = false;     // object-ID check after each frame
+  std::string images_dir;  // write PNG frames here when set
+  bool overlay = false;    // and overlay pictures (tile grid, boxes)
   FrameHooks hooks;
 };
 
 struct FrameRecord {
   std::size_t frame = 0;
-  double ms = 0;  // clear + cull + draw + glFinish
+  double ms = 0;  // hierarchy update + clear + cull + draw + statistics + glFinish
   FrameStats stats;
+  double time = 0;                     // the frame's time (motion.hpp)
+  bvh::UpdateStats update;             // the motion hierarchy's update (zero for static ones)
+  bvh::MeasureStats measure;           // its statistics pass after the frame (ternary)
+  std::uint64_t moved = 0;             // objects whose box changed since the last frame
   std::uint64_t triangles = 0;         // triangles drawn
   std::int64_t visible = -1;           // objects in the ID buffer (with verify or oracle)
   std::int64_t missed = -1;            // visible objects not drawn (with verify)
@@ -97,12 +109,21 @@ class FrameRunner {
   FrameRecord renderFrame(std::size_t frame);
   // The camera of a frame (for callers that need it, e.g. overlays and tests).
   Camera cameraFor(std::size_t frame) const;
+  CameraPose poseFor(std::size_t frame) const;
+  double frameTime(std::size_t frame) const;
+  // The hierarchy culled (the scene's static one or the motion hierarchy).
+  const Hierarchy& hierarchy() const;
+  const bvh::MotionHierarchy* motionHierarchy() const { return dynamic_.get(); }
+  // Every object's box in the last frame rendered (movers where they were).
+  const std::vector<Aabb>& objectBoxes() const { return motion_.boxes; }
   // Share ID-pass results with other runners of the same frames and view.
   void shareOracle(std::shared_ptr<OracleCache> cache) { oracle_cache_ = std::move(cache); }
   // Last frame's colour image (RGBA8, bottom-up rows).
   std::vector<std::uint8_t> readColor() const { return framebuffer_->readColor(); }
 
  private:
+  // Moves the movers to `time`: boxes, `moved`, and the renderer's transforms.
+  void applyMotion(double time);
   gl::OracleFrame idPass(const Camera& camera);
   // The ID pass of a frame, from the shared cache when another runner did it.
   gl::OracleFrame visibleSet(std::size_t frame, const Camera& camera);
@@ -117,6 +138,10 @@ class FrameRunner {
   std::unique_ptr<Culler> vfc_;  // for the ID pass
   struct Observer;
   std::unique_ptr<Observer> observer_;
+  struct FanOut;
+  std::unique_ptr<FanOut> fan_out_;
+  std::unique_ptr<bvh::MotionHierarchy> dynamic_;  // null: the static hierarchy
+  MotionFrame motion_;
   std::vector<std::uint8_t> drawn_;  // per object, this frame
   std::vector<ObjectId> drawn_list_;
   std::shared_ptr<OracleCache> oracle_cache_;

@@ -32,6 +32,19 @@ nlohmann::json frameJson(const FrameRecord& r) {
                       {"cull_ms", s.seconds * 1e3},
                       {"order_fallbacks", s.order_fallbacks},
                       {"invalid_boxes", s.invalid_boxes}};
+  if (r.update.seconds > 0 || r.moved > 0) {  // a motion hierarchy (docs/MOTION.md)
+    j["time"] = r.time;
+    j["moved_objects"] = r.moved;
+    j["update_ms"] = r.update.seconds * 1e3;
+    j["measure_ms"] = r.measure.seconds * 1e3;
+    j["measure_counted_nodes"] = r.measure.counted;
+    j["measure_requests"] = r.measure.requests;
+    j["rebuilds"] = r.update.rebuilds;
+    j["splits"] = r.update.splits;
+    j["merges"] = r.update.merges;
+    j["relocated"] = r.update.relocated;
+    j["colliding_waits"] = s.colliding_waits;
+  }
   if (r.visible >= 0) {
     j["visible_objects"] = r.visible;
     j["missed_visible_objects"] = r.missed;
@@ -99,7 +112,7 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
   nlohmann::json j = {{"method", config.method.name()},
                       {"reader", config.reader},
                       {"frames", records.size()},
-                      {"span", config.span},
+                      {"time_step", config.time_step},
                       {"width", config.view.width},
                       {"height", config.view.height},
                       {"tile", config.culler.tile_size},
@@ -146,10 +159,12 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
   return j;
 }
 
-std::string framesAlong(std::size_t frames, double span) {
-  std::string text = std::to_string(frames) + " frames along the ";
-  if (span < 1.0) text += "first " + formatFixed(100.0 * span, span < 0.01 ? 2 : 1) + "% of the ";
-  return text + "walkthrough";
+std::string framesAlong(std::size_t frames, double time_step) {
+  if (time_step > 0) {
+    return std::to_string(frames) + " frames " + formatFixed(time_step, 3) +
+           " s of path time apart from the walkthrough's start";
+  }
+  return std::to_string(frames) + " frames along the walkthrough";
 }
 
 std::string grouped(double v) {

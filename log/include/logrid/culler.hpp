@@ -34,7 +34,7 @@
 // known visible; then one batch reads every tile they need (DepthSource::submit, one
 // collect) and they are decided. The renderer is then waited for once per batch, not
 // once per tile. Every K is exact; K = 1 gives the answers and reads of the paper's
-// order.
+// order. CullerDesc::detect_colliding keeps boxes that overlap on screen out of one batch.
 //
 // Temporal coherence (CullerDesc::temporal_coherence): the leaves found visible last
 // frame are drawn first, without tests, the grid's outdated tiles are refreshed in one
@@ -89,6 +89,12 @@ struct CullerDesc {
   std::uint32_t lookahead = 1;
   // Draw last frame's visible leaves first, then refresh the grid in one batch.
   bool temporal_coherence = false;
+  // Detection of colliding queries (ternary-tree paper, §3.5): with lookahead > 1, a box
+  // whose pixel rectangle overlaps that of a box already set aside for the batch is not
+  // added to it; the batch is resolved first (and its visible nodes drawn or queued), so
+  // that what the nearer box holds can hide the farther one, which is then tested
+  // again. Fewer boxes found visible for more, smaller batches. Exact either way.
+  bool detect_colliding = false;
 };
 
 // Returns an empty string if the descriptor is usable, else a message naming the field.
@@ -165,6 +171,7 @@ class Culler {
   // Decides what needs no occlusion test (view culled, invalid, crossing the near
   // plane, no occlusion test for this method); nothing if the box must be tested.
   bool forced(const Entry& entry, Visibility& result);
+  bool collidesWithPending(const PixelRect& rect) const;
   float thresholdFor(const Entry& entry);
   void finish(const Entry& entry, Visibility v, const Hierarchy& hierarchy, DepthSource& depth,
               const DrawCallback& draw);

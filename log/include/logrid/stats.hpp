@@ -18,6 +18,8 @@ struct FrameStats {
                                         // (children tested) instead of read (lookahead > 1)
   std::uint64_t order_fallbacks = 0;    // occlusion-state tests the two-list order could
                                         // not vouch for, done by depth instead
+  std::uint64_t colliding_waits = 0;    // boxes kept out of a batch because their rectangle
+                                        // overlaps one in it (CullerDesc::detect_colliding)
   std::uint64_t tiles_tested = 0;       // tiles (HZB: pyramid cells) examined by tests
   std::uint64_t tiles_read = 0;         // tiles whose pixels a test or refresh read
 
