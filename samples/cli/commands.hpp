@@ -10,5 +10,6 @@ namespace logrid::samples {
 void addWalkCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 void addTuneCommand(CLI::App& app);
+void addCalibrateCommand(CLI::App& app);
 
 }  // namespace logrid::samples

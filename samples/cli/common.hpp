@@ -20,6 +20,7 @@ struct WalkOptions {
   std::uint64_t seed = 1;
   std::string path_file;
   std::size_t frames = 100;
+  double frame_step = 0;  // > 0: path time between frames (RunConfig::frame_step)
   std::string method = "log-state";
   std::string size = "640x480";
   std::uint32_t tile = 32;
@@ -40,6 +41,14 @@ struct WalkOptions {
   int lp_threads = -1;              // >= 0: LP_NUM_THREADS for llvmpipe (PLATFORM.md); -1: leave it
   std::uint32_t leaf = 0;           // 0: the scene's default
   GridApproximation approximation;  // off by default
+  // The query methods (hwq, chc, stat, nohc, log+hwq), CullerDesc::queries.
+  std::string query_schedule = "stat";  // log+hwq's schedule of the undecided boxes
+  std::string query_shape = "box";      // box or rect
+  bool any_samples = false;             // GL_ANY_SAMPLES_PASSED_CONSERVATIVE queries
+  std::uint32_t chc_batch = 50;
+  std::uint32_t chc_interval = 5;
+  std::uint32_t stat_in_flight = 20;
+  std::uint32_t stat_base = 20;
 };
 
 // Adds the options every walkthrough command has (--scene ... --platform).

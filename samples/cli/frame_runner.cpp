@@ -11,6 +11,8 @@
 #include "cli/images.hpp"
 #include "logrid/error.hpp"
 #include "logrid/gl/context.hpp"
+#include "logrid/zread/box_query_source.hpp"
+#include "logrid/zread/calibration.hpp"
 #include "logrid/zread/gl_sources.hpp"
 
 namespace logrid::samples {
@@ -19,6 +21,13 @@ std::optional<MethodChoice> parseMethodChoice(const std::string& name) {
   if (name == "oracle") return MethodChoice{std::nullopt};
   if (const auto m = parseMethod(name)) return MethodChoice{*m};
   return std::nullopt;
+}
+
+void measureHardwareIfNeeded(CullerDesc& desc) {
+  const Method schedule = desc.method == Method::LogHwq ? desc.queries.schedule : desc.method;
+  if (schedule == Method::Nohc && !validateHardwareParameters(desc.queries.hardware).empty()) {
+    desc.queries.hardware = zread::hardwareParameters();
+  }
 }
 
 namespace {
@@ -74,7 +83,15 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
   if (config.method.method) {
     CullerDesc desc = config.culler;
     desc.method = *config.method.method;
+    measureHardwareIfNeeded(desc);
     culler_ = std::make_unique<Culler>(desc);
+    config_.culler.queries.hardware = desc.queries.hardware;
+    if (methodInfo(desc.method).box_queries) {
+      queries_ = std::make_unique<zread::BoxQuerySource>(
+          framebuffer_->handle(), config.any_samples_passed
+                                      ? zread::QueryTarget::AnySamplesPassedConservative
+                                      : zread::QueryTarget::SamplesPassed);
+    }
     if (config.overlay) culler_->setObserver(observer_.get());
     const ReaderInfo* reader = findReader(config.reader);
     if (!reader) {
@@ -104,7 +121,11 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
 FrameRunner::~FrameRunner() = default;
 
 Camera FrameRunner::cameraFor(std::size_t frame) const {
-  return makeCamera(scene_.path.frame(frame, config_.frames), scene_.origin, config_.view);
+  const CameraPose pose =
+      config_.frame_step > 0
+          ? scene_.path.at(scene_.path.keys().front().time + config_.frame_step * double(frame))
+          : scene_.path.frame(frame, config_.frames);
+  return makeCamera(pose, scene_.origin, config_.view);
 }
 
 OracleFrame FrameRunner::idPass(const Camera& camera) {
@@ -186,7 +207,9 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
     rec.stats.objects_drawn = oracle.visible.size() + oracle.artifacts.size();
   } else {
     reader_->beginFrame(camera);
-    rec.stats = culler_->cullFrame(camera, scene_.hierarchy, reader_->source(), draw);
+    rec.stats =
+        queries_ ? culler_->cullFrame(camera, scene_.hierarchy, reader_->source(), *queries_, draw)
+                 : culler_->cullFrame(camera, scene_.hierarchy, reader_->source(), draw);
   }
   renderer_.end();
   glFinish();

@@ -28,12 +28,25 @@ struct MethodChoice {
 };
 std::optional<MethodChoice> parseMethodChoice(const std::string& name);
 
+// nohc (and log+hwq scheduled by nohc) needs the hardware parameters of this renderer:
+// fills desc.queries.hardware from zread::hardwareParameters() (measured on first use,
+// kept per renderer for the process) unless it holds valid ones. Needs a GL context.
+void measureHardwareIfNeeded(CullerDesc& desc);
+
 struct RunConfig {
   MethodChoice method{Method::LogState};
   CullerDesc culler;                  // method is taken from `method`
   std::string reader = "readpixels";  // a name of readerTable()
+  // The query methods (MethodInfo::box_queries) issue their queries through a
+  // zread::BoxQuerySource over the frame's framebuffer, of this GL target.
+  bool any_samples_passed = false;  // GL_ANY_SAMPLES_PASSED_CONSERVATIVE, else GL_SAMPLES_PASSED
   ViewSettings view;
-  std::size_t frames = 100;  // frames spread over the whole path
+  std::size_t frames = 100;  // frames spread over the whole path, or:
+  // > 0: frame i is taken at this time after the path's start instead (untimed paths,
+  // as the procedural ones, count time in distance travelled: metres), so that
+  // consecutive frames are as close as at an interactive rate (the query methods keep
+  // what they learn from frame to frame).
+  double frame_step = 0;
   bool verify = false;       // object-ID check after each frame
   std::string images_dir;    // write PNG frames here when set
   bool overlay = false;      // and overlay pictures (tile grid, boxes)
@@ -96,6 +109,7 @@ class FrameRunner {
   RunConfig config_;
   std::unique_ptr<gl::Framebuffer> framebuffer_;
   std::unique_ptr<FrameReader> reader_;
+  std::unique_ptr<OcclusionQueries> queries_;  // query methods
   std::unique_ptr<Culler> culler_;
   std::unique_ptr<Culler> vfc_;  // for the ID pass
   struct Observer;

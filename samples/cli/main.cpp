@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   logrid::samples::addWalkCommand(app);
   logrid::samples::addBenchCommand(app);
   logrid::samples::addTuneCommand(app);
+  logrid::samples::addCalibrateCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::RuntimeError& done) {
