@@ -32,6 +32,9 @@ void addWalkthroughOptions(CLI::App& app, WalkOptions& o) {
                  "paths; default 0: the frames spread over the whole path)")
       ->check(CLI::Range(0.0, 1e9));
   app.add_option("--leaf", o.leaf, "objects (or triangles) per hierarchy leaf; 0: the scene's");
+  app.add_option("--tree-parts", o.tree_parts,
+                 "forest: each tree one object (whole), trunk and crown apart (trunk-crown), or "
+                 "the trunk and each crown tier apart (tiers)");
   app.add_option("--platform", o.platform, "EGL platform: auto, surfaceless or device");
   app.add_option("--lp-threads", o.lp_threads,
                  "llvmpipe raster threads (sets LP_NUM_THREADS; 0 makes each depth read's flush "
@@ -105,6 +108,14 @@ DepthConvention parseDepthConvention(const std::string& text) {
               "depth convention '" + text + "' is unknown; use standard or reversed");
 }
 
+TreeParts parseTreeParts(const std::string& text) {
+  for (TreeParts p : {TreeParts::Whole, TreeParts::TrunkCrown, TreeParts::Tiers}) {
+    if (text == toString(p)) return p;
+  }
+  throw Error(ErrorCode::InvalidArgument,
+              "tree parts '" + text + "' is unknown; use whole, trunk-crown or tiers");
+}
+
 std::uint32_t parseLookahead(const std::string& text) {
   if (text == "all") return kUnlimitedLookahead;
   unsigned long k = 0;
@@ -158,7 +169,7 @@ LoadedScene loadScene(const WalkOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   Scene scene;
   if (o.scene == "forest") {
-    scene = makeForest({o.scale, o.seed});
+    scene = makeForest({o.scale, o.seed, parseTreeParts(o.tree_parts)});
   } else if (o.scene == "city") {
     scene = makeCity({o.scale, o.seed});
   } else {
@@ -180,7 +191,9 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
   const auto method = parseMethodChoice(o.method);
   if (!method) {
     throw Error(ErrorCode::InvalidArgument,
-                "method '" + o.method + "' is unknown; use " + methodNames() + " or oracle");
+                "method '" + o.method + "' is unknown; use " + methodNames() +
+                    " or oracle, optionally followed by :K or :all (lookahead) and :tc "
+                    "(temporal coherence), e.g. log-state:16:tc");
   }
   c.method = *method;
   if (!findReader(o.reader)) {
@@ -192,8 +205,8 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
   if (o.tile < 1)
     throw Error(ErrorCode::InvalidArgument, "tile size 0 is invalid; use 1 pixel or more");
   c.culler.approximation = o.approximation;
-  c.culler.lookahead = parseLookahead(o.lookahead);
-  c.culler.temporal_coherence = o.coherence;
+  c.culler.lookahead = c.method.lookahead ? *c.method.lookahead : parseLookahead(o.lookahead);
+  c.culler.temporal_coherence = c.method.coherence || o.coherence;
   QueryScheduleDesc& q = c.culler.queries;
   const auto schedule = parseMethod(o.query_schedule);
   if (!schedule || !methodInfo(*schedule).box_queries || *schedule == Method::LogHwq) {

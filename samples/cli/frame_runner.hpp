@@ -20,11 +20,16 @@
 
 namespace logrid::samples {
 
-// A method name: one of logrid::Method's, or "oracle" (draws exactly the visible set
-// found by an ID pass that is not timed: the floor no culling method can beat).
+// A method as the commands name it: one of logrid::Method's names, or "oracle" (draws
+// exactly the visible set found by an ID pass that is not timed: the floor no culling
+// method can beat), optionally followed by traversal settings that override the
+// command's --lookahead and --coherence: ":K" (a lookahead, or ":all") and ":tc"
+// (temporal coherence), e.g. "log-state:16:tc".
 struct MethodChoice {
   std::optional<Method> method;  // empty: oracle
-  std::string name() const { return method ? toString(*method) : "oracle"; }
+  std::optional<std::uint32_t> lookahead;
+  bool coherence = false;
+  std::string name() const;
 };
 std::optional<MethodChoice> parseMethodChoice(const std::string& name);
 
@@ -34,7 +39,7 @@ std::optional<MethodChoice> parseMethodChoice(const std::string& name);
 void measureHardwareIfNeeded(CullerDesc& desc);
 
 struct RunConfig {
-  MethodChoice method{Method::LogState};
+  MethodChoice method{Method::LogState, std::nullopt, false};
   CullerDesc culler;                  // method is taken from `method`
   std::string reader = "readpixels";  // a name of readerTable()
   // The query methods (MethodInfo::box_queries) issue their queries through a
