@@ -193,7 +193,8 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
     throw Error(ErrorCode::InvalidArgument,
                 "method '" + o.method + "' is unknown; use " + methodNames() +
                     " or oracle, optionally followed by :K or :all (lookahead) and :tc "
-                    "(temporal coherence), e.g. log-state:16:tc");
+                    "(temporal coherence), e.g. log-state:16:tc; log+hwq also by its query "
+                    "schedule :hwq, :chc, :stat or :nohc");
   }
   c.method = *method;
   if (!findReader(o.reader)) {
@@ -213,7 +214,7 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
     throw Error(ErrorCode::InvalidArgument,
                 "query schedule '" + o.query_schedule + "' is unknown; use hwq, chc, stat or nohc");
   }
-  q.schedule = *schedule;
+  q.schedule = c.method.schedule ? *c.method.schedule : *schedule;
   if (o.query_shape != "box" && o.query_shape != "rect") {
     throw Error(ErrorCode::InvalidArgument,
                 "query shape '" + o.query_shape + "' is unknown; use box or rect");

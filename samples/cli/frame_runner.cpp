@@ -24,6 +24,7 @@ std::string MethodChoice::name() const {
         ":" + (*lookahead == kUnlimitedLookahead ? std::string("all") : std::to_string(*lookahead));
   }
   if (coherence) out += ":tc";
+  if (schedule) out += ":" + std::string(toString(*schedule));
   return out;
 }
 
@@ -43,8 +44,12 @@ std::optional<MethodChoice> parseMethodChoice(const std::string& name) {
     return std::nullopt;  // the oracle takes no traversal settings
   }
   for (std::size_t i = 1; i < parts.size(); ++i) {
+    const auto schedule = parseMethod(parts[i]);
     if (parts[i] == "tc" && !choice.coherence) {
       choice.coherence = true;
+    } else if (schedule && choice.method == Method::LogHwq && !choice.schedule &&
+               methodInfo(*schedule).box_queries && *schedule != Method::LogHwq) {
+      choice.schedule = *schedule;
     } else if (!choice.lookahead && !parts[i].empty() &&
                (parts[i] == "all" ||
                 parts[i].find_first_not_of("0123456789") == std::string::npos)) {

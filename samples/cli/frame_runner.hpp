@@ -29,6 +29,9 @@ struct MethodChoice {
   std::optional<Method> method;  // empty: oracle
   std::optional<std::uint32_t> lookahead;
   bool coherence = false;
+  // log+hwq: the schedule of the boxes the grid leaves undecided (hwq, chc, stat or
+  // nohc), from a suffix (log+hwq:chc); empty: RunConfig::culler.queries.schedule.
+  std::optional<Method> schedule;
   std::string name() const;
 };
 std::optional<MethodChoice> parseMethodChoice(const std::string& name);
@@ -39,7 +42,7 @@ std::optional<MethodChoice> parseMethodChoice(const std::string& name);
 void measureHardwareIfNeeded(CullerDesc& desc);
 
 struct RunConfig {
-  MethodChoice method{Method::LogState, std::nullopt, false};
+  MethodChoice method{Method::LogState, std::nullopt, false, std::nullopt};
   CullerDesc culler;                  // method is taken from `method`
   std::string reader = "readpixels";  // a name of readerTable()
   // The query methods (MethodInfo::box_queries) issue their queries through a

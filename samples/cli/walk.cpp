@@ -79,7 +79,8 @@ void addWalkCommand(CLI::App& app) {
   walk->add_option("--method", options->method,
                    methodNames() +
                        " or oracle; :K or :all and :tc set the lookahead and "
-                       "temporal coherence (e.g. log-state:16:tc)");
+                       "temporal coherence (e.g. log-state:16:tc), :hwq, :chc, :stat or :nohc "
+                       "the schedule of log+hwq (e.g. log+hwq:chc)");
   walk->add_option("--size", options->size, "viewport WIDTHxHEIGHT");
   addViewOptions(*walk, *options);
   walk->add_flag("--verify", options->verify, "check every frame against the object-ID oracle");
