@@ -102,7 +102,10 @@ Row makeRow(const std::string& label, const ConfigResult& r, const nlohmann::jso
   Row row;
   row.label = label;
   row.method = r.config.method.name();
-  row.reader = r.config.method.method ? r.config.reader : "–";
+  // Only methods that read the depth buffer use a reader (not vfc, nor hwq, chc, stat, nohc).
+  row.reader = r.config.method.method && methodInfo(*r.config.method.method).uses_depth_source
+                   ? r.config.reader
+                   : "–";
   row.ms = r.avg_ms();
   row.spread = r.spread();
   row.objects = s["avg_drawn_objects"];

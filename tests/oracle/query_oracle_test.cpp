@@ -170,5 +170,23 @@ std::string queryName(const testing::TestParamInfo<QueryCase>& p) {
 
 INSTANTIATE_TEST_SUITE_P(Methods, QueryOracle, testing::ValuesIn(queryCases()), queryName);
 
+// log+hwq names its schedule as a suffix (what bench's --methods lists); other methods,
+// repeated or unknown schedules are refused.
+TEST(QueryMethodNames, LogHwqTakesItsScheduleAsASuffix) {
+  const auto chc = samples::parseMethodChoice("log+hwq:chc");
+  ASSERT_TRUE(chc);
+  EXPECT_EQ(chc->method, Method::LogHwq);
+  ASSERT_TRUE(chc->schedule);
+  EXPECT_EQ(*chc->schedule, Method::Chc);
+  EXPECT_EQ(chc->name(), "log+hwq:chc");
+  const auto plain = samples::parseMethodChoice("log+hwq");
+  ASSERT_TRUE(plain);
+  EXPECT_FALSE(plain->schedule);
+  for (const char* bad : {"log+hwq:log+hwq", "log+hwq:log-state", "log+hwq:chc:stat", "hwq:chc",
+                          "log-state:stat", "oracle:chc", "log+hwq:bogus"}) {
+    EXPECT_FALSE(samples::parseMethodChoice(bad)) << bad;
+  }
+}
+
 }  // namespace
 }  // namespace logrid::oracle
