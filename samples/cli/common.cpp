@@ -80,6 +80,15 @@ void addViewOptions(CLI::App& app, WalkOptions& o) {
                  "stat: BASE_TIME in frames (the paper's 2/3 s at 30 frames per second: 20)");
 }
 
+std::vector<std::string> splitList(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
 std::pair<std::uint32_t, std::uint32_t> parseSize(const std::string& text) {
   unsigned long w = 0, h = 0;
   char x = 0, extra = 0;
