@@ -190,7 +190,8 @@ void checkBox(const char* who, std::size_t id, const Aabb& b) {
 }  // namespace
 
 std::size_t FlatHierarchy::memoryBytes() const {
-  return nodes_.capacity() * sizeof(Node) + objects_.capacity() * sizeof(ObjectId);
+  return nodes_.capacity() * sizeof(Node) + objects_.capacity() * sizeof(ObjectId) +
+         object_triangles_.capacity() * sizeof(std::uint32_t);
 }
 
 std::uint32_t FlatHierarchy::depth() const {

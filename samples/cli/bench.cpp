@@ -22,6 +22,7 @@
 #include "cli/tradeoff.hpp"
 #include "cli/traversal_sweep.hpp"
 #include "logrid/error.hpp"
+#include "logrid/method.hpp"
 
 namespace logrid::samples {
 namespace {
@@ -92,6 +93,8 @@ struct Row {
   double tiles_per_box = 0;
   double read_share = 0;
   double flushes = 0;
+  bool box_queries = false;  // a hardware-query method (MethodInfo::box_queries)
+  double queries = 0, query_waits = 0, query_boxes = 0;
   std::int64_t missed = -1;
   std::int64_t missed_artifacts = 0;  // objects shown only by depth-extrapolated fragments
   bool conservative = true;
@@ -102,7 +105,10 @@ Row makeRow(const std::string& label, const ConfigResult& r, const nlohmann::jso
   Row row;
   row.label = label;
   row.method = r.config.method.name();
-  row.reader = r.config.method.method ? r.config.reader : "–";
+  // Only methods that read the depth buffer use a reader (not vfc, nor hwq, chc, stat, nohc).
+  row.reader = r.config.method.method && methodInfo(*r.config.method.method).uses_depth_source
+                   ? r.config.reader
+                   : "–";
   row.ms = r.avg_ms();
   row.spread = r.spread();
   row.objects = s["avg_drawn_objects"];
@@ -113,6 +119,14 @@ Row makeRow(const std::string& label, const ConfigResult& r, const nlohmann::jso
   double flushes = 0;
   for (const FrameRecord& f : r.records) flushes += double(f.stats.flushes);
   row.flushes = r.records.empty() ? 0 : flushes / double(r.records.size());
+  if (r.config.method.method && methodInfo(*r.config.method.method).box_queries) {
+    row.box_queries = true;
+    row.queries = s["avg_queries"];
+    row.query_waits = s["avg_query_waits"];
+    double boxes = 0;
+    for (const FrameRecord& f : r.records) boxes += double(f.stats.query_boxes);
+    row.query_boxes = r.records.empty() ? 0 : boxes / double(r.records.size());
+  }
   if (s.contains("missed_visible_objects")) {
     row.missed = s["missed_visible_objects"];
     row.missed_artifacts = s["missed_depth_artifact_objects"];
@@ -128,6 +142,29 @@ const Row* findRow(const std::vector<Row>& rows, const std::string& label) {
     if (r.label == label) return &r;
   }
   return nullptr;
+}
+
+// The hardware-query methods of a cell (issue 12): queries and waits per frame, and the
+// papers' ratios: queries against hwq (Kovalčík & Sochor, CHC++), frame time against the
+// oracle (NOHC's Table 4 compares with an optimum). Nothing when no such method ran.
+void writeQueryTable(std::ostream& md, const std::vector<Row>& rows) {
+  const Row* hwq = findRow(rows, "hwq");
+  const Row* oracle = findRow(rows, "oracle");
+  bool any = false;
+  for (const Row& r : rows) any = any || r.box_queries;
+  if (!any) return;
+  md << "\nHardware occlusion queries (per frame; a multi-query counts once and draws several "
+        "boxes):\n\n"
+        "| method | queries | boxes queried | waited for | flushes | queries ÷ hwq | time ÷ hwq "
+        "| time ÷ oracle |\n|---|--:|--:|--:|--:|--:|--:|--:|\n";
+  for (const Row& r : rows) {
+    if (!r.box_queries) continue;
+    md << "| " << r.label << " | " << formatFixed(r.queries, 1) << " | "
+       << formatFixed(r.query_boxes, 1) << " | " << formatFixed(r.query_waits, 1) << " | "
+       << formatFixed(r.flushes, 1) << " | " << (hwq ? ratio(r.queries, hwq->queries) : "–")
+       << " | " << (hwq ? ratio(r.ms, hwq->ms) : "–") << " | "
+       << (oracle ? ratio(r.ms, oracle->ms) : "–") << " |\n";
+  }
 }
 
 // The markdown of one scene × size cell: the measured table, the ratios beside the
@@ -152,6 +189,8 @@ void writeCell(std::ostream& md, const std::string& scene, std::uint32_t width,
        << (r.missed_artifacts > 0 ? " (+" + std::to_string(r.missed_artifacts) + " artifact)" : "")
        << " |\n";
   }
+
+  writeQueryTable(md, rows);
 
   const Row* log = findRow(rows, "log-state");
   if (!log) return;

@@ -28,6 +28,10 @@ void addWalkthroughOptions(CLI::App& app, WalkOptions& o) {
   app.add_option("--seed", o.seed, "seed of the procedural scenes");
   app.add_option("--path", o.path_file, "camera path JSON (keys: position, look_at, time)");
   app.add_option("--frames", o.frames, "frames along the path")->check(CLI::Range(1, 10000000));
+  app.add_option("--time-step", o.time_step,
+                 "path time between frames from the path's start (seconds; metres on the "
+                 "procedural paths; default 0: the frames spread over the whole path)")
+      ->check(CLI::Range(0.0, 1e9));
   app.add_option("--leaf", o.leaf, "objects (or triangles) per hierarchy leaf; 0: the scene's");
   app.add_option("--tree-parts", o.tree_parts,
                  "forest: each tree one object (whole), trunk and crown apart (trunk-crown), or "
@@ -56,9 +60,6 @@ void addViewOptions(CLI::App& app, WalkOptions& o) {
   app.add_option(
       "--hierarchy", o.hierarchy,
       "hierarchy culled: auto (static without movers, refit with), static, " + bvh::motionNames());
-  app.add_option("--time-step", o.time_step,
-                 "seconds of path time between frames (0: frames spread over the whole path)")
-      ->check(CLI::Range(0.0, 1e9));
   app.add_flag("--colliding", o.colliding,
                "with --lookahead > 1: keep boxes that overlap on screen out of one batch "
                "(colliding-query detection)");
@@ -78,6 +79,21 @@ void addViewOptions(CLI::App& app, WalkOptions& o) {
       "approximate: tiles with at most this fraction free count as full (log-state, bog)");
   app.add_option("--row-stride", o.approximation.row_stride,
                  "approximate: read every k-th pixel row of a tile (default 1: every row)");
+  app.add_option(
+      "--query-schedule", o.query_schedule,
+      "log+hwq: schedule of the boxes the grid leaves undecided: hwq, chc, stat or nohc");
+  app.add_option("--query-shape", o.query_shape,
+                 "query methods: what a query draws: box (its faces) or rect (its rectangle)");
+  app.add_flag("--any-samples", o.any_samples,
+               "query methods: GL_ANY_SAMPLES_PASSED_CONSERVATIVE instead of GL_SAMPLES_PASSED");
+  app.add_option("--chc-batch", o.chc_batch,
+                 "chc: previously invisible nodes gathered before their multi-queries");
+  app.add_option("--chc-interval", o.chc_interval,
+                 "chc: frames a visible leaf goes without a query (n_av)");
+  app.add_option("--stat-in-flight", o.stat_in_flight,
+                 "stat: queries issued before the second pass collects them");
+  app.add_option("--stat-base", o.stat_base,
+                 "stat: BASE_TIME in frames (the paper's 2/3 s at 30 frames per second: 20)");
 }
 
 std::vector<std::string> splitList(const std::string& text) {
@@ -204,7 +220,8 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
     throw Error(ErrorCode::InvalidArgument,
                 "method '" + o.method + "' is unknown; use " + methodNames() +
                     " or oracle, optionally followed by :K or :all (lookahead) and :tc "
-                    "(temporal coherence), e.g. log-state:16:tc");
+                    "(temporal coherence), e.g. log-state:16:tc; log+hwq also by its query "
+                    "schedule :hwq, :chc, :stat or :nohc");
   }
   c.method = *method;
   if (!findReader(o.reader)) {
@@ -231,9 +248,28 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
   }
   c.hierarchy = o.hierarchy;
   c.time_step = o.time_step;
+  QueryScheduleDesc& q = c.culler.queries;
+  const auto schedule = parseMethod(o.query_schedule);
+  if (!schedule || !methodInfo(*schedule).box_queries || *schedule == Method::LogHwq) {
+    throw Error(ErrorCode::InvalidArgument,
+                "query schedule '" + o.query_schedule + "' is unknown; use hwq, chc, stat or nohc");
+  }
+  q.schedule = c.method.schedule ? *c.method.schedule : *schedule;
+  if (o.query_shape != "box" && o.query_shape != "rect") {
+    throw Error(ErrorCode::InvalidArgument,
+                "query shape '" + o.query_shape + "' is unknown; use box or rect");
+  }
+  q.shape = o.query_shape == "rect" ? QueryShape::Rect : QueryShape::Box;
+  q.chc_batch = o.chc_batch;
+  q.chc_visible_interval = o.chc_interval;
+  q.stat_in_flight = o.stat_in_flight;
+  q.stat_base_frames = o.stat_base;
+  c.any_samples_passed = o.any_samples;
   if (c.method.method) {
     CullerDesc check = c.culler;
     check.method = *c.method.method;
+    measureHardwareIfNeeded(check);  // nohc: measured on this context's renderer
+    c.culler.queries.hardware = check.queries.hardware;
     const std::string problem = validateCullerDesc(check);
     if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
   }

@@ -11,6 +11,8 @@
 #include "cli/images.hpp"
 #include "logrid/error.hpp"
 #include "logrid/gl/context.hpp"
+#include "logrid/zread/box_query_source.hpp"
+#include "logrid/zread/calibration.hpp"
 #include "logrid/zread/gl_sources.hpp"
 
 namespace logrid::samples {
@@ -22,6 +24,7 @@ std::string MethodChoice::name() const {
         ":" + (*lookahead == kUnlimitedLookahead ? std::string("all") : std::to_string(*lookahead));
   }
   if (coherence) out += ":tc";
+  if (schedule) out += ":" + std::string(toString(*schedule));
   return out;
 }
 
@@ -41,8 +44,12 @@ std::optional<MethodChoice> parseMethodChoice(const std::string& name) {
     return std::nullopt;  // the oracle takes no traversal settings
   }
   for (std::size_t i = 1; i < parts.size(); ++i) {
+    const auto schedule = parseMethod(parts[i]);
     if (parts[i] == "tc" && !choice.coherence) {
       choice.coherence = true;
+    } else if (schedule && choice.method == Method::LogHwq && !choice.schedule &&
+               methodInfo(*schedule).box_queries && *schedule != Method::LogHwq) {
+      choice.schedule = *schedule;
     } else if (!choice.lookahead && !parts[i].empty() &&
                (parts[i] == "all" ||
                 parts[i].find_first_not_of("0123456789") == std::string::npos)) {
@@ -54,6 +61,13 @@ std::optional<MethodChoice> parseMethodChoice(const std::string& name) {
     }
   }
   return choice;
+}
+
+void measureHardwareIfNeeded(CullerDesc& desc) {
+  const Method schedule = desc.method == Method::LogHwq ? desc.queries.schedule : desc.method;
+  if (schedule == Method::Nohc && !validateHardwareParameters(desc.queries.hardware).empty()) {
+    desc.queries.hardware = zread::hardwareParameters();
+  }
 }
 
 namespace {
@@ -154,7 +168,15 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
   if (config.method.method) {
     CullerDesc desc = config.culler;
     desc.method = *config.method.method;
+    measureHardwareIfNeeded(desc);
     culler_ = std::make_unique<Culler>(desc);
+    config_.culler.queries.hardware = desc.queries.hardware;
+    if (methodInfo(desc.method).box_queries) {
+      queries_ = std::make_unique<zread::BoxQuerySource>(
+          framebuffer_->handle(), config.any_samples_passed
+                                      ? zread::QueryTarget::AnySamplesPassedConservative
+                                      : zread::QueryTarget::SamplesPassed);
+    }
     if (config.overlay) fan_out_->to.push_back(observer_.get());
     if (dynamic_ && dynamic_->observer()) fan_out_->to.push_back(dynamic_->observer());
     if (!fan_out_->to.empty()) culler_->setObserver(fan_out_.get());
@@ -298,7 +320,9 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
   } else {
     reader_->beginFrame(camera);
     if (hooks.before_cull) hooks.before_cull();
-    rec.stats = culler_->cullFrame(camera, hierarchy(), reader_->source(), draw);
+    rec.stats = queries_
+                    ? culler_->cullFrame(camera, hierarchy(), reader_->source(), *queries_, draw)
+                    : culler_->cullFrame(camera, hierarchy(), reader_->source(), draw);
     if (hooks.after_cull) hooks.after_cull();
   }
   renderer_.end();

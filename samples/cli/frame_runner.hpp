@@ -35,6 +35,9 @@ struct MethodChoice {
   std::optional<Method> method;  // empty: oracle
   std::optional<std::uint32_t> lookahead;
   bool coherence = false;
+  // log+hwq: the schedule of the boxes the grid leaves undecided (hwq, chc, stat or
+  // nohc), from a suffix (log+hwq:chc); empty: RunConfig::culler.queries.schedule.
+  std::optional<Method> schedule;
   std::string name() const;
 };
 std::optional<MethodChoice> parseMethodChoice(const std::string& name);
@@ -54,10 +57,18 @@ struct FrameHooks {
   std::function<void()> after_draw;
 };
 
+// nohc (and log+hwq scheduled by nohc) needs the hardware parameters of this renderer:
+// fills desc.queries.hardware from zread::hardwareParameters() (measured on first use,
+// kept per renderer for the process) unless it holds valid ones. Needs a GL context.
+void measureHardwareIfNeeded(CullerDesc& desc);
+
 struct RunConfig {
   MethodChoice method{Method::LogState};
   CullerDesc culler;                  // method is taken from `method`
   std::string reader = "readpixels";  // a name of readerTable()
+  // The query methods (MethodInfo::box_queries) issue their queries through a
+  // zread::BoxQuerySource over the frame's framebuffer, of this GL target.
+  bool any_samples_passed = false;  // GL_ANY_SAMPLES_PASSED_CONSERVATIVE, else GL_SAMPLES_PASSED
   // The hierarchy culled: "static" (the scene's own, PreparedScene::hierarchy), a name of
   // bvh::motionTable() (built over every object's box and updated each frame), or
   // "auto": static for a scene without moving objects, refit for one with them.
@@ -66,7 +77,9 @@ struct RunConfig {
   ViewSettings view;
   std::size_t frames = 100;  // frames spread over the whole path
   // > 0: frame f is at path time (first key) + f * time_step instead (the camera stops
-  // at the path's end; movers go on).
+  // at the path's end; movers go on): consecutive frames as close as at an interactive
+  // rate, for what methods carry from frame to frame (temporal coherence, the query
+  // schedules). Untimed paths, as the procedural ones, count time in metres travelled.
   double time_step = 0;
   bool verify = false;     // object-ID check after each frame
   std::string images_dir;  // write PNG frames here when set
@@ -134,6 +147,7 @@ class FrameRunner {
   RunConfig config_;
   std::unique_ptr<gl::Framebuffer> framebuffer_;
   std::unique_ptr<FrameReader> reader_;
+  std::unique_ptr<OcclusionQueries> queries_;  // query methods
   std::unique_ptr<Culler> culler_;
   std::unique_ptr<Culler> vfc_;  // for the ID pass
   struct Observer;

@@ -207,6 +207,11 @@ PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args) {
   out.mesh.positions.shrink_to_fit();
   out.mesh.colors.shrink_to_fit();
 
+  std::vector<std::uint32_t> triangles;  // per object, for nohc's cost model
+  triangles.reserve(out.mesh.draws.size());
+  for (const gl::RenderMesh::Draw& d : out.mesh.draws) triangles.push_back(d.index_count / 3);
+  out.hierarchy.setObjectTriangles(std::move(triangles));
+
   out.bounds = emptyBox();
   out.object_boxes.reserve(out.mesh.draws.size());
   for (std::size_t o = 0; o < out.mesh.draws.size(); ++o) {

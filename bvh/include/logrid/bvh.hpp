@@ -48,6 +48,16 @@ class FlatHierarchy : public Hierarchy {
     return objects_[nodes_[node].first_object + i];
   }
 
+  // Triangles of an object (ObjectId), as setObjectTriangles() gave them; 0: unknown.
+  std::uint32_t objectTriangles(ObjectId object) const override {
+    return object < object_triangles_.size() ? object_triangles_[object] : 0;
+  }
+  // Triangles per object, indexed by ObjectId, for methods that weigh drawing against
+  // querying (nohc). The builders leave it empty (unknown). Node ids stay: no new revision.
+  void setObjectTriangles(std::vector<std::uint32_t> triangles) {
+    object_triangles_ = std::move(triangles);
+  }
+
   // Unique to each build: every FlatHierarchy gets a new value when built or mutated
   // (mutableNodes(), mutableObjects()), and copies keep their source's.
   std::uint64_t revision() const override { return revision_; }
@@ -87,6 +97,7 @@ class FlatHierarchy : public Hierarchy {
   void buildLinks() const;
   std::vector<Node> nodes_;
   std::vector<ObjectId> objects_;
+  std::vector<std::uint32_t> object_triangles_;
   std::uint64_t revision_ = nextRevision();
   // For the partial refit: parents and the leaf of each object, built on first use
   // for the revision they describe.
