@@ -1,0 +1,406 @@
+#include "logrid/cpu/occlusion_buffer.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <optional>
+#include <sstream>
+
+#include "logrid/error.hpp"
+#include "raster/raster_triangle.hpp"
+#include "triangle_setup.hpp"
+
+namespace logrid::cpu {
+
+const char* toString(Resolution r) {
+  switch (r) {
+    case Resolution::Full: return "full";
+    case Resolution::Half: return "half";
+    case Resolution::Quarter: return "quarter";
+  }
+  return "?";
+}
+
+const char* toString(Isa isa) {
+  switch (isa) {
+    case Isa::Auto: return "auto";
+    case Isa::Scalar: return "scalar";
+    case Isa::Sse41: return "sse4.1";
+    case Isa::Avx2: return "avx2";
+  }
+  return "?";
+}
+
+bool parseResolution(const std::string& text, Resolution& out) {
+  for (Resolution r : {Resolution::Full, Resolution::Half, Resolution::Quarter}) {
+    if (text == toString(r)) {
+      out = r;
+      return true;
+    }
+  }
+  return false;
+}
+
+bool parseIsa(const std::string& text, Isa& out) {
+  for (Isa i : {Isa::Auto, Isa::Scalar, Isa::Sse41, Isa::Avx2}) {
+    if (text == toString(i)) {
+      out = i;
+      return true;
+    }
+  }
+  return false;
+}
+
+bool isaSupported(Isa isa) { return isa == Isa::Auto || detail::rasterFunction(isa) != nullptr; }
+
+std::string validateOcclusionBufferDesc(const OcclusionBufferDesc& d) {
+  std::ostringstream out;
+  if (d.resolution != Resolution::Full && d.resolution != Resolution::Half &&
+      d.resolution != Resolution::Quarter) {
+    out << "OcclusionBuffer: resolution " << int(d.resolution)
+        << " is unknown; use full, half or quarter";
+  } else if (d.isa != Isa::Auto && d.isa != Isa::Scalar && d.isa != Isa::Sse41 &&
+             d.isa != Isa::Avx2) {
+    out << "OcclusionBuffer: ISA " << int(d.isa) << " is unknown; use auto, scalar, sse4.1 or avx2";
+  } else if (!isaSupported(d.isa)) {
+    out << "OcclusionBuffer: this CPU does not run the " << toString(d.isa)
+        << " kernel; use auto (picks the widest it runs) or scalar";
+  } else if (d.threads > 64) {
+    out << "OcclusionBuffer: " << d.threads << " worker threads is too many; use 0 to 64";
+  } else {
+    const std::string p = validateProjectionSettings(d.projection);
+    if (!p.empty()) out << "OcclusionBuffer: " << p;
+  }
+  return out.str();
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Bins are tiles of the buffer, kBinViewport viewport pixels on a side at full resolution
+// (a grid tile of the default size), never narrower than one 8-wide store.
+constexpr std::int32_t kBinViewport = 32;
+
+bool overlaps(const PixelRect& a, const PixelRect& b) {
+  return a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1;
+}
+
+}  // namespace
+
+struct OcclusionBuffer::Impl {
+  struct Bin {
+    std::uint32_t stamp = 0;  // frame whose clear this bin has had
+    std::vector<std::uint32_t> pending;
+  };
+  struct PendingObject {
+    detail::SetupObject object;
+    PixelRect rect;  // viewport pixels the object may cover
+  };
+
+  Impl(const OccluderMeshes& m, const OcclusionBufferDesc& d) : meshes(m), desc(d) {
+    isa = d.isa == Isa::Auto ? detail::bestIsa() : d.isa;
+    raster = detail::rasterFunction(isa);
+  }
+
+  const OccluderMeshes& meshes;
+  OcclusionBufferDesc desc;
+  Isa isa;
+  detail::RasterFunction raster;
+  OcclusionBufferStats stats;
+
+  bool in_frame = false;
+  std::optional<Projector> projector;
+  detail::SetupFrame frame;
+  double snap_half = 0;  // the other half of a sub-pixel step (projection.hpp widens by half)
+  std::int32_t scale = 1;
+  std::int32_t width = 0, height = 0;  // viewport
+  std::int32_t bw = 0, bh = 0;         // buffer
+  std::size_t stride = 0;
+  std::int32_t bin = 32;  // buffer pixels per bin side
+  std::int32_t bins_x = 0, bins_y = 0;
+  float clear_key = 1;
+  std::uint32_t stamp = 0;
+  std::vector<float> keys;
+  std::vector<Bin> bins;
+  std::vector<PendingObject> pending;
+  std::vector<detail::RasterTriangle> tris;
+  detail::TriangleSetup setup;
+
+  void begin(const Camera& camera);
+  void draw(std::uint32_t id);
+  // Brings every buffer pixel under the viewport rectangle up to date.
+  void ensure(const PixelRect& rect);
+  void setUpObject(const PendingObject& p);
+  void rasterizeBin(std::int32_t bx, std::int32_t by);
+  PixelRect bufferRect(const PixelRect& r) const {
+    return {r.x0 / scale, r.y0 / scale, (r.x1 + scale - 1) / scale, (r.y1 + scale - 1) / scale};
+  }
+  // Viewport pixels of `r` that buffer column i (row j) covers.
+  std::int32_t spanX(const PixelRect& r, std::int32_t i) const {
+    return std::min(r.x1, (i + 1) * scale) - std::max(r.x0, i * scale);
+  }
+  std::int32_t spanY(const PixelRect& r, std::int32_t j) const {
+    return std::min(r.y1, (j + 1) * scale) - std::max(r.y0, j * scale);
+  }
+  AreaDepth summary(const PixelRect& r);
+  std::uint32_t count(const PixelRect& r, float threshold);
+};
+
+void OcclusionBuffer::Impl::begin(const Camera& camera) {
+  projector.emplace(camera, desc.projection);  // validates the camera
+  const Mat4d& m = camera.view_projection;
+  for (int i = 0; i < 16; ++i) frame.m[i] = m.m[i];
+  frame.half_w = 0.5 * camera.width;
+  frame.half_h = 0.5 * camera.height;
+  const bool reversed = camera.depth.convention == DepthConvention::Reversed;
+  const bool zero_to_one = camera.depth.clip_range == ClipDepthRange::ZeroToOne;
+  const double sign = reversed ? -1.0 : 1.0;
+  frame.key_scale = sign * (zero_to_one ? 1.0 : 0.5);
+  frame.key_offset = sign * (zero_to_one ? 0.0 : 0.5);
+  frame.near_key = projector->nearKey();
+  frame.clear_key = projector->clearKey();
+  clear_key = projector->clearKey();
+  scale = std::int32_t(desc.resolution);
+  frame.scale = scale;
+  frame.radius = 0.5 * (scale - 1);
+  frame.exact_coverage = desc.unsafe_exact_coverage;
+  frame.exact_depth = desc.unsafe_exact_depth;
+  const int bits = desc.projection.subpixel_bits;
+  snap_half = bits >= 16 ? 0.0 : std::ldexp(0.5, -bits);
+
+  width = std::int32_t(camera.width);
+  height = std::int32_t(camera.height);
+  const std::int32_t new_bw = (width + scale - 1) / scale, new_bh = (height + scale - 1) / scale;
+  bin = std::max(8, kBinViewport / scale);
+  if (new_bw != bw || new_bh != bh) {
+    bw = new_bw;
+    bh = new_bh;
+    bins_x = (bw + bin - 1) / bin;
+    bins_y = (bh + bin - 1) / bin;
+    stride = std::size_t(bins_x) * std::size_t(bin);  // whole bins: 8-wide stores stay inside
+    keys.assign(stride * std::size_t(bins_y) * std::size_t(bin), clear_key);
+    bins.assign(std::size_t(bins_x) * std::size_t(bins_y), Bin{});
+    stamp = 0;
+  }
+  frame.buffer_w = bw;
+  frame.buffer_h = bh;
+  ++stamp;
+  if (stamp == 0) {  // wrapped: every bin must be cleared again
+    for (Bin& b : bins) b.stamp = 0;
+    stamp = 1;
+  }
+  for (Bin& b : bins) b.pending.clear();
+  pending.clear();
+  tris.clear();
+  in_frame = true;
+}
+
+void OcclusionBuffer::Impl::draw(std::uint32_t id) {
+  ++stats.objects_drawn;
+  // A model inside its object holds only while the object lies wholly beyond the near
+  // plane (the eye is then outside it and GL does not clip it).
+  BoxProjection p = projector->project(meshes.object(id).box);
+  for (int hops = 0; meshes.object(id).inside_solid && p.cls != ProjectionClass::Inside; ++hops) {
+    const std::uint32_t fallback = meshes.object(id).fallback;
+    if (fallback == kNoOccluder || hops > 8) {
+      ++stats.objects_skipped;
+      return;
+    }
+    ++stats.objects_fallback;
+    id = fallback;
+    p = projector->project(meshes.object(id).box);
+  }
+  if (p.cls == ProjectionClass::Outside || p.cls == ProjectionClass::Invalid ||
+      meshes.object(id).triangle_count == 0) {
+    ++stats.objects_skipped;
+    return;
+  }
+  PendingObject po;
+  po.object.occluder = id;
+  po.object.s_x = double(p.widen_x) + snap_half;
+  po.object.s_y = double(p.widen_y) + snap_half;
+  po.object.margin = p.margin;
+  po.rect = p.rect;
+  pending.push_back(po);
+}
+
+void OcclusionBuffer::Impl::setUpObject(const PendingObject& p) {
+  const std::size_t first = tris.size();
+  stats.triangles_set_up += setup.run(frame, meshes, p.object, tris);
+  ++stats.objects_set_up;
+  for (std::size_t t = first; t < tris.size(); ++t) {
+    const detail::RasterTriangle& rt = tris[t];
+    const std::int32_t bx0 = rt.x0 / bin, bx1 = (rt.x1 - 1) / bin;
+    const std::int32_t by0 = rt.y0 / bin, by1 = (rt.y1 - 1) / bin;
+    for (std::int32_t by = by0; by <= by1; ++by) {
+      for (std::int32_t bx = bx0; bx <= bx1; ++bx) {
+        bins[std::size_t(by) * std::size_t(bins_x) + std::size_t(bx)].pending.push_back(
+            std::uint32_t(t));
+      }
+    }
+  }
+}
+
+void OcclusionBuffer::Impl::rasterizeBin(std::int32_t bx, std::int32_t by) {
+  Bin& b = bins[std::size_t(by) * std::size_t(bins_x) + std::size_t(bx)];
+  const std::int32_t x0 = bx * bin, y0 = by * bin;
+  if (b.stamp != stamp) {
+    for (std::int32_t y = y0; y < y0 + bin; ++y) {
+      std::fill_n(keys.begin() + std::ptrdiff_t(std::size_t(y) * stride + std::size_t(x0)), bin,
+                  clear_key);
+    }
+    b.stamp = stamp;
+  }
+  if (b.pending.empty()) return;
+  detail::RasterTarget target;
+  target.keys = keys.data();
+  target.stride = stride;
+  target.x0 = x0;
+  target.y0 = y0;
+  target.x1 = std::min(x0 + bin, bw);
+  target.y1 = std::min(y0 + bin, bh);
+  target.scale = float(scale);
+  target.half = 0.5f * float(scale);
+  raster(tris.data(), b.pending.data(), b.pending.size(), target);
+  stats.triangles_rasterized += b.pending.size();
+  ++stats.tiles_rasterized;
+  b.pending.clear();
+}
+
+void OcclusionBuffer::Impl::ensure(const PixelRect& rect) {
+  for (std::size_t i = 0; i < pending.size();) {
+    if (overlaps(pending[i].rect, rect)) {
+      const PendingObject p = pending[i];
+      pending[i] = pending.back();
+      pending.pop_back();
+      setUpObject(p);
+    } else {
+      ++i;
+    }
+  }
+  const PixelRect b = bufferRect(rect);
+  for (std::int32_t by = b.y0 / bin; by <= (b.y1 - 1) / bin; ++by) {
+    for (std::int32_t bx = b.x0 / bin; bx <= (b.x1 - 1) / bin; ++bx) rasterizeBin(bx, by);
+  }
+}
+
+AreaDepth OcclusionBuffer::Impl::summary(const PixelRect& r) {
+  ensure(r);
+  const PixelRect b = bufferRect(r);
+  AreaDepth out;
+  out.min_key = keys[std::size_t(b.y0) * stride + std::size_t(b.x0)];
+  out.max_key = out.min_key;
+  std::uint64_t free_pixels = 0;
+  for (std::int32_t j = b.y0; j < b.y1; ++j) {
+    const float* row = keys.data() + std::size_t(j) * stride;
+    for (std::int32_t i = b.x0; i < b.x1; ++i) {
+      const float k = row[i];
+      out.min_key = std::min(out.min_key, k);
+      out.max_key = std::max(out.max_key, k);
+      if (k >= clear_key) free_pixels += std::uint64_t(spanX(r, i)) * std::uint64_t(spanY(r, j));
+    }
+  }
+  out.free_pixels = std::uint32_t(free_pixels);
+  return out;
+}
+
+std::uint32_t OcclusionBuffer::Impl::count(const PixelRect& r, float threshold) {
+  ensure(r);
+  const PixelRect b = bufferRect(r);
+  std::uint64_t n = 0;
+  for (std::int32_t j = b.y0; j < b.y1; ++j) {
+    const float* row = keys.data() + std::size_t(j) * stride;
+    std::uint64_t in_row = 0;
+    for (std::int32_t i = b.x0; i < b.x1; ++i) {
+      // NaN never occurs (the setup drops non-finite triangles); count it if it did.
+      if (!(row[i] < threshold)) in_row += std::uint64_t(spanX(r, i));
+    }
+    n += in_row * std::uint64_t(spanY(r, j));
+  }
+  return std::uint32_t(n);
+}
+
+OcclusionBuffer::OcclusionBuffer(const OccluderMeshes& meshes, const OcclusionBufferDesc& desc)
+    : desc_(desc) {
+  const std::string problem = validateOcclusionBufferDesc(desc);
+  if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
+  impl_ = std::make_unique<Impl>(meshes, desc);
+}
+
+OcclusionBuffer::~OcclusionBuffer() = default;
+
+Isa OcclusionBuffer::isa() const { return impl_->isa; }
+
+const OcclusionBufferStats& OcclusionBuffer::stats() const { return impl_->stats; }
+
+void OcclusionBuffer::beginFrame(const Camera& camera) {
+  const auto start = Clock::now();
+  impl_->begin(camera);
+  impl_->stats.seconds += secondsSince(start);
+}
+
+void OcclusionBuffer::endFrame() { impl_->in_frame = false; }
+
+void OcclusionBuffer::drawObject(std::uint32_t id) {
+  if (!impl_->in_frame) {
+    throw Error(ErrorCode::InvalidArgument,
+                "OcclusionBuffer::drawObject: call it between beginFrame() and endFrame()");
+  }
+  if (id >= impl_->meshes.objectCount()) {
+    std::ostringstream out;
+    out << "OcclusionBuffer::drawObject: object " << id << " is not in the occluder meshes ("
+        << impl_->meshes.objectCount() << " objects)";
+    throw Error(ErrorCode::InvalidArgument, out.str());
+  }
+  const auto start = Clock::now();
+  impl_->draw(id);
+  impl_->stats.seconds += secondsSince(start);
+}
+
+void OcclusionBuffer::summarize(const PixelRect* rects, std::size_t count, AreaDepth* out) {
+  const auto start = Clock::now();
+  for (std::size_t i = 0; i < count; ++i) {
+    out[i] = impl_->summary(rects[i]);
+    counters_.pixels += std::uint64_t(rects[i].area());
+  }
+  counters_.reads += count;
+  const double s = secondsSince(start);
+  counters_.seconds += s;
+  impl_->stats.seconds += s;
+}
+
+void OcclusionBuffer::countAtOrBeyond(const AreaQuery* queries, std::size_t count,
+                                      std::uint32_t* out) {
+  const auto start = Clock::now();
+  for (std::size_t i = 0; i < count; ++i) {
+    out[i] = impl_->count(queries[i].rect, queries[i].threshold);
+    counters_.pixels += std::uint64_t(queries[i].rect.area());
+  }
+  counters_.reads += count;
+  const double s = secondsSince(start);
+  counters_.seconds += s;
+  impl_->stats.seconds += s;
+}
+
+void OcclusionBuffer::readKeys(const PixelRect& rect, float* keys) {
+  const auto start = Clock::now();
+  Impl& m = *impl_;
+  m.ensure(rect);
+  std::size_t o = 0;
+  for (std::int32_t y = rect.y0; y < rect.y1; ++y) {
+    const float* row = m.keys.data() + std::size_t(y / m.scale) * m.stride;
+    for (std::int32_t x = rect.x0; x < rect.x1; ++x) keys[o++] = row[x / m.scale];
+  }
+  counters_.reads += 1;
+  counters_.pixels += std::uint64_t(rect.area());
+  const double s = secondsSince(start);
+  counters_.seconds += s;
+  m.stats.seconds += s;
+}
+
+}  // namespace logrid::cpu

@@ -1,0 +1,48 @@
+// The AVX2 kernel: eight samples at a time. Compiled with -mavx2 (no FMA, so that it
+// rounds as the scalar kernel does; cpu/CMakeLists.txt) and called only where the CPU
+// reports AVX2.
+#include <immintrin.h>
+
+#include "raster/raster_triangle.hpp"
+
+namespace logrid::cpu::detail {
+namespace {
+
+struct Lanes {
+  static constexpr int kWidth = 8;
+  using F = __m256;
+  using M = __m256;
+  static F set1(float x) { return _mm256_set1_ps(x); }
+  static F iota() { return _mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7); }
+  static F add(F a, F b) { return _mm256_add_ps(a, b); }
+  static F mul(F a, F b) { return _mm256_mul_ps(a, b); }
+  static M gt(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
+  static M le(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_LE_OQ); }
+  static M and_(M a, M b) { return _mm256_and_ps(a, b); }
+  static M or_(M a, M b) { return _mm256_or_ps(a, b); }
+  static M andNot(M a, M b) { return _mm256_andnot_ps(b, a); }
+  static bool any(M m) { return _mm256_movemask_ps(m) != 0; }
+  static F select(M m, F a, F b) { return _mm256_blendv_ps(b, a, m); }
+  static F min(F a, F b) { return _mm256_min_ps(a, b); }
+  static F max(F a, F b) { return _mm256_max_ps(a, b); }
+  static F load(const float* p) { return _mm256_loadu_ps(p); }
+  static void store(float* p, F a) { _mm256_storeu_ps(p, a); }
+  static M inRange(int x, int lo, int hi) {
+    const __m256i lane =
+        _mm256_add_epi32(_mm256_set1_epi32(x), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+    const __m256i ge_lo = _mm256_cmpgt_epi32(lane, _mm256_set1_epi32(lo - 1));
+    const __m256i lt_hi = _mm256_cmpgt_epi32(_mm256_set1_epi32(hi), lane);
+    return _mm256_castsi256_ps(_mm256_and_si256(ge_lo, lt_hi));
+  }
+};
+
+#include "raster/raster_kernel.inl"
+
+}  // namespace
+
+void rasterAvx2(const RasterTriangle* tris, const std::uint32_t* list, std::size_t n,
+                const RasterTarget& target) {
+  rasterTile<Lanes>(tris, list, n, target);
+}
+
+}  // namespace logrid::cpu::detail
