@@ -96,48 +96,94 @@ std::uint32_t OccluderMeshes::addObject(const float* positions, std::size_t vert
     fail(id, "a vertex lies outside the box given for the object");
   }
 
-  // Edges shared by exactly two triangles of this object are neighbours.
+  // Edges shared by two or more triangles of this object form a ring through every use.
   const std::size_t first_index = indices_.size();
   for (std::size_t i = 0; i < index_count; ++i) indices_.push_back(remap[indices[i]]);
   adjacency_.resize(indices_.size(), kNoNeighbour);
-  struct EdgeUse {
-    std::uint32_t first = kNoNeighbour;  // 3 t + k of the first use
-    std::uint32_t count = 0;
-  };
-  std::unordered_map<std::uint64_t, EdgeUse> edges;
-  edges.reserve(index_count);
-  auto edgeKey = [&](std::size_t t, int k, bool& degenerate) {
-    const std::uint32_t a = indices_[t * 3 + std::size_t((k + 1) % 3)];
-    const std::uint32_t b = indices_[t * 3 + std::size_t((k + 2) % 3)];
-    degenerate = a == b;
-    return a < b ? std::uint64_t(a) << 32 | b : std::uint64_t(b) << 32 | a;
-  };
+  std::unordered_map<std::uint64_t, std::uint32_t> last_use;  // edge -> 3 t + k seen last
+  last_use.reserve(index_count);
   const std::size_t t0 = first_index / 3, t1 = indices_.size() / 3;
-  auto degenerateTriangle = [&](std::size_t t) {
+  for (std::size_t t = t0; t < t1; ++t) {
     const std::uint32_t* v = &indices_[t * 3];
-    return v[0] == v[1] || v[1] == v[2] || v[0] == v[2];
-  };
-  for (std::size_t t = t0; t < t1; ++t) {
-    if (degenerateTriangle(t)) continue;
+    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;  // degenerate
     for (int k = 0; k < 3; ++k) {
-      bool degenerate = false;
-      EdgeUse& use = edges[edgeKey(t, k, degenerate)];
-      if (use.count++ == 0) use.first = std::uint32_t(t * 3 + std::size_t(k));
-    }
-  }
-  for (std::size_t t = t0; t < t1; ++t) {
-    if (degenerateTriangle(t)) continue;
-    for (int k = 0; k < 3; ++k) {
-      bool degenerate = false;
-      const EdgeUse& use = edges[edgeKey(t, k, degenerate)];
+      const std::uint32_t a = v[(k + 1) % 3], b = v[(k + 2) % 3];
+      const std::uint64_t key = a < b ? std::uint64_t(a) << 32 | b : std::uint64_t(b) << 32 | a;
       const std::uint32_t self = std::uint32_t(t * 3 + std::size_t(k));
-      if (use.count != 2 || use.first == self) continue;
-      adjacency_[self] = use.first;
-      adjacency_[use.first] = self;
+      const auto [it, inserted] = last_use.emplace(key, self);
+      if (inserted) continue;
+      // Insert `self` into the ring after the previous use.
+      const std::uint32_t previous = it->second;
+      const std::uint32_t next = adjacency_[previous];
+      adjacency_[previous] = self;
+      adjacency_[self] = next == kNoNeighbour ? previous : next;
+      it->second = self;
     }
   }
+  markClosedSurfaces(t0, t1);
   objects_.push_back(o);
   return std::uint32_t(id);
+}
+
+void OccluderMeshes::markClosedSurfaces(std::size_t t0, std::size_t t1) {
+  // Union-find over the triangles joined by well-behaved edges (exactly two uses, in
+  // opposite directions); any other edge, or a degenerate triangle, opens its part.
+  const std::size_t n = t1 - t0;
+  std::vector<std::uint32_t> parent(n);
+  for (std::size_t i = 0; i < n; ++i) parent[i] = std::uint32_t(i);
+  auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  std::vector<std::uint8_t> open(n, 0);
+  for (std::size_t t = t0; t < t1; ++t) {
+    const std::uint32_t* v = &indices_[t * 3];
+    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) {
+      open[t - t0] = 1;
+      continue;
+    }
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t self = std::uint32_t(t * 3 + std::size_t(k));
+      const std::uint32_t other = adjacency_[self];
+      const bool pair = other != kNoNeighbour && adjacency_[other] == self;
+      const std::uint32_t* w = pair ? &indices_[std::size_t(other / 3) * 3] : nullptr;
+      const int ko = int(other % 3);
+      if (!pair || w[(ko + 1) % 3] != v[(k + 2) % 3] || w[(ko + 2) % 3] != v[(k + 1) % 3]) {
+        open[t - t0] = 1;
+        continue;
+      }
+      const std::uint32_t a = find(std::uint32_t(t - t0)), b = find(other / 3 - std::uint32_t(t0));
+      if (a != b) parent[a] = b;
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (open[i]) open[find(std::uint32_t(i))] = 1;
+  }
+  // Which way each closed part is wound: the sign of its volume (sum of the tetrahedra
+  // of its triangles with one of its points), positive when counter-clockwise seen from
+  // outside.
+  std::vector<double> volume(n, 0.0);
+  std::vector<std::uint32_t> apex(n, kNoNeighbour);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t root = find(std::uint32_t(i));
+    if (open[root]) continue;
+    const std::uint32_t* v = &indices_[(t0 + i) * 3];
+    if (apex[root] == kNoNeighbour) apex[root] = v[0];
+    const float* o = &positions_[std::size_t(apex[root]) * 3];
+    double p[3][3];
+    for (int k = 0; k < 3; ++k) {
+      for (int c = 0; c < 3; ++c)
+        p[k][c] = double(positions_[std::size_t(v[k]) * 3 + std::size_t(c)]) - o[c];
+    }
+    volume[root] += p[0][0] * (p[1][1] * p[2][2] - p[1][2] * p[2][1]) -
+                    p[0][1] * (p[1][0] * p[2][2] - p[1][2] * p[2][0]) +
+                    p[0][2] * (p[1][0] * p[2][1] - p[1][1] * p[2][0]);
+  }
+  closed_.resize(t1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t root = find(std::uint32_t(i));
+    closed_[t0 + i] = open[root] || volume[root] == 0 ? 0 : volume[root] > 0 ? 1 : 2;
+  }
 }
 
 void OccluderMeshes::setInsideSolid(std::uint32_t id, std::uint32_t fallback) {
@@ -156,7 +202,7 @@ void OccluderMeshes::setInsideSolid(std::uint32_t id, std::uint32_t fallback) {
 std::size_t OccluderMeshes::memoryBytes() const {
   return positions_.capacity() * sizeof(float) +
          (indices_.capacity() + adjacency_.capacity()) * sizeof(std::uint32_t) +
-         objects_.capacity() * sizeof(OccluderObject);
+         closed_.capacity() + objects_.capacity() * sizeof(OccluderObject);
 }
 
 }  // namespace logrid::cpu

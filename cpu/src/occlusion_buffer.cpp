@@ -95,6 +95,7 @@ bool overlaps(const PixelRect& a, const PixelRect& b) {
 struct OcclusionBuffer::Impl {
   struct Bin {
     std::uint32_t stamp = 0;  // frame whose clear this bin has had
+    float max_key = 0;        // an upper bound of the keys in the bin (after its clear)
     std::vector<std::uint32_t> pending;
   };
   struct PendingObject {
@@ -155,6 +156,13 @@ void OcclusionBuffer::Impl::begin(const Camera& camera) {
   projector.emplace(camera, desc.projection);  // validates the camera
   const Mat4d& m = camera.view_projection;
   for (int i = 0; i < 16; ++i) frame.m[i] = m.m[i];
+  const Mat4d render = multiply(camera.view_projection, translation(camera.render_origin));
+  for (int i = 0; i < 16; ++i) frame.render_abs[i] = std::fabs(render.m[i]);
+  frame.origin[0] = camera.render_origin.x;
+  frame.origin[1] = camera.render_origin.y;
+  frame.origin[2] = camera.render_origin.z;
+  frame.render_k = desc.projection.render_error_ulps * kUnitRoundoff;
+  frame.quantisation = quantisationStep(camera.depth.format) * desc.projection.quantisation_scale;
   frame.half_w = 0.5 * camera.width;
   frame.half_h = 0.5 * camera.height;
   const bool reversed = camera.depth.convention == DepthConvention::Reversed;
@@ -168,10 +176,14 @@ void OcclusionBuffer::Impl::begin(const Camera& camera) {
   scale = std::int32_t(desc.resolution);
   frame.scale = scale;
   frame.radius = 0.5 * (scale - 1);
+  frame.skip_closed_back_faces = !desc.closed_back_faces;
   frame.exact_coverage = desc.unsafe_exact_coverage;
   frame.exact_depth = desc.unsafe_exact_depth;
+  // A vertex snaps by up to one sub-pixel step per axis if the rasteriser truncates
+  // (projection.hpp widens box rectangles by half a step, for rounding).
   const int bits = desc.projection.subpixel_bits;
   snap_half = bits >= 16 ? 0.0 : std::ldexp(0.5, -bits);
+  frame.snap = 2 * snap_half;
 
   width = std::int32_t(camera.width);
   height = std::int32_t(camera.height);
@@ -205,6 +217,7 @@ void OcclusionBuffer::Impl::draw(std::uint32_t id) {
   // A model inside its object holds only while the object lies wholly beyond the near
   // plane (the eye is then outside it and GL does not clip it).
   BoxProjection p = projector->project(meshes.object(id).box);
+  const bool model = meshes.object(id).inside_solid;
   for (int hops = 0; meshes.object(id).inside_solid && p.cls != ProjectionClass::Inside; ++hops) {
     const std::uint32_t fallback = meshes.object(id).fallback;
     if (fallback == kNoOccluder || hops > 8) {
@@ -222,9 +235,12 @@ void OcclusionBuffer::Impl::draw(std::uint32_t id) {
   }
   PendingObject po;
   po.object.occluder = id;
-  po.object.s_x = double(p.widen_x) + snap_half;
-  po.object.s_y = double(p.widen_y) + snap_half;
-  po.object.margin = p.margin;
+  if (model && meshes.object(id).inside_solid) {
+    // GL draws the object's vertices, not the model's: bound them by the object's box.
+    po.object.s_x = double(p.widen_x) + snap_half;
+    po.object.s_y = double(p.widen_y) + snap_half;
+    po.object.margin = p.margin;
+  }
   po.rect = p.rect;
   pending.push_back(po);
 }
@@ -255,6 +271,7 @@ void OcclusionBuffer::Impl::rasterizeBin(std::int32_t bx, std::int32_t by) {
                   clear_key);
     }
     b.stamp = stamp;
+    b.max_key = clear_key;
   }
   if (b.pending.empty()) return;
   detail::RasterTarget target;
@@ -266,7 +283,9 @@ void OcclusionBuffer::Impl::rasterizeBin(std::int32_t bx, std::int32_t by) {
   target.y1 = std::min(y0 + bin, bh);
   target.scale = float(scale);
   target.half = 0.5f * float(scale);
+  target.max_key = b.max_key;
   raster(tris.data(), b.pending.data(), b.pending.size(), target);
+  b.max_key = target.max_key;
   stats.triangles_rasterized += b.pending.size();
   ++stats.tiles_rasterized;
   b.pending.clear();

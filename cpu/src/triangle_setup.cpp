@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace logrid::cpu::detail {
 namespace {
@@ -11,26 +12,150 @@ constexpr double kU = 1.0 / 16777216.0;  // float unit roundoff, 2^-24
 constexpr double kGuardBand = 4194304.0;  // 2^22
 
 struct H {
-  double x, y, w, k;
+  double x, y, w, k;      // homogeneous window x, y, clip w, homogeneous key
+  double sx, sy, sz, sw;  // magnitudes of GL's terms (|.| of a convex combination is at
+                          // most the combination of the |.|s)
 };
 
 H lerp(const H& a, const H& b, double t) {
-  return {a.x + t * (b.x - a.x), a.y + t * (b.y - a.y), a.w + t * (b.w - a.w),
-          a.k + t * (b.k - a.k)};
+  return {a.x + t * (b.x - a.x),    a.y + t * (b.y - a.y),    a.w + t * (b.w - a.w),
+          a.k + t * (b.k - a.k),    a.sx + t * (b.sx - a.sx), a.sy + t * (b.sy - a.sy),
+          a.sz + t * (b.sz - a.sz), a.sw + t * (b.sw - a.sw)};
+}
+
+// The float nearest to v that is not below (above) it.
+float floatUp(double v) {
+  float f = float(v);
+  if (double(f) < v) f = std::nextafter(f, HUGE_VALF);
+  return f;
+}
+float floatDown(double v) {
+  float f = float(v);
+  if (double(f) > v) f = std::nextafter(f, -HUGE_VALF);
+  return f;
 }
 
 }  // namespace
 
+void TriangleSetup::transform(const SetupFrame& f, const float* positions, std::uint32_t count) {
+  vertices_.resize(count);
+  const double depth_scale = std::fabs(f.key_scale);
+  for (std::uint32_t i = 0; i < count; ++i) {
+    const double x = positions[i * 3], y = positions[i * 3 + 1], z = positions[i * 3 + 2];
+    double clip[4], mag[4];
+    const double q[3] = {std::fabs(x - f.origin[0]), std::fabs(y - f.origin[1]),
+                         std::fabs(z - f.origin[2])};
+    for (int r = 0; r < 4; ++r) {
+      clip[r] = f.m[r] * x + f.m[4 + r] * y + f.m[8 + r] * z + f.m[12 + r];
+      mag[r] = f.render_abs[r] * q[0] + f.render_abs[4 + r] * q[1] + f.render_abs[8 + r] * q[2] +
+               f.render_abs[12 + r];
+    }
+    Vertex& v = vertices_[i];
+    v.x = (clip[0] + clip[3]) * f.half_w;
+    v.y = (clip[1] + clip[3]) * f.half_h;
+    v.w = clip[3];
+    v.k = f.key_scale * clip[2] + f.key_offset * clip[3];
+    v.sx = mag[0], v.sy = mag[1], v.sz = mag[2], v.sw = mag[3];
+    // In front of the near plane (key >= near key: K - near_key W >= 0 with W > 0) and
+    // not beyond the far one: then its window position, key and GL's float error there
+    // (projection.hpp: (S + |ndc| S_w) / w per axis, and with the largest key for depth).
+    v.front = v.w > 0 && v.k - f.near_key * v.w >= 0;
+    v.beyond_far = !(f.clear_key * v.w - v.k >= 0);
+    if (v.front) {
+      const double inv_w = 1.0 / v.w;
+      v.wx = v.x * inv_w, v.wy = v.y * inv_w, v.key = v.k * inv_w;
+      v.ex = (v.sx + std::fabs(clip[0] * inv_w) * v.sw) * inv_w * f.half_w;
+      v.ey = (v.sy + std::fabs(clip[1] * inv_w) * v.sw) * inv_w * f.half_h;
+      v.ez = (v.sz + std::fabs(clip[2] * inv_w) * v.sw) * inv_w * depth_scale;
+    }
+  }
+}
+
+bool TriangleSetup::pixelBounds(const SetupFrame& f, double x_min, double x_max, double y_min,
+                                double y_max, Work& t) const {
+  // Claims reach up to the slack (plus the sample spread) outside an edge shared with a
+  // neighbour; beyond that nothing of this triangle is claimed.
+  const double pad = std::max(t.s_x, t.s_y) + f.radius + 1e-3;
+  const double s = f.scale, half = 0.5 * s;
+  t.x0 = std::int32_t(std::max(0.0, std::ceil((x_min - pad - half) / s)));
+  t.y0 = std::int32_t(std::max(0.0, std::ceil((y_min - pad - half) / s)));
+  t.x1 = std::int32_t(std::min(double(f.buffer_w), std::floor((x_max + pad - half) / s) + 1));
+  t.y1 = std::int32_t(std::min(double(f.buffer_h), std::floor((y_max + pad - half) / s) + 1));
+  return t.x0 < t.x1 && t.y0 < t.y1;
+}
+
 bool TriangleSetup::setUp(const SetupFrame& f, const SetupObject& o, const std::uint32_t* corners,
-                          std::uint32_t first_vertex, Work& t) const {
+                          std::uint32_t first_vertex, std::uint8_t closed, Work& t) const {
+  const Vertex* v[3];
+  for (int k = 0; k < 3; ++k) v[k] = &vertices_[corners[k] - first_vertex];
+  t.clipped = !(v[0]->front && v[1]->front && v[2]->front);
+  if (!t.clipped) {
+    // Wholly in front of the near plane: plain window-space set-up.
+    if (v[0]->beyond_far || v[1]->beyond_far || v[2]->beyond_far) return false;
+    const double x_min = std::min({v[0]->wx, v[1]->wx, v[2]->wx});
+    const double x_max = std::max({v[0]->wx, v[1]->wx, v[2]->wx});
+    const double y_min = std::min({v[0]->wy, v[1]->wy, v[2]->wy});
+    const double y_max = std::max({v[0]->wy, v[1]->wy, v[2]->wy});
+    const double mag =
+        std::max({std::fabs(x_min), std::fabs(x_max), std::fabs(y_min), std::fabs(y_max)});
+    if (!(mag < kGuardBand)) return false;
+    // How far GL may move this triangle's vertices: snapping, the float error of the
+    // transform, and that of clipping (GL's new vertices, its guard band) at these
+    // magnitudes; never less than the object's floor. Likewise the depth margin.
+    t.s_x = std::max(
+        o.s_x, f.snap + f.render_k * std::max({v[0]->ex, v[1]->ex, v[2]->ex}) + 16 * kU * mag);
+    t.s_y = std::max(
+        o.s_y, f.snap + f.render_k * std::max({v[0]->ey, v[1]->ey, v[2]->ey}) + 16 * kU * mag);
+    if (!pixelBounds(f, x_min, x_max, y_min, y_max, t)) return false;
+    const double area = (v[1]->wx - v[0]->wx) * (v[2]->wy - v[0]->wy) -
+                        (v[2]->wx - v[0]->wx) * (v[1]->wy - v[0]->wy);
+    if (!(area != 0) || !std::isfinite(area)) return false;
+    // A closed surface's triangles that face the eye (counter-clockwise for a surface
+    // wound so from outside) cover all it covers.
+    if (closed != 0 && f.skip_closed_back_faces && (area < 0) == (closed == 1)) return false;
+    const double key_max = std::max({v[0]->key, v[1]->key, v[2]->key});
+    t.key_min = std::min({v[0]->key, v[1]->key, v[2]->key});
+    t.margin =
+        std::max(o.margin, f.quantisation +
+                               f.render_k * (std::max({v[0]->ez, v[1]->ez, v[2]->ez}) +
+                                             std::max(std::fabs(t.key_min), std::fabs(key_max))));
+    // Edge k runs from corner k+1 to corner k+2: E = a (x - x1) + b (y - y1), positive
+    // inside once oriented counter-clockwise. Two triangles on the same two vertices in
+    // opposite order get exactly opposite a and b.
+    const double sign = area > 0 ? 1.0 : -1.0;
+    for (int k = 0; k < 3; ++k) {
+      const Vertex& p = *v[(k + 1) % 3];
+      const Vertex& q = *v[(k + 2) % 3];
+      const double a = p.wy - q.wy, b = q.wx - p.wx;
+      const double n = std::fabs(a) + std::fabs(b);
+      if (!(n > 0)) return false;
+      t.a[k] = sign * a / n;
+      t.b[k] = sign * b / n;
+      t.c[k] = -(t.a[k] * p.wx + t.b[k] * p.wy);
+    }
+    const double inv = 1.0 / area;
+    const double dk1 = v[1]->key - v[0]->key, dk2 = v[2]->key - v[0]->key;
+    t.za = (dk1 * (v[2]->wy - v[0]->wy) - dk2 * (v[1]->wy - v[0]->wy)) * inv;
+    t.zb = ((v[1]->wx - v[0]->wx) * dk2 - (v[2]->wx - v[0]->wx) * dk1) * inv;
+    t.zc = v[0]->key - t.za * v[0]->wx - t.zb * v[0]->wy;
+    if (!std::isfinite(t.za) || !std::isfinite(t.zb) || !std::isfinite(t.zc)) return false;
+    t.a[3] = 0, t.b[3] = 0, t.c[3] = 1;
+    finish(f, t);
+    return true;
+  }
+  return setUpClipped(f, o, v, t);
+}
+
+bool TriangleSetup::setUpClipped(const SetupFrame& f, const SetupObject& o, const Vertex* const* vp,
+                                 Work& t) const {
   H v[3];
   for (int k = 0; k < 3; ++k) {
-    const Vertex& p = vertices_[corners[k] - first_vertex];
-    v[k] = {p.x, p.y, p.w, p.k};
+    const Vertex& p = *vp[k];
+    v[k] = {p.x, p.y, p.w, p.k, p.sx, p.sy, p.sz, p.sw};
   }
-  // Near plane: key >= near key, i.e. K - near_key W >= 0 in homogeneous form. A
-  // triangle that crosses it is clipped by GL; its coverage is the triangle's region
-  // (edge functions in homogeneous form need no clipping) cut by the clip line.
+  // Crossing the near plane (K - near_key W >= 0 in homogeneous form): GL clips it. Its
+  // coverage is the triangle's region (edge functions in homogeneous form need no
+  // clipping) cut by the clip line, an edge of its own.
   double d_near[3];
   int behind = 0;
   for (int k = 0; k < 3; ++k) {
@@ -38,9 +163,8 @@ bool TriangleSetup::setUp(const SetupFrame& f, const SetupObject& o, const std::
     if (!(d_near[k] >= 0)) ++behind;
   }
   if (behind == 3) return false;
-  t.clipped = behind > 0;
 
-  // The visible polygon (for its pixel bounds and magnitudes).
+  // The visible polygon (for its pixel bounds, magnitudes and GL's errors at its corners).
   H poly[4];
   int count = 0;
   for (int k = 0; k < 3; ++k) {
@@ -51,16 +175,31 @@ bool TriangleSetup::setUp(const SetupFrame& f, const SetupObject& o, const std::
     }
   }
   double x_min = HUGE_VAL, x_max = -HUGE_VAL, y_min = HUGE_VAL, y_max = -HUGE_VAL, mag = 0;
+  double err_x = 0, err_y = 0, err_z = 0, key_mag = 0;
+  t.key_min = HUGE_VAL;
+  const double depth_scale = std::fabs(f.key_scale);
   for (int i = 0; i < count; ++i) {
     const H& p = poly[i];
     // Beyond the far plane (GL clips it) or not in front of the eye: leave it out.
     if (!(p.w > 0) || !(f.clear_key * p.w - p.k >= 0)) return false;
-    const double x = p.x / p.w, y = p.y / p.w;
+    const double inv_w = 1.0 / p.w;
+    const double x = p.x * inv_w, y = p.y * inv_w, key = p.k * inv_w;
     x_min = std::min(x_min, x), x_max = std::max(x_max, x);
     y_min = std::min(y_min, y), y_max = std::max(y_max, y);
     mag = std::max({mag, std::fabs(x), std::fabs(y)});
+    const double xn = x / f.half_w - 1.0, yn = y / f.half_h - 1.0;
+    const double zn = (key - f.key_offset) / f.key_scale;
+    err_x = std::max(err_x, (p.sx + std::fabs(xn) * p.sw) * inv_w * f.half_w);
+    err_y = std::max(err_y, (p.sy + std::fabs(yn) * p.sw) * inv_w * f.half_h);
+    err_z = std::max(err_z, (p.sz + std::fabs(zn) * p.sw) * inv_w * depth_scale);
+    key_mag = std::max(key_mag, std::fabs(key));
+    t.key_min = std::min(t.key_min, key);
   }
   if (!(mag < kGuardBand)) return false;
+  t.s_x = std::max(o.s_x, f.snap + f.render_k * err_x + 16 * kU * mag);
+  t.s_y = std::max(o.s_y, f.snap + f.render_k * err_y + 16 * kU * mag);
+  t.margin = std::max(o.margin, f.quantisation + f.render_k * (err_z + key_mag));
+  if (!pixelBounds(f, x_min, x_max, y_min, y_max, t)) return false;
 
   // Edge k = v[k+1] x v[k+2]: E_k(p) = det[v_k+1; v_k+2; (px, py, 1)], and
   // E_k = beta_k det / W(P) for the point P of the triangle seen at p, so the inside is
@@ -87,33 +226,19 @@ bool TriangleSetup::setUp(const SetupFrame& f, const SetupObject& o, const std::
     t.b[k] = sign * b[k] / n;
     t.c[k] = sign * c[k] / n;
   }
-  if (t.clipped) {
-    const double n = std::fabs(t.za) + std::fabs(t.zb);
-    if (!(n > 0)) return false;
-    t.a[3] = t.za / n;
-    t.b[3] = t.zb / n;
-    t.c[3] = (t.zc - f.near_key) / n;
-  } else {
-    t.a[3] = 0, t.b[3] = 0, t.c[3] = 1;
-  }
+  const double n = std::fabs(t.za) + std::fabs(t.zb);
+  if (!(n > 0)) return false;
+  t.a[3] = t.za / n;
+  t.b[3] = t.zb / n;
+  t.c[3] = (t.zc - f.near_key) / n;
+  finish(f, t);
+  return true;
+}
 
-  // How far GL may move this triangle's vertices: the object's bound, plus the float
-  // error of clipping (GL's new vertices, its guard band) at these magnitudes.
-  t.s_x = o.s_x + 16 * kU * mag;
-  t.s_y = o.s_y + 16 * kU * mag;
-  const double r = f.radius;
-  // Claims reach up to the slack (plus the sample spread) outside an edge shared with a
-  // neighbour; beyond that nothing of this triangle is claimed.
-  const double pad = std::max(t.s_x, t.s_y) + r + 1e-3;
-  const double s = f.scale, half = 0.5 * s;
-  t.x0 = std::int32_t(std::max(0.0, std::ceil((x_min - pad - half) / s)));
-  t.y0 = std::int32_t(std::max(0.0, std::ceil((y_min - pad - half) / s)));
-  t.x1 = std::int32_t(std::min(double(f.buffer_w), std::floor((x_max + pad - half) / s) + 1));
-  t.y1 = std::int32_t(std::min(double(f.buffer_h), std::floor((y_max + pad - half) / s) + 1));
-  if (t.x0 >= t.x1 || t.y0 >= t.y1) return false;
-
+void TriangleSetup::finish(const SetupFrame& f, Work& t) const {
   // Reference point and the float error of evaluating planes relative to it: three
   // roundings of terms each at most the extent or the value at the reference.
+  const double s = f.scale, r = f.radius;
   t.rx = double(t.x0) * s;
   t.ry = double(t.y0) * s;
   const double dx = double(t.x1 - t.x0) * s + s, dy = double(t.y1 - t.y0) * s + s;
@@ -126,37 +251,32 @@ bool TriangleSetup::setUp(const SetupFrame& f, const SetupObject& o, const std::
   }
   if (!t.clipped) t.slack[3] = 0, t.err[3] = 0;
   t.zc = t.za * t.rx + t.zb * t.ry + t.zc;
-  return true;
 }
 
 std::size_t TriangleSetup::run(const SetupFrame& f, const OccluderMeshes& meshes,
                                const SetupObject& o, std::vector<RasterTriangle>& out) {
   const OccluderObject& obj = meshes.object(o.occluder);
-  vertices_.resize(obj.vertex_count);
-  const float* positions = meshes.positions().data() + std::size_t(obj.first_vertex) * 3;
-  for (std::uint32_t i = 0; i < obj.vertex_count; ++i) {
-    const double x = positions[i * 3], y = positions[i * 3 + 1], z = positions[i * 3 + 2];
-    double clip[4];
-    for (int r = 0; r < 4; ++r)
-      clip[r] = f.m[r] * x + f.m[4 + r] * y + f.m[8 + r] * z + f.m[12 + r];
-    vertices_[i] = {(clip[0] + clip[3]) * f.half_w, (clip[1] + clip[3]) * f.half_h, clip[3],
-                    f.key_scale * clip[2] + f.key_offset * clip[3]};
-  }
+  transform(f, meshes.positions().data() + std::size_t(obj.first_vertex) * 3, obj.vertex_count);
 
   work_.resize(obj.triangle_count);
   const std::uint32_t* indices = meshes.indices().data() + std::size_t(obj.first_triangle) * 3;
+  const std::uint8_t* closed = meshes.closed().data() + obj.first_triangle;
   std::uint32_t next = std::uint32_t(out.size());
   for (std::uint32_t t = 0; t < obj.triangle_count; ++t) {
     Work& w = work_[t];
-    w.out = setUp(f, o, indices + std::size_t(t) * 3, obj.first_vertex, w) ? next++ : kNoNeighbour;
+    w.out = setUp(f, o, indices + std::size_t(t) * 3, obj.first_vertex, closed[t], w)
+                ? next++
+                : kNoNeighbour;
   }
 
-  const std::uint32_t* adjacency = meshes.adjacency().data() + std::size_t(obj.first_triangle) * 3;
+  const std::uint32_t* adjacency = meshes.adjacency().data();
   const double r = f.radius;
+  out.resize(next);
   for (std::uint32_t t = 0; t < obj.triangle_count; ++t) {
     const Work& w = work_[t];
     if (w.out == kNoNeighbour) continue;
-    RasterTriangle rt;
+    RasterTriangle& rt = out[w.out];
+    rt = RasterTriangle{};
     rt.rx = float(w.rx);
     rt.ry = float(w.ry);
     const double g = std::fabs(w.za) + std::fabs(w.zb);
@@ -165,50 +285,58 @@ std::size_t TriangleSetup::run(const SetupFrame& f, const OccluderMeshes& meshes
                           std::fabs(w.zb) * (w.y1 - w.y0 + 1) * f.scale + std::fabs(w.zc));
     for (int k = 0; k < kTriangleEdges; ++k) {
       rt.ea[k] = float(w.a[k]);
+      rt.inv_ea[k] = rt.ea[k] != 0 ? 1.0f / rt.ea[k] : 0.0f;
       rt.eb[k] = float(w.b[k]);
       rt.ec[k] = float(w.c[k]);
       rt.hi[k] = float(w.slack[k] + w.err[k]);
       rt.lo[k] = f.exact_coverage ? -1e-30f : rt.hi[k];
     }
     for (int k = 0; k < 3 && !f.exact_coverage; ++k) {
-      const std::uint32_t nb = adjacency[t * 3 + std::uint32_t(k)];
-      if (nb == kNoNeighbour) continue;
-      const std::uint32_t t2 = nb / 3 - obj.first_triangle;
-      const int k2 = int(nb % 3);
-      const Work& n = work_[t2];
-      // Neighbours on opposite sides of the shared edge have exactly opposite normalised
-      // edge functions (the same cross product, negated); the same side is a fold.
-      if (n.out == kNoNeighbour || n.a[k2] != -w.a[k] || n.b[k2] != -w.b[k]) continue;
+      // A neighbour across edge k: a usable triangle on the edge whose normalised edge
+      // function is exactly the opposite of this one's (the same two window points in
+      // the other order), i.e. it lies on the other side on screen; one on the same
+      // side is a fold. Where more than two triangles share the edge, any such one will do.
+      const std::uint32_t self = (obj.first_triangle + t) * 3 + std::uint32_t(k);
+      const Work* n = nullptr;
+      int k2 = 0;
+      for (std::uint32_t e = adjacency[self]; e != kNoNeighbour && e != self; e = adjacency[e]) {
+        const Work& cand = work_[e / 3 - obj.first_triangle];
+        const int ke = int(e % 3);
+        if (cand.out != kNoNeighbour && cand.a[ke] == -w.a[k] && cand.b[ke] == -w.b[k]) {
+          n = &cand;
+          k2 = ke;
+          break;
+        }
+      }
+      if (!n) continue;
       rt.interior |= std::uint8_t(1u << k);
-      rt.nb[k] = n.out;
+      rt.nb[k] = n->out;
       rt.nb_edge[k] = std::uint8_t(k2);
       rt.lo[k] = float(-w.slack[k]);
       if (!f.exact_depth) {
         // The neighbour's plane exceeds this one's by at most (g + g_n) times the
         // distance from the edge (at most the slack, the sample spread, and rounding),
         // and the neighbour's vertices move too.
-        const double gn = std::fabs(n.za) + std::fabs(n.zb);
+        const double gn = std::fabs(n->za) + std::fabs(n->zb);
         const double distance = std::max(w.s_x, w.s_y) + 2 * r + w.err[k] + 1e-6;
         const double n_err = 8 * kU *
-                             (std::fabs(n.za) * (n.x1 - n.x0 + 1) * f.scale +
-                              std::fabs(n.zb) * (n.y1 - n.y0 + 1) * f.scale + std::fabs(n.zc));
-        rt.band_key[k] =
-            float((g + gn) * distance + std::fabs(n.za) * n.s_x + std::fabs(n.zb) * n.s_y + n_err) *
-            (1 + 4 * float(kU));
+                             (std::fabs(n->za) * (n->x1 - n->x0 + 1) * f.scale +
+                              std::fabs(n->zb) * (n->y1 - n->y0 + 1) * f.scale + std::fabs(n->zc));
+        rt.band_key[k] = floatUp(
+            ((g + gn) * distance + std::fabs(n->za) * n->s_x + std::fabs(n->zb) * n->s_y + n_err) *
+            (1 + 4 * kU));
       }
     }
     rt.za = float(w.za);
     rt.zb = float(w.zb);
     double own = std::fabs(w.za) * r + std::fabs(w.zb) * r;  // the samples' spread
-    if (!f.exact_depth) own += std::fabs(w.za) * w.s_x + std::fabs(w.zb) * w.s_y + o.margin + z_err;
-    // Rounded up, so that the float bound is never below the double one.
-    const double bound = w.zc + own;
-    float zc = float(bound);
-    if (double(zc) < bound) zc = std::nextafter(zc, HUGE_VALF);
-    rt.zc = zc;
-    (void)g;
+    if (!f.exact_depth) own += std::fabs(w.za) * w.s_x + std::fabs(w.zb) * w.s_y + w.margin + z_err;
+    rt.zc = floatUp(w.zc + own);  // never below the double bound
+    // Every claimed sample lies within the slack and the spread of the triangle, where
+    // the plane is at least its nearest vertex's key less the gradient over that reach.
+    const double reach = std::max(w.s_x, w.s_y) + r + 1e-3;
+    rt.zmin = floatDown(w.key_min - g * reach - z_err);
     rt.x0 = w.x0, rt.y0 = w.y0, rt.x1 = w.x1, rt.y1 = w.y1;
-    out.push_back(rt);
   }
   return obj.triangle_count;
 }

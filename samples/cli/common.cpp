@@ -36,7 +36,15 @@ void addWalkthroughOptions(CLI::App& app, WalkOptions& o) {
 
 void addViewOptions(CLI::App& app, WalkOptions& o) {
   app.add_option("--tile", o.tile, "tile size in pixels");
-  app.add_option("--reader", o.reader, "depth source: readpixels, pbo, query or software");
+  app.add_option("--reader", o.reader, "depth source: readpixels, pbo, query, software or cpu");
+  app.add_option("--cpu-resolution", o.cpu_resolution,
+                 "--reader cpu: buffer resolution full, half or quarter");
+  app.add_option("--occluders", o.occluders,
+                 "--reader cpu: what it rasterises per drawn object: mesh (its triangles) or "
+                 "model (the scene's simpler occluder where it has one)");
+  app.add_option("--cpu-threads", o.cpu_threads, "--reader cpu: worker threads (0: none)")
+      ->check(CLI::Range(0, 64));
+  app.add_option("--cpu-isa", o.cpu_isa, "--reader cpu: kernel auto, scalar, sse4.1 or avx2");
   app.add_option("--depth-format", o.depth_format, "depth buffer: 16, 24 or 32f");
   app.add_option("--depth-convention", o.depth_convention, "standard or reversed");
   app.add_option("--near", o.near_plane, "near plane (default: the scene's)");
@@ -149,10 +157,30 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
   c.method = *method;
   const auto reader = parseReader(o.reader);
   if (!reader) {
-    throw Error(ErrorCode::InvalidArgument,
-                "reader '" + o.reader + "' is unknown; use readpixels, pbo, query or software");
+    throw Error(
+        ErrorCode::InvalidArgument,
+        "reader '" + o.reader + "' is unknown; use readpixels, pbo, query, software or cpu");
   }
   c.reader = *reader;
+  if (!cpu::parseResolution(o.cpu_resolution, c.cpu.resolution)) {
+    throw Error(ErrorCode::InvalidArgument, "CPU buffer resolution '" + o.cpu_resolution +
+                                                "' is unknown; use full, half or quarter");
+  }
+  const auto occluders = parseOccluderChoice(o.occluders);
+  if (!occluders) {
+    throw Error(ErrorCode::InvalidArgument,
+                "occluders '" + o.occluders + "' is unknown; use mesh or model");
+  }
+  c.cpu.occluders = *occluders;
+  c.cpu.threads = o.cpu_threads;
+  if (!cpu::parseIsa(o.cpu_isa, c.cpu.isa)) {
+    throw Error(ErrorCode::InvalidArgument,
+                "CPU kernel '" + o.cpu_isa + "' is unknown; use auto, scalar, sse4.1 or avx2");
+  }
+  if (!cpu::isaSupported(c.cpu.isa)) {
+    throw Error(ErrorCode::InvalidArgument,
+                "this CPU does not run the " + o.cpu_isa + " kernel; use --cpu-isa auto or scalar");
+  }
   c.culler.tile_size = o.tile;
   if (o.tile < 1)
     throw Error(ErrorCode::InvalidArgument, "tile size 0 is invalid; use 1 pixel or more");

@@ -24,6 +24,10 @@ struct WalkOptions {
   std::string size = "640x480";
   std::uint32_t tile = 32;
   std::string reader = "readpixels";
+  std::string cpu_resolution = "full";  // --reader cpu: full, half or quarter
+  std::string occluders = "mesh";       // --reader cpu: mesh or model
+  std::uint32_t cpu_threads = 0;        // --reader cpu: worker threads
+  std::string cpu_isa = "auto";         // --reader cpu: auto, scalar, sse4.1 or avx2
   std::string depth_format = "32f";
   std::string depth_convention = "standard";
   double near_plane = 0;  // 0: the scene's

@@ -21,12 +21,13 @@ const char* toString(Reader reader) {
     case Reader::Pbo: return "pbo";
     case Reader::Query: return "query";
     case Reader::Software: return "software";
+    case Reader::Cpu: return "cpu";
   }
   return "?";
 }
 
 std::optional<Reader> parseReader(const std::string& name) {
-  for (Reader r : {Reader::ReadPixels, Reader::Pbo, Reader::Query, Reader::Software}) {
+  for (Reader r : {Reader::ReadPixels, Reader::Pbo, Reader::Query, Reader::Software, Reader::Cpu}) {
     if (name == toString(r)) return r;
   }
   return std::nullopt;
@@ -102,6 +103,9 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
       case Reader::Software:
         software_ =
             std::make_unique<cpu::SoftwareDepthBuffer>(fb.width, fb.height, fb.depth.convention);
+        break;
+      case Reader::Cpu:
+        cpu_reader_ = std::make_unique<CpuReader>(scene, config.cpu, desc.projection);
         break;
     }
     if (config.reader == Reader::Query && desc.method == Method::Hzb) {
@@ -222,6 +226,13 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
       draw(id);
       rasterizeObject(id, raster);
     });
+  } else if (cpu_reader_) {
+    cpu::OcclusionBuffer& buffer = cpu_reader_->buffer();
+    rec.stats = culler_->cullFrame(camera, scene_.hierarchy, buffer, [&](ObjectId id) {
+      draw(id);
+      buffer.drawObject(id);  // its depth is in GL's buffer now
+    });
+    rec.cpu = cpu_reader_->takeFrameStats();
   } else {
     rec.stats = culler_->cullFrame(camera, scene_.hierarchy, *source_, draw);
   }

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/cpu_reader.hpp"
 #include "logrid/cpu/software_depth.hpp"
 #include "logrid/cpu/software_rasterizer.hpp"
 #include "logrid/culler.hpp"
@@ -21,7 +22,7 @@
 
 namespace logrid::samples {
 
-enum class Reader : std::uint8_t { ReadPixels, Pbo, Query, Software };
+enum class Reader : std::uint8_t { ReadPixels, Pbo, Query, Software, Cpu };
 const char* toString(Reader reader);
 std::optional<Reader> parseReader(const std::string& name);
 
@@ -37,6 +38,7 @@ struct RunConfig {
   MethodChoice method{Method::LogState};
   CullerDesc culler;  // method is taken from `method`
   Reader reader = Reader::ReadPixels;
+  CpuReaderOptions cpu;  // for Reader::Cpu
   ViewSettings view;
   std::size_t frames = 100;  // frames spread over the whole path
   bool verify = false;       // object-ID check after each frame
@@ -54,6 +56,7 @@ struct FrameRecord {
   std::int64_t artifacts = -1;         // objects shown only through depth-extrapolated fragments
   std::int64_t missed_artifacts = -1;  // of those, not drawn (reported apart, see OracleFrame)
   std::vector<ObjectId> missed_ids;    // the first few
+  std::optional<CpuFrameStats> cpu;    // with Reader::Cpu
 };
 
 // The visible set of each frame found by the ID pass, shared by runners that render
@@ -103,6 +106,7 @@ class FrameRunner {
   std::unique_ptr<gl::Framebuffer> framebuffer_;
   std::unique_ptr<DepthSource> source_;
   std::unique_ptr<cpu::SoftwareDepthBuffer> software_;
+  std::unique_ptr<CpuReader> cpu_reader_;
   std::unique_ptr<Culler> culler_;
   std::unique_ptr<Culler> vfc_;  // for the ID pass
   struct Observer;

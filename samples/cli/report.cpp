@@ -27,6 +27,16 @@ nlohmann::json frameJson(const FrameRecord& r) {
                       {"cull_ms", s.seconds * 1e3},
                       {"order_fallbacks", s.order_fallbacks},
                       {"invalid_boxes", s.invalid_boxes}};
+  if (r.cpu) {
+    j["cpu"] = {{"ms", r.cpu->ms},
+                {"wait_ms", r.cpu->wait_ms},
+                {"worker_ms", r.cpu->worker_ms},
+                {"objects_set_up", r.cpu->objects},
+                {"triangles_set_up", r.cpu->triangles},
+                {"tile_triangles", r.cpu->tile_triangles},
+                {"tiles", r.cpu->tiles},
+                {"fallbacks", r.cpu->fallbacks}};
+  }
   if (r.visible >= 0) {
     j["visible_objects"] = r.visible;
     j["missed_visible_objects"] = r.missed;
@@ -64,7 +74,8 @@ double median(std::vector<double> v) {
 nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConfig& config,
                           bool per_frame) {
   double ms = 0, objects = 0, triangles = 0, pixels = 0, tiles = 0, boxes = 0, read_ms = 0,
-         reads = 0, queries = 0;
+         reads = 0, queries = 0, flushes = 0;
+  CpuFrameStats cpu;  // sums
   std::int64_t visible = 0, missed = 0, artifacts = 0, missed_artifacts = 0;
   bool verified = false;
   std::vector<double> times;
@@ -79,6 +90,17 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
     read_ms += r.stats.read_seconds * 1e3;
     reads += double(r.stats.reads);
     queries += double(r.stats.queries);
+    flushes += double(r.stats.flushes);
+    if (r.cpu) {
+      cpu.ms += r.cpu->ms;
+      cpu.wait_ms += r.cpu->wait_ms;
+      cpu.worker_ms += r.cpu->worker_ms;
+      cpu.objects += r.cpu->objects;
+      cpu.triangles += r.cpu->triangles;
+      cpu.tile_triangles += r.cpu->tile_triangles;
+      cpu.tiles += r.cpu->tiles;
+      cpu.fallbacks += r.cpu->fallbacks;
+    }
     if (r.visible >= 0) {
       verified = true;
       visible += r.visible;
@@ -106,9 +128,24 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
                       {"avg_read_pixels", pixels / n},
                       {"avg_reads", reads / n},
                       {"avg_queries", queries / n},
+                      {"avg_flushes", flushes / n},
                       {"avg_read_ms", read_ms / n},
                       {"read_share", ms > 0 ? read_ms / ms : 0.0},
                       {"avg_tiles_per_box", boxes > 0 ? tiles / boxes : 0.0}};
+  if (config.reader == Reader::Cpu && config.method.method) {
+    j["cpu"] = {{"resolution", cpu::toString(config.cpu.resolution)},
+                {"occluders", toString(config.cpu.occluders)},
+                {"threads", config.cpu.threads},
+                {"isa", cpu::toString(config.cpu.isa)},
+                {"avg_ms", cpu.ms / n},
+                {"avg_wait_ms", cpu.wait_ms / n},
+                {"avg_worker_ms", cpu.worker_ms / n},
+                {"avg_objects_set_up", double(cpu.objects) / n},
+                {"avg_triangles_set_up", double(cpu.triangles) / n},
+                {"avg_tile_triangles", double(cpu.tile_triangles) / n},
+                {"avg_tiles", double(cpu.tiles) / n},
+                {"avg_fallbacks", double(cpu.fallbacks) / n}};
+  }
   const GridApproximation& a = config.culler.approximation;
   j["conservative"] = a.exact();
   if (!a.exact()) {

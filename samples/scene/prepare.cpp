@@ -162,6 +162,7 @@ PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args) {
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
       builder.addObject(IotaRange{spans[i].first, spans[i].second}, scene.objects[i].color);
     }
+    out.occluder_models = std::move(scene.occluder_models);
   }
   // Release the source geometry before computing the per-object boxes from the mesh.
   scene.positions = {};

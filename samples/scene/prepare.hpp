@@ -6,12 +6,17 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "logrid/bvh.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
 #include "scene/scene.hpp"
+
+namespace logrid::cpu {
+class OccluderMeshes;
+}
 
 namespace logrid::samples {
 
@@ -26,6 +31,10 @@ struct PreparedScene {
   bvh::FlatHierarchy hierarchy;
   gl::RenderMesh mesh;
   std::vector<Aabb> object_boxes;  // local, indexed by ObjectId
+  // Occluder models by ObjectId (Scene::occluder_models), empty when the scene has none.
+  std::vector<OccluderModel> occluder_models;
+  // The CPU occlusion buffer's meshes, built on first use (scene/occluders.hpp).
+  mutable std::shared_ptr<const cpu::OccluderMeshes> occluder_cache[2];
 
   std::uint64_t triangles = 0;
   std::uint64_t source_objects = 0;  // objects before splitting (0 for split scenes)

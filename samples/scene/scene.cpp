@@ -66,8 +66,15 @@ void validateScene(const Scene& scene) {
     fail("has " + std::to_string(scene.vertex_colors.size()) + " vertex colours for " +
          std::to_string(vertices) + " vertices");
   }
-  if (scene.split_by_triangles) return;
+  if (scene.split_by_triangles) {
+    if (!scene.occluder_models.empty()) fail("occluder models need objects, not triangle chunks");
+    return;
+  }
   if (scene.objects.empty()) fail("has no objects");
+  if (!scene.occluder_models.empty() && scene.occluder_models.size() != scene.objects.size()) {
+    fail("has " + std::to_string(scene.occluder_models.size()) + " occluder models for " +
+         std::to_string(scene.objects.size()) + " objects");
+  }
   for (std::size_t o = 0; o < scene.objects.size(); ++o) {
     const SceneObject& obj = scene.objects[o];
     if (obj.index_count == 0 || obj.index_count % 3 != 0 ||

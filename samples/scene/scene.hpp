@@ -23,6 +23,16 @@ struct SceneObject {
   Aabb box;                           // local coordinates, contains every vertex used
 };
 
+// A simpler occluder for one object, for the CPU occlusion buffer (logrid/cpu/
+// occluder_mesh.hpp, OccluderObject::inside_solid): triangles of the object as they are,
+// and triangles that lie inside closed convex solids formed by the object's own
+// triangles (e.g. the convex hull of some of a convex crown's vertices). Positions are
+// bit-identical copies of the object's where they are its vertices.
+struct OccluderModel {
+  std::vector<float> positions;  // xyz, local coordinates
+  std::vector<std::uint32_t> indices;
+};
+
 struct Scene {
   std::string name;
   DVec3 origin;                        // world position of the local origin
@@ -36,6 +46,8 @@ struct Scene {
   // hierarchy's leaf chunks of at most BuildArgs::max_leaf_size triangles.
   std::vector<SceneObject> objects;
   bool split_by_triangles = false;
+  // Optional occluder models, one per object (an empty model: none); object scenes only.
+  std::vector<OccluderModel> occluder_models;
   Aabb bounds;      // local, of all positions
   CameraPath path;  // the default walkthrough
   // Suggested clip planes for the walkthrough (world units).

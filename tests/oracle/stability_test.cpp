@@ -15,6 +15,7 @@
 #include <set>
 
 #include "logrid/bvh.hpp"
+#include "logrid/cpu/occlusion_buffer.hpp"
 #include "logrid/cpu/software_rasterizer.hpp"
 #include "logrid/error.hpp"
 #include "logrid/gl/framebuffer.hpp"
@@ -600,6 +601,8 @@ CulledFrame culledFrame(const BoxScene& scene, gl::Framebuffer& fb, gl::MeshRend
   std::unique_ptr<DepthSource> source;
   std::unique_ptr<cpu::SoftwareDepthBuffer> software;
   std::unique_ptr<cpu::SoftwareRasterizer> raster;
+  cpu::OccluderMeshes occluders;
+  std::unique_ptr<cpu::OcclusionBuffer> occlusion;
   switch (reader) {
     case Reader::ReadPixels: source = std::make_unique<zread::ReadPixelsSource>(fb.handle()); break;
     case Reader::Pbo: source = std::make_unique<zread::PboSource>(fb.handle()); break;
@@ -611,13 +614,24 @@ CulledFrame culledFrame(const BoxScene& scene, gl::Framebuffer& fb, gl::MeshRend
       raster =
           std::make_unique<cpu::SoftwareRasterizer>(cam, *software, nullptr, cpu::Coverage::Inner);
       break;
+    case Reader::Cpu:
+      for (const Aabb& box : scene.boxes) {
+        std::vector<float> p;
+        std::vector<std::uint32_t> idx;
+        cpu::appendBox(box, p, idx);
+        occluders.addObject(p.data(), p.size() / 3, idx.data(), idx.size());
+      }
+      occlusion = std::make_unique<cpu::OcclusionBuffer>(occluders);
+      break;
   }
+  DepthSource& depth = software ? *software : occlusion ? *occlusion : *source;
   const float clear[4] = {0, 0, 0, 1};
   fb.bind();
   fb.clear(clear);
   renderer.begin(gl::Pass::Shaded, cam);
-  out.stats = culler.cullFrame(cam, hierarchy, software ? *software : *source, [&](ObjectId id) {
+  out.stats = culler.cullFrame(cam, hierarchy, depth, [&](ObjectId id) {
     renderer.draw(id);
+    if (occlusion) occlusion->drawObject(id);
     if (raster) {
       std::vector<float> p;
       std::vector<std::uint32_t> idx;
@@ -662,7 +676,8 @@ TEST_P(BoxEdgeCases, EveryMethodAndSourceDrawsEveryVisibleBox) {
       ASSERT_FALSE(visible.count(id)) << "test set-up: \"" << scene.names[id] << "\" is visible";
     }
     for (Method method : kConservative) {
-      for (Reader reader : {Reader::Software, Reader::ReadPixels, Reader::Pbo, Reader::Query}) {
+      for (Reader reader :
+           {Reader::Software, Reader::ReadPixels, Reader::Pbo, Reader::Query, Reader::Cpu}) {
         if (method == Method::Hzb && reader == Reader::Query) continue;
         for (std::uint32_t tile : {1u, 7u, 32u, 200u}) {  // 200: larger than the viewport
           const CulledFrame f =

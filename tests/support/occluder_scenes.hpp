@@ -146,6 +146,8 @@ inline std::vector<TestMesh> randomScene(std::uint32_t seed) {
   out.push_back(seamedWall(p(rng) - 2, p(rng) - 2, p(rng), 4, 5));
   out.push_back(sliverFan(p(rng), p(rng), p(rng), 3, 12));
   out.push_back(soup(seed, 12, 4));
+  // A wide ground that reaches behind the eye of most cameras (crossing the near plane).
+  out.push_back(heightField(-40, -40, 80, 12, -4 + p(rng) * 0.5, 0.6, seed + 1));
   return out;
 }
 

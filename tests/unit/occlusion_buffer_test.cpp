@@ -61,18 +61,25 @@ TEST(OccluderMeshesTest, WeldsBitIdenticalPositionsAndFindsSharedEdges) {
   }
 }
 
-TEST(OccluderMeshesTest, ClosedMeshesShareEveryEdgeAndFinsShareNone) {
+TEST(OccluderMeshesTest, ClosedMeshesShareEveryEdgeAndFinsFormARing) {
   const TestMesh s = test::sphere(0, 0, 0, 1, 1, 1, 8, 5);
   OccluderMeshes m;
   m.addObject(s.positions.data(), s.positions.size() / 3, s.indices.data(), s.indices.size());
   for (std::uint32_t a : m.adjacency()) EXPECT_NE(a, cpu::kNoNeighbour);
-  // Three triangles on one edge (a fin): none of them are neighbours there.
+  // Three triangles on one edge (a fin): their edges on it form a ring of three; the
+  // other edges belong to one triangle each.
   const float p[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1};
   const std::uint32_t idx[] = {0, 1, 2, 0, 1, 3, 0, 1, 4};
   const std::uint32_t fin = m.addObject(p, 5, idx, 9);
   const cpu::OccluderObject& o = m.object(fin);
   for (std::uint32_t t = o.first_triangle; t < o.first_triangle + 3; ++t) {
-    EXPECT_EQ(m.adjacency()[t * 3 + 2], cpu::kNoNeighbour);  // edge 2 is 0-1
+    std::uint32_t e = t * 3 + 2, steps = 0;  // edge 2 is 0-1
+    do {
+      e = m.adjacency()[e];
+      ++steps;
+    } while (e != t * 3 + 2 && steps < 10);
+    EXPECT_EQ(steps, 3u);
+    EXPECT_EQ(m.adjacency()[t * 3], cpu::kNoNeighbour);
   }
   EXPECT_EQ(o.box.max.z, 1.0f);
 }

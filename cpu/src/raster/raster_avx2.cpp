@@ -3,6 +3,8 @@
 // reports AVX2.
 #include <immintrin.h>
 
+#include <cmath>
+
 #include "raster/raster_triangle.hpp"
 
 namespace logrid::cpu::detail {
@@ -34,6 +36,11 @@ struct Lanes {
     const __m256i lt_hi = _mm256_cmpgt_epi32(_mm256_set1_epi32(hi), lane);
     return _mm256_castsi256_ps(_mm256_and_si256(ge_lo, lt_hi));
   }
+  static float hmax(F a) {
+    __m128 b = _mm_max_ps(_mm256_castps256_ps128(a), _mm256_extractf128_ps(a, 1));
+    b = _mm_max_ps(b, _mm_movehl_ps(b, b));
+    return _mm_cvtss_f32(_mm_max_ss(b, _mm_shuffle_ps(b, b, 1)));
+  }
 };
 
 #include "raster/raster_kernel.inl"
@@ -41,7 +48,7 @@ struct Lanes {
 }  // namespace
 
 void rasterAvx2(const RasterTriangle* tris, const std::uint32_t* list, std::size_t n,
-                const RasterTarget& target) {
+                RasterTarget& target) {
   rasterTile<Lanes>(tris, list, n, target);
 }
 

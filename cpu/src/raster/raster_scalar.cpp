@@ -1,4 +1,6 @@
 // The scalar reference kernel: one sample at a time, the operations of every SIMD kernel.
+#include <cmath>
+
 #include "raster/raster_triangle.hpp"
 
 namespace logrid::cpu::detail {
@@ -28,6 +30,7 @@ struct Lanes {
   static F load(const float* p) { return {*p}; }
   static void store(float* p, F a) { *p = a.v; }
   static M inRange(int x, int lo, int hi) { return {x >= lo && x < hi}; }
+  static float hmax(F a) { return a.v; }
 };
 
 #include "raster/raster_kernel.inl"
@@ -35,7 +38,7 @@ struct Lanes {
 }  // namespace
 
 void rasterScalar(const RasterTriangle* tris, const std::uint32_t* list, std::size_t n,
-                  const RasterTarget& target) {
+                  RasterTarget& target) {
   rasterTile<Lanes>(tris, list, n, target);
 }
 

@@ -2,6 +2,8 @@
 // and called only where the CPU reports SSE4.1.
 #include <smmintrin.h>
 
+#include <cmath>
+
 #include "raster/raster_triangle.hpp"
 
 namespace logrid::cpu::detail {
@@ -32,6 +34,10 @@ struct Lanes {
     const __m128i lt_hi = _mm_cmplt_epi32(lane, _mm_set1_epi32(hi));
     return _mm_castsi128_ps(_mm_and_si128(ge_lo, lt_hi));
   }
+  static float hmax(F a) {
+    const __m128 b = _mm_max_ps(a, _mm_movehl_ps(a, a));
+    return _mm_cvtss_f32(_mm_max_ss(b, _mm_shuffle_ps(b, b, 1)));
+  }
 };
 
 #include "raster/raster_kernel.inl"
@@ -39,7 +45,7 @@ struct Lanes {
 }  // namespace
 
 void rasterSse41(const RasterTriangle* tris, const std::uint32_t* list, std::size_t n,
-                 const RasterTarget& target) {
+                 RasterTarget& target) {
   rasterTile<Lanes>(tris, list, n, target);
 }
 

@@ -25,6 +25,11 @@ struct RasterTriangle {
   float lo[kTriangleEdges] = {}, hi[kTriangleEdges] = {};
   // The key bound at the reference (plane plus this triangle's own slack and margins).
   float za = 0, zb = 0, zc = 0;
+  // No sample of the triangle gets a key below this: a tile whose keys are all at or
+  // in front of it cannot change.
+  float zmin = 0;
+  // 1 / ea[k] (0 where ea[k] is 0), for the span of a row that can hold candidates.
+  float inv_ea[kTriangleEdges] = {};
   float band_key[3] = {};                       // added to samples in the band of edge k
   std::uint32_t nb[3] = {0, 0, 0};              // neighbour across edge k (index into the frame's
                                                 // triangles), valid where interior bit k is set
@@ -42,18 +47,20 @@ struct RasterTarget {
   std::int32_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
   float scale = 1;  // viewport pixels per buffer pixel
   float half = 0.5f;
+  // In: an upper bound of every key in the tile; out: a (possibly smaller) one after.
+  float max_key = 0;
 };
 
 // Rasterises the triangles tris[list[0..n)] into the target (key = min(key, bound)).
 using RasterFunction = void (*)(const RasterTriangle* tris, const std::uint32_t* list,
-                                std::size_t n, const RasterTarget& target);
+                                std::size_t n, RasterTarget& target);
 
 // The kernel of an ISA (not Auto); nullptr if this build or CPU lacks it.
 RasterFunction rasterFunction(Isa isa);
 Isa bestIsa();
 
-void rasterScalar(const RasterTriangle*, const std::uint32_t*, std::size_t, const RasterTarget&);
-void rasterSse41(const RasterTriangle*, const std::uint32_t*, std::size_t, const RasterTarget&);
-void rasterAvx2(const RasterTriangle*, const std::uint32_t*, std::size_t, const RasterTarget&);
+void rasterScalar(const RasterTriangle*, const std::uint32_t*, std::size_t, RasterTarget&);
+void rasterSse41(const RasterTriangle*, const std::uint32_t*, std::size_t, RasterTarget&);
+void rasterAvx2(const RasterTriangle*, const std::uint32_t*, std::size_t, RasterTarget&);
 
 }  // namespace logrid::cpu::detail

@@ -64,18 +64,28 @@ class OccluderMeshes {
   std::size_t memoryBytes() const;
 
   // Welded positions (xyz), indices into them (three per triangle), and per triangle
-  // edge the neighbouring edge: adjacency()[3 t + k] describes edge k of triangle t, the
-  // edge opposite its corner k, and holds 3 t' + k' for the one other triangle t' of the
-  // same object with an edge k' between the same two welded vertices, or kNoNeighbour
-  // (a boundary edge, an edge of three or more triangles, or a degenerate triangle).
+  // edge the next edge between the same two welded vertices: adjacency()[3 t + k]
+  // describes edge k of triangle t, the edge opposite its corner k, and holds 3 t' + k'
+  // for the next triangle t' of the same object with such an edge k' (following it
+  // visits every such edge and returns), or kNoNeighbour (an edge of one triangle, or a
+  // degenerate triangle). Two triangles on an edge point at each other.
   const std::vector<float>& positions() const { return positions_; }
   const std::vector<std::uint32_t>& indices() const { return indices_; }
   const std::vector<std::uint32_t>& adjacency() const { return adjacency_; }
+  // Per triangle: 0 unless it belongs to a closed, consistently wound surface (every edge
+  // of its connected part shared by exactly two of its triangles in opposite directions
+  // and a nonzero volume); then 1 if the surface is wound counter-clockwise seen from
+  // outside, 2 if clockwise. The triangles of such a surface that face the eye cover all
+  // that it covers, so the buffer may leave the others out (occlusion_buffer.hpp).
+  const std::vector<std::uint8_t>& closed() const { return closed_; }
 
  private:
+  void markClosedSurfaces(std::size_t first_triangle, std::size_t end_triangle);
+
   std::vector<float> positions_;
   std::vector<std::uint32_t> indices_;
   std::vector<std::uint32_t> adjacency_;
+  std::vector<std::uint8_t> closed_;
   std::vector<OccluderObject> objects_;
 };
 

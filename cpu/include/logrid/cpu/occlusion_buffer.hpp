@@ -110,6 +110,10 @@ struct OcclusionBufferDesc {
   // The same settings the culler projects boxes with: sub-pixel bits (coverage slack),
   // render error and quantisation (depth margins). The defaults are the safe ones.
   ProjectionSettings projection;
+  // Closed surfaces (OccluderMeshes::closed()) are rasterised with only the triangles
+  // that face the eye (counter-clockwise on screen): the others cover nothing more and
+  // lie behind them. Set to rasterise every triangle.
+  bool closed_back_faces = false;
   // Test aids that break the conservative rules on purpose (tests show what each rule
   // prevents): no coverage slack at all (exact edges, as if GL did not snap), and no
   // depth slack (the exact plane, no margin, no snapping term).

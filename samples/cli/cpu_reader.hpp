@@ -1,0 +1,52 @@
+// The `cpu` reader of the frame runner: the conservative CPU occlusion buffer
+// (logrid/cpu/occlusion_buffer.hpp) fed from the draw callback with each drawn object's
+// occluder (scene/occluders.hpp), so the grid culls without reading the GL depth buffer.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "logrid/cpu/occlusion_buffer.hpp"
+#include "scene/occluders.hpp"
+#include "scene/prepare.hpp"
+
+namespace logrid::samples {
+
+struct CpuReaderOptions {
+  cpu::Resolution resolution = cpu::Resolution::Full;
+  OccluderChoice occluders = OccluderChoice::Mesh;
+  std::uint32_t threads = 0;  // worker threads of the buffer
+  cpu::Isa isa = cpu::Isa::Auto;
+};
+
+// What the buffer did in one frame.
+struct CpuFrameStats {
+  double ms = 0;                     // caller's time inside the buffer (draw notes and requests)
+  double wait_ms = 0;                // of which waiting for workers
+  double worker_ms = 0;              // workers' time
+  std::uint64_t objects = 0;         // objects whose triangles were set up
+  std::uint64_t triangles = 0;       // triangles set up
+  std::uint64_t tile_triangles = 0;  // triangle-tile pairs rasterised
+  std::uint64_t tiles = 0;           // tiles rasterised
+  std::uint64_t fallbacks = 0;       // models replaced by their object's mesh
+};
+
+class CpuReader {
+ public:
+  // Throws logrid::Error for options this machine cannot run.
+  CpuReader(const PreparedScene& scene, const CpuReaderOptions& options,
+            const ProjectionSettings& projection);
+  cpu::OcclusionBuffer& buffer() { return *buffer_; }
+  // The counts since the previous call.
+  CpuFrameStats takeFrameStats();
+
+ private:
+  std::unique_ptr<cpu::OcclusionBuffer> buffer_;
+  cpu::OcclusionBufferStats last_;
+};
+
+// "full, mesh, 0 threads, avx2"
+std::string describe(const CpuReaderOptions& options);
+
+}  // namespace logrid::samples
