@@ -381,26 +381,19 @@ void OcclusionBuffer::drawObject(std::uint32_t id) {
   impl_->stats.seconds += secondsSince(start);
 }
 
-void OcclusionBuffer::summarize(const PixelRect* rects, std::size_t count, AreaDepth* out) {
+void OcclusionBuffer::submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) {
   const auto start = Clock::now();
   for (std::size_t i = 0; i < count; ++i) {
-    out[i] = impl_->summary(rects[i]);
-    counters_.pixels += std::uint64_t(rects[i].area());
+    const AreaRequest& r = requests[i];
+    if (r.ask == AreaAsk::Summary) {
+      answers[i].depth = impl_->summary(r.rect);
+    } else {
+      answers[i].count = impl_->count(r.rect, r.threshold);
+    }
+    counters_.pixels += std::uint64_t(r.rect.area());
   }
   counters_.reads += count;
-  const double s = secondsSince(start);
-  counters_.seconds += s;
-  impl_->stats.seconds += s;
-}
-
-void OcclusionBuffer::countAtOrBeyond(const AreaQuery* queries, std::size_t count,
-                                      std::uint32_t* out) {
-  const auto start = Clock::now();
-  for (std::size_t i = 0; i < count; ++i) {
-    out[i] = impl_->count(queries[i].rect, queries[i].threshold);
-    counters_.pixels += std::uint64_t(queries[i].rect.area());
-  }
-  counters_.reads += count;
+  counters_.batches += count > 0;
   const double s = secondsSince(start);
   counters_.seconds += s;
   impl_->stats.seconds += s;

@@ -28,6 +28,8 @@ struct WalkOptions {
   std::string occluders = "mesh";       // --reader cpu: mesh or model
   std::uint32_t cpu_threads = 0;        // --reader cpu: worker threads
   std::string cpu_isa = "auto";         // --reader cpu: auto, scalar, sse4.1 or avx2
+  std::string lookahead = "1";          // a count, or "all"
+  bool coherence = false;
   std::string depth_format = "32f";
   std::string depth_convention = "standard";
   double near_plane = 0;  // 0: the scene's
@@ -54,6 +56,8 @@ void addViewOptions(CLI::App& app, WalkOptions& o);
 std::pair<std::uint32_t, std::uint32_t> parseSize(const std::string& text);
 DepthFormat parseDepthFormat(const std::string& text);
 DepthConvention parseDepthConvention(const std::string& text);
+// "1", "16", ... or "all" (kUnlimitedLookahead).
+std::uint32_t parseLookahead(const std::string& text);
 
 // A scene ready to draw: prepared, uploaded, with how long each step took.
 struct LoadedScene {

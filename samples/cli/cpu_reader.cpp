@@ -2,8 +2,8 @@
 
 namespace logrid::samples {
 
-CpuReader::CpuReader(const PreparedScene& scene, const CpuReaderOptions& options,
-                     const ProjectionSettings& projection) {
+CpuFrameReader::CpuFrameReader(const PreparedScene& scene, const CpuReaderOptions& options,
+                               const ProjectionSettings& projection) {
   cpu::OcclusionBufferDesc desc;
   desc.resolution = options.resolution;
   desc.isa = options.isa;
@@ -13,7 +13,7 @@ CpuReader::CpuReader(const PreparedScene& scene, const CpuReaderOptions& options
   last_ = buffer_->stats();
 }
 
-CpuFrameStats CpuReader::takeFrameStats() {
+CpuFrameStats CpuFrameReader::takeFrameStats() {
   const cpu::OcclusionBufferStats& now = buffer_->stats();
   CpuFrameStats f;
   f.ms = (now.seconds - last_.seconds) * 1e3;
@@ -28,9 +28,9 @@ CpuFrameStats CpuReader::takeFrameStats() {
   return f;
 }
 
-std::string describe(const CpuReaderOptions& o) {
-  return std::string(cpu::toString(o.resolution)) + ", " + toString(o.occluders) + ", " +
-         std::to_string(o.threads) + " threads, " + cpu::toString(o.isa);
+std::unique_ptr<FrameReader> makeCpuReader(const ReaderContext& c) {
+  return std::make_unique<CpuFrameReader>(c.scene, c.cpu ? *c.cpu : CpuReaderOptions{},
+                                          c.projection);
 }
 
 }  // namespace logrid::samples

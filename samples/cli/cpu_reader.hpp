@@ -1,5 +1,5 @@
-// The `cpu` reader of the frame runner: the conservative CPU occlusion buffer
-// (logrid/cpu/occlusion_buffer.hpp) fed from the draw callback with each drawn object's
+// The `cpu` reader (readers.cpp): the conservative CPU occlusion buffer
+// (logrid/cpu/occlusion_buffer.hpp) fed, for each object the renderer draws, with its
 // occluder (scene/occluders.hpp), so the grid culls without reading the GL depth buffer.
 #pragma once
 
@@ -7,9 +7,9 @@
 #include <memory>
 #include <string>
 
+#include "cli/readers.hpp"
 #include "logrid/cpu/occlusion_buffer.hpp"
 #include "scene/occluders.hpp"
-#include "scene/prepare.hpp"
 
 namespace logrid::samples {
 
@@ -22,7 +22,7 @@ struct CpuReaderOptions {
 
 // What the buffer did in one frame.
 struct CpuFrameStats {
-  double ms = 0;                     // caller's time inside the buffer (draw notes and requests)
+  double ms = 0;                     // caller's time inside the buffer (draw notes, requests)
   double wait_ms = 0;                // of which waiting for workers
   double worker_ms = 0;              // workers' time
   std::uint64_t objects = 0;         // objects whose triangles were set up
@@ -32,12 +32,13 @@ struct CpuFrameStats {
   std::uint64_t fallbacks = 0;       // models replaced by their object's mesh
 };
 
-class CpuReader {
+class CpuFrameReader final : public FrameReader {
  public:
   // Throws logrid::Error for options this machine cannot run.
-  CpuReader(const PreparedScene& scene, const CpuReaderOptions& options,
-            const ProjectionSettings& projection);
-  cpu::OcclusionBuffer& buffer() { return *buffer_; }
+  CpuFrameReader(const PreparedScene& scene, const CpuReaderOptions& options,
+                 const ProjectionSettings& projection);
+  DepthSource& source() override { return *buffer_; }
+  void objectDrawn(ObjectId id) override { buffer_->drawObject(id); }
   // The counts since the previous call.
   CpuFrameStats takeFrameStats();
 
@@ -46,7 +47,6 @@ class CpuReader {
   cpu::OcclusionBufferStats last_;
 };
 
-// "full, mesh, 0 threads, avx2"
-std::string describe(const CpuReaderOptions& options);
+std::unique_ptr<FrameReader> makeCpuReader(const ReaderContext& context);
 
 }  // namespace logrid::samples

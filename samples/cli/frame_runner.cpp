@@ -15,24 +15,6 @@
 
 namespace logrid::samples {
 
-const char* toString(Reader reader) {
-  switch (reader) {
-    case Reader::ReadPixels: return "readpixels";
-    case Reader::Pbo: return "pbo";
-    case Reader::Query: return "query";
-    case Reader::Software: return "software";
-    case Reader::Cpu: return "cpu";
-  }
-  return "?";
-}
-
-std::optional<Reader> parseReader(const std::string& name) {
-  for (Reader r : {Reader::ReadPixels, Reader::Pbo, Reader::Query, Reader::Software, Reader::Cpu}) {
-    if (name == toString(r)) return r;
-  }
-  return std::nullopt;
-}
-
 std::optional<MethodChoice> parseMethodChoice(const std::string& name) {
   if (name == "oracle") return MethodChoice{std::nullopt};
   if (const auto m = parseMethod(name)) return MethodChoice{*m};
@@ -46,8 +28,7 @@ class NoDepthSource : public DepthSource {
  public:
   DepthSourceTraits traits() const override { return {"none", true, false}; }
   void beginFrame(const Camera&) override {}
-  void summarize(const PixelRect*, std::size_t, AreaDepth*) override { unused(); }
-  void countAtOrBeyond(const AreaQuery*, std::size_t, std::uint32_t*) override { unused(); }
+  void submit(const AreaRequest*, std::size_t, AreaAnswer*) override { unused(); }
   void readKeys(const PixelRect&, float*) override { unused(); }
 
  private:
@@ -95,23 +76,22 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
     desc.method = *config.method.method;
     culler_ = std::make_unique<Culler>(desc);
     if (config.overlay) culler_->setObserver(observer_.get());
-    const std::uint32_t handle = framebuffer_->handle();
-    switch (config.reader) {
-      case Reader::ReadPixels: source_ = std::make_unique<zread::ReadPixelsSource>(handle); break;
-      case Reader::Pbo: source_ = std::make_unique<zread::PboSource>(handle); break;
-      case Reader::Query: source_ = std::make_unique<zread::QuerySource>(handle); break;
-      case Reader::Software:
-        software_ =
-            std::make_unique<cpu::SoftwareDepthBuffer>(fb.width, fb.height, fb.depth.convention);
-        break;
-      case Reader::Cpu:
-        cpu_reader_ = std::make_unique<CpuReader>(scene, config.cpu, desc.projection);
-        break;
-    }
-    if (config.reader == Reader::Query && desc.method == Method::Hzb) {
+    const ReaderInfo* reader = findReader(config.reader);
+    if (!reader) {
       throw Error(ErrorCode::InvalidArgument,
-                  "method hzb needs depth values; use --reader readpixels, pbo or software");
+                  "reader '" + config.reader + "' is unknown; use " + readerNames());
     }
+    if (!reader->reads_depth && methodInfo(desc.method).needs_depth_values) {
+      std::string readers;
+      for (const ReaderInfo& r : readerTable()) {
+        if (r.reads_depth) readers += std::string(readers.empty() ? "" : ", ") + r.name;
+      }
+      throw Error(ErrorCode::InvalidArgument, std::string("method ") + toString(desc.method) +
+                                                  " needs depth values, which " + reader->name +
+                                                  " cannot give; use --reader " + readers);
+    }
+    reader_ = reader->make({scene, framebuffer_->handle(), fb.width, fb.height, fb.depth,
+                            &config.cpu, desc.projection});
   }
   CullerDesc vfc;
   vfc.method = Method::Vfc;
@@ -177,20 +157,6 @@ OracleFrame FrameRunner::visibleSet(std::size_t frame, const Camera& camera) {
   return *frames[frame];
 }
 
-void FrameRunner::rasterizeObject(ObjectId id, cpu::SoftwareRasterizer& raster) {
-  const gl::RenderMesh& mesh = scene_.mesh;
-  const gl::RenderMesh::Draw& d = mesh.draws[id];
-  for (std::uint32_t i = d.first_index; i < d.first_index + d.index_count; i += 3) {
-    const float* v[3];
-    for (std::uint32_t k = 0; k < 3; ++k) {
-      const std::uint32_t local =
-          mesh.indices16.empty() ? mesh.indices32[i + k] : mesh.indices16[i + k];
-      v[k] = &mesh.positions[(std::size_t(d.base_vertex) + local) * 3];
-    }
-    raster.drawTriangle(v[0], v[1], v[2], id);
-  }
-}
-
 FrameRecord FrameRunner::renderFrame(std::size_t frame) {
   FrameRecord rec;
   rec.frame = frame;
@@ -213,28 +179,16 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
       drawn_[id] = 1;
       drawn_list_.push_back(id);
     }
+    if (reader_) reader_->objectDrawn(id);
   };
   if (!config_.method.method) {
     for (ObjectId id : oracle.visible) draw(id);
     for (ObjectId id : oracle.artifacts) draw(id);  // the full render shows them
     rec.stats.objects_drawn = oracle.visible.size() + oracle.artifacts.size();
-  } else if (software_) {
-    software_->clear();
-    // Inner coverage: the software buffer must never hold depth where GL drew nothing.
-    cpu::SoftwareRasterizer raster(camera, *software_, nullptr, cpu::Coverage::Inner);
-    rec.stats = culler_->cullFrame(camera, scene_.hierarchy, *software_, [&](ObjectId id) {
-      draw(id);
-      rasterizeObject(id, raster);
-    });
-  } else if (cpu_reader_) {
-    cpu::OcclusionBuffer& buffer = cpu_reader_->buffer();
-    rec.stats = culler_->cullFrame(camera, scene_.hierarchy, buffer, [&](ObjectId id) {
-      draw(id);
-      buffer.drawObject(id);  // its depth is in GL's buffer now
-    });
-    rec.cpu = cpu_reader_->takeFrameStats();
   } else {
-    rec.stats = culler_->cullFrame(camera, scene_.hierarchy, *source_, draw);
+    reader_->beginFrame(camera);
+    rec.stats = culler_->cullFrame(camera, scene_.hierarchy, reader_->source(), draw);
+    if (auto* cpu = dynamic_cast<CpuFrameReader*>(reader_.get())) rec.cpu = cpu->takeFrameStats();
   }
   renderer_.end();
   glFinish();

@@ -12,8 +12,7 @@
 #include <vector>
 
 #include "cli/cpu_reader.hpp"
-#include "logrid/cpu/software_depth.hpp"
-#include "logrid/cpu/software_rasterizer.hpp"
+#include "cli/readers.hpp"
 #include "logrid/culler.hpp"
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
@@ -21,10 +20,6 @@
 #include "scene/view.hpp"
 
 namespace logrid::samples {
-
-enum class Reader : std::uint8_t { ReadPixels, Pbo, Query, Software, Cpu };
-const char* toString(Reader reader);
-std::optional<Reader> parseReader(const std::string& name);
 
 // A method name: one of logrid::Method's, or "oracle" (draws exactly the visible set
 // found by an ID pass that is not timed: the floor no culling method can beat).
@@ -36,9 +31,9 @@ std::optional<MethodChoice> parseMethodChoice(const std::string& name);
 
 struct RunConfig {
   MethodChoice method{Method::LogState};
-  CullerDesc culler;  // method is taken from `method`
-  Reader reader = Reader::ReadPixels;
-  CpuReaderOptions cpu;  // for Reader::Cpu
+  CullerDesc culler;                  // method is taken from `method`
+  std::string reader = "readpixels";  // a name of readerTable()
+  CpuReaderOptions cpu;               // for --reader cpu
   ViewSettings view;
   std::size_t frames = 100;  // frames spread over the whole path
   bool verify = false;       // object-ID check after each frame
@@ -56,7 +51,7 @@ struct FrameRecord {
   std::int64_t artifacts = -1;         // objects shown only through depth-extrapolated fragments
   std::int64_t missed_artifacts = -1;  // of those, not drawn (reported apart, see OracleFrame)
   std::vector<ObjectId> missed_ids;    // the first few
-  std::optional<CpuFrameStats> cpu;    // with Reader::Cpu
+  std::optional<CpuFrameStats> cpu;    // with --reader cpu
 };
 
 // The visible set of each frame found by the ID pass, shared by runners that render
@@ -98,15 +93,12 @@ class FrameRunner {
   // The ID pass of a frame, from the shared cache when another runner did it.
   OracleFrame visibleSet(std::size_t frame, const Camera& camera);
   void writeImages(std::size_t frame, const Camera& camera);
-  void rasterizeObject(ObjectId id, cpu::SoftwareRasterizer& raster);
 
   const PreparedScene& scene_;
   gl::MeshRenderer& renderer_;
   RunConfig config_;
   std::unique_ptr<gl::Framebuffer> framebuffer_;
-  std::unique_ptr<DepthSource> source_;
-  std::unique_ptr<cpu::SoftwareDepthBuffer> software_;
-  std::unique_ptr<CpuReader> cpu_reader_;
+  std::unique_ptr<FrameReader> reader_;
   std::unique_ptr<Culler> culler_;
   std::unique_ptr<Culler> vfc_;  // for the ID pass
   struct Observer;

@@ -21,8 +21,11 @@ nlohmann::json frameJson(const FrameRecord& r) {
                       {"tiles_per_box", s.tilesPerBox()},
                       {"reads", s.reads},
                       {"read_pixels", s.pixels_read},
+                      {"read_bytes", s.bytes_read},
                       {"queries", s.queries},
+                      {"batches", s.batches},
                       {"flushes", s.flushes},
+                      {"coherent_leaves", s.coherent_leaves},
                       {"read_ms", s.read_seconds * 1e3},
                       {"cull_ms", s.seconds * 1e3},
                       {"order_fallbacks", s.order_fallbacks},
@@ -74,8 +77,8 @@ double median(std::vector<double> v) {
 nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConfig& config,
                           bool per_frame) {
   double ms = 0, objects = 0, triangles = 0, pixels = 0, tiles = 0, boxes = 0, read_ms = 0,
-         reads = 0, queries = 0, flushes = 0;
-  CpuFrameStats cpu;  // sums
+         reads = 0, queries = 0, bytes = 0, batches = 0, flushes = 0;
+  CpuFrameStats cpu_sum;  // sums
   std::int64_t visible = 0, missed = 0, artifacts = 0, missed_artifacts = 0;
   bool verified = false;
   std::vector<double> times;
@@ -90,16 +93,18 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
     read_ms += r.stats.read_seconds * 1e3;
     reads += double(r.stats.reads);
     queries += double(r.stats.queries);
+    bytes += double(r.stats.bytes_read);
+    batches += double(r.stats.batches);
     flushes += double(r.stats.flushes);
     if (r.cpu) {
-      cpu.ms += r.cpu->ms;
-      cpu.wait_ms += r.cpu->wait_ms;
-      cpu.worker_ms += r.cpu->worker_ms;
-      cpu.objects += r.cpu->objects;
-      cpu.triangles += r.cpu->triangles;
-      cpu.tile_triangles += r.cpu->tile_triangles;
-      cpu.tiles += r.cpu->tiles;
-      cpu.fallbacks += r.cpu->fallbacks;
+      cpu_sum.ms += r.cpu->ms;
+      cpu_sum.wait_ms += r.cpu->wait_ms;
+      cpu_sum.worker_ms += r.cpu->worker_ms;
+      cpu_sum.objects += r.cpu->objects;
+      cpu_sum.triangles += r.cpu->triangles;
+      cpu_sum.tile_triangles += r.cpu->tile_triangles;
+      cpu_sum.tiles += r.cpu->tiles;
+      cpu_sum.fallbacks += r.cpu->fallbacks;
     }
     if (r.visible >= 0) {
       verified = true;
@@ -111,11 +116,15 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
   }
   const double n = std::max<double>(1, double(records.size()));
   nlohmann::json j = {{"method", config.method.name()},
-                      {"reader", toString(config.reader)},
+                      {"reader", config.reader},
                       {"frames", records.size()},
                       {"width", config.view.width},
                       {"height", config.view.height},
                       {"tile", config.culler.tile_size},
+                      {"lookahead", config.culler.lookahead == kUnlimitedLookahead
+                                        ? nlohmann::json("all")
+                                        : nlohmann::json(config.culler.lookahead)},
+                      {"temporal_coherence", config.culler.temporal_coherence},
                       {"depth_format", toString(config.view.depth.format)},
                       {"depth_convention", toString(config.view.depth.convention)},
                       {"projection", config.view.orthographic ? "orthographic" : "perspective"},
@@ -128,23 +137,25 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
                       {"avg_read_pixels", pixels / n},
                       {"avg_reads", reads / n},
                       {"avg_queries", queries / n},
+                      {"avg_read_bytes", bytes / n},
+                      {"avg_batches", batches / n},
                       {"avg_flushes", flushes / n},
                       {"avg_read_ms", read_ms / n},
                       {"read_share", ms > 0 ? read_ms / ms : 0.0},
                       {"avg_tiles_per_box", boxes > 0 ? tiles / boxes : 0.0}};
-  if (config.reader == Reader::Cpu && config.method.method) {
+  if (config.reader == "cpu" && config.method.method) {
     j["cpu"] = {{"resolution", cpu::toString(config.cpu.resolution)},
                 {"occluders", toString(config.cpu.occluders)},
                 {"threads", config.cpu.threads},
                 {"isa", cpu::toString(config.cpu.isa)},
-                {"avg_ms", cpu.ms / n},
-                {"avg_wait_ms", cpu.wait_ms / n},
-                {"avg_worker_ms", cpu.worker_ms / n},
-                {"avg_objects_set_up", double(cpu.objects) / n},
-                {"avg_triangles_set_up", double(cpu.triangles) / n},
-                {"avg_tile_triangles", double(cpu.tile_triangles) / n},
-                {"avg_tiles", double(cpu.tiles) / n},
-                {"avg_fallbacks", double(cpu.fallbacks) / n}};
+                {"avg_ms", cpu_sum.ms / n},
+                {"avg_wait_ms", cpu_sum.wait_ms / n},
+                {"avg_worker_ms", cpu_sum.worker_ms / n},
+                {"avg_objects_set_up", double(cpu_sum.objects) / n},
+                {"avg_triangles_set_up", double(cpu_sum.triangles) / n},
+                {"avg_tile_triangles", double(cpu_sum.tile_triangles) / n},
+                {"avg_tiles", double(cpu_sum.tiles) / n},
+                {"avg_fallbacks", double(cpu_sum.fallbacks) / n}};
   }
   const GridApproximation& a = config.culler.approximation;
   j["conservative"] = a.exact();

@@ -299,8 +299,7 @@ TEST(OcclusionBufferTest, WorksLazilyTileByTile) {
   EXPECT_EQ(buffer.stats().triangles_set_up, 12u);
   const PixelRect middle{112, 16, 144, 48};  // between the two boxes
   std::uint32_t n = 0;
-  const AreaQuery q{middle, 0.5f};
-  buffer.countAtOrBeyond(&q, 1, &n);
+  buffer.countAtOrBeyond(&middle, 1, 0.5f, &n);
   EXPECT_EQ(n, 32u * 32u);
   EXPECT_EQ(buffer.stats().objects_set_up, 1u);
   // The whole left box is covered near its centre, at a key in front of the clear one.

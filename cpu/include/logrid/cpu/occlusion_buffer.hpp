@@ -150,7 +150,9 @@ class OcclusionBuffer final : public DepthSource {
   const OcclusionBufferDesc& desc() const { return desc_; }
   Isa isa() const;  // the kernel in use (never Auto)
 
-  DepthSourceTraits traits() const override { return {"cpu", true, false}; }
+  DepthSourceTraits traits() const override {
+    return {"cpu", true, false};
+  }  // reads depth, synchronous
   // Throws logrid::Error for an invalid camera (validateCamera) or projection settings.
   void beginFrame(const Camera& camera) override;
   void endFrame() override;
@@ -159,8 +161,9 @@ class OcclusionBuffer final : public DepthSource {
   // buffer). Throws logrid::Error for an id outside the meshes or outside a frame.
   void drawObject(std::uint32_t id);
 
-  void summarize(const PixelRect* rects, std::size_t count, AreaDepth* out) override;
-  void countAtOrBeyond(const AreaQuery* queries, std::size_t count, std::uint32_t* out) override;
+  // Synchronous: every answer is written inside submit(). Summary and Count requests
+  // describe the buffer's keys (never nearer than GL's, see above).
+  void submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) override;
   void readKeys(const PixelRect& rect, float* keys) override;
 
   const OcclusionBufferStats& stats() const;
