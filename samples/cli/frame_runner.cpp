@@ -86,9 +86,9 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
       for (const ReaderInfo& r : readerTable()) {
         if (r.reads_depth) readers += std::string(readers.empty() ? "" : ", ") + r.name;
       }
-      throw Error(ErrorCode::InvalidArgument, std::string("method ") + toString(desc.method) +
-                                                  " needs depth values, which " + reader->name +
-                                                  " cannot give; use --reader " + readers);
+      throw Error(ErrorCode::InvalidArgument,
+                  std::string("method ") + toString(desc.method) + " needs depth values, which " +
+                      reader->name + " cannot give; use --reader " + readers);
     }
     reader_ = reader->make({scene, framebuffer_->handle(), fb.width, fb.height, fb.depth,
                             &config.cpu, desc.projection});
