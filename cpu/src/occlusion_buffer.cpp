@@ -51,7 +51,7 @@ bool parseIsa(const std::string& text, Isa& out) {
   return false;
 }
 
-bool isaSupported(Isa isa) { return isa == Isa::Auto || detail::rasterFunction(isa) != nullptr; }
+bool isaSupported(Isa isa) { return isa == Isa::Auto || detail::kernels(isa).raster != nullptr; }
 
 std::string validateOcclusionBufferDesc(const OcclusionBufferDesc& d) {
   std::ostringstream out;
@@ -94,8 +94,8 @@ bool overlaps(const PixelRect& a, const PixelRect& b) {
 
 struct OcclusionBuffer::Impl {
   struct Bin {
-    std::uint32_t stamp = 0;  // frame whose clear this bin has had
-    float max_key = 0;        // an upper bound of the keys in the bin (after its clear)
+    std::uint32_t stamp = 0;       // frame whose clear this bin has had
+    std::vector<float> block_max;  // per 8 x 8 block: an upper bound of its keys
     std::vector<std::uint32_t> pending;
   };
   struct PendingObject {
@@ -105,13 +105,13 @@ struct OcclusionBuffer::Impl {
 
   Impl(const OccluderMeshes& m, const OcclusionBufferDesc& d) : meshes(m), desc(d) {
     isa = d.isa == Isa::Auto ? detail::bestIsa() : d.isa;
-    raster = detail::rasterFunction(isa);
+    kernels = detail::kernels(isa);
   }
 
   const OccluderMeshes& meshes;
   OcclusionBufferDesc desc;
   Isa isa;
-  detail::RasterFunction raster;
+  detail::Kernels kernels;
   OcclusionBufferStats stats;
 
   bool in_frame = false;
@@ -129,7 +129,8 @@ struct OcclusionBuffer::Impl {
   std::vector<float> keys;
   std::vector<Bin> bins;
   std::vector<PendingObject> pending;
-  std::vector<detail::RasterTriangle> tris;
+  std::vector<detail::RasterTriangle> tris;  // [0, tri_count) this frame (never shrunk)
+  std::size_t tri_count = 0;
   detail::TriangleSetup setup;
 
   void begin(const Camera& camera);
@@ -175,6 +176,7 @@ void OcclusionBuffer::Impl::begin(const Camera& camera) {
   clear_key = projector->clearKey();
   scale = std::int32_t(desc.resolution);
   frame.scale = scale;
+  frame.inv_scale = 1.0 / scale;
   frame.radius = 0.5 * (scale - 1);
   frame.skip_closed_back_faces = !desc.closed_back_faces;
   frame.exact_coverage = desc.unsafe_exact_coverage;
@@ -208,7 +210,7 @@ void OcclusionBuffer::Impl::begin(const Camera& camera) {
   }
   for (Bin& b : bins) b.pending.clear();
   pending.clear();
-  tris.clear();
+  tri_count = 0;
   in_frame = true;
 }
 
@@ -246,10 +248,10 @@ void OcclusionBuffer::Impl::draw(std::uint32_t id) {
 }
 
 void OcclusionBuffer::Impl::setUpObject(const PendingObject& p) {
-  const std::size_t first = tris.size();
-  stats.triangles_set_up += setup.run(frame, meshes, p.object, tris);
+  const std::size_t first = tri_count;
+  stats.triangles_set_up += setup.run(frame, meshes, p.object, tris, tri_count);
   ++stats.objects_set_up;
-  for (std::size_t t = first; t < tris.size(); ++t) {
+  for (std::size_t t = first; t < tri_count; ++t) {
     const detail::RasterTriangle& rt = tris[t];
     const std::int32_t bx0 = rt.x0 / bin, bx1 = (rt.x1 - 1) / bin;
     const std::int32_t by0 = rt.y0 / bin, by1 = (rt.y1 - 1) / bin;
@@ -271,7 +273,8 @@ void OcclusionBuffer::Impl::rasterizeBin(std::int32_t bx, std::int32_t by) {
                   clear_key);
     }
     b.stamp = stamp;
-    b.max_key = clear_key;
+    const std::size_t side = std::size_t(bin / detail::kBlockSide);
+    b.block_max.assign(side * side, clear_key);
   }
   if (b.pending.empty()) return;
   detail::RasterTarget target;
@@ -283,9 +286,8 @@ void OcclusionBuffer::Impl::rasterizeBin(std::int32_t bx, std::int32_t by) {
   target.y1 = std::min(y0 + bin, bh);
   target.scale = float(scale);
   target.half = 0.5f * float(scale);
-  target.max_key = b.max_key;
-  raster(tris.data(), b.pending.data(), b.pending.size(), target);
-  b.max_key = target.max_key;
+  target.block_max = b.block_max.data();
+  kernels.raster(tris.data(), b.pending.data(), b.pending.size(), target);
   stats.triangles_rasterized += b.pending.size();
   ++stats.tiles_rasterized;
   b.pending.clear();
@@ -311,17 +313,23 @@ void OcclusionBuffer::Impl::ensure(const PixelRect& rect) {
 AreaDepth OcclusionBuffer::Impl::summary(const PixelRect& r) {
   ensure(r);
   const PixelRect b = bufferRect(r);
+  const detail::KeyRange range =
+      kernels.range(keys.data(), stride, b.x0, b.y0, b.x1, b.y1, clear_key);
   AreaDepth out;
-  out.min_key = keys[std::size_t(b.y0) * stride + std::size_t(b.x0)];
-  out.max_key = out.min_key;
+  out.min_key = range.min_key;
+  out.max_key = range.max_key;
+  if (scale == 1 || range.at_or_beyond == 0) {
+    out.free_pixels = range.at_or_beyond;
+    return out;
+  }
+  // Coarse: weigh each free block by the viewport pixels of `r` it covers.
   std::uint64_t free_pixels = 0;
   for (std::int32_t j = b.y0; j < b.y1; ++j) {
     const float* row = keys.data() + std::size_t(j) * stride;
     for (std::int32_t i = b.x0; i < b.x1; ++i) {
-      const float k = row[i];
-      out.min_key = std::min(out.min_key, k);
-      out.max_key = std::max(out.max_key, k);
-      if (k >= clear_key) free_pixels += std::uint64_t(spanX(r, i)) * std::uint64_t(spanY(r, j));
+      if (!(row[i] < clear_key)) {
+        free_pixels += std::uint64_t(spanX(r, i)) * std::uint64_t(spanY(r, j));
+      }
     }
   }
   out.free_pixels = std::uint32_t(free_pixels);
@@ -331,6 +339,9 @@ AreaDepth OcclusionBuffer::Impl::summary(const PixelRect& r) {
 std::uint32_t OcclusionBuffer::Impl::count(const PixelRect& r, float threshold) {
   ensure(r);
   const PixelRect b = bufferRect(r);
+  if (scale == 1) {
+    return kernels.range(keys.data(), stride, b.x0, b.y0, b.x1, b.y1, threshold).at_or_beyond;
+  }
   std::uint64_t n = 0;
   for (std::int32_t j = b.y0; j < b.y1; ++j) {
     const float* row = keys.data() + std::size_t(j) * stride;

@@ -23,22 +23,41 @@ H lerp(const H& a, const H& b, double t) {
           a.sz + t * (b.sz - a.sz), a.sw + t * (b.sw - a.sw)};
 }
 
-// The float nearest to v that is not below (above) it.
-float floatUp(double v) {
-  float f = float(v);
-  if (double(f) < v) f = std::nextafter(f, HUGE_VALF);
+// The next float towards +infinity (-infinity) of a finite f.
+float stepUp(float f) {
+  if (f == 0) return 1e-45f;
+  std::uint32_t bits;
+  std::memcpy(&bits, &f, 4);
+  bits += f > 0 ? 1 : std::uint32_t(-1);
+  std::memcpy(&f, &bits, 4);
   return f;
 }
+float stepDown(float f) { return -stepUp(-f); }
+
+// The float nearest to v that is not below (above) it (v finite).
+float floatUp(double v) {
+  const float f = float(v);
+  return double(f) < v ? stepUp(f) : f;
+}
 float floatDown(double v) {
-  float f = float(v);
-  if (double(f) > v) f = std::nextafter(f, -HUGE_VALF);
-  return f;
+  const float f = float(v);
+  return double(f) > v ? stepDown(f) : f;
+}
+
+// floor and ceil of a double already clamped to the int range.
+std::int32_t floorInt(double v) {
+  const std::int32_t i = std::int32_t(v);
+  return double(i) > v ? i - 1 : i;
+}
+std::int32_t ceilInt(double v) {
+  const std::int32_t i = std::int32_t(v);
+  return double(i) < v ? i + 1 : i;
 }
 
 }  // namespace
 
 void TriangleSetup::transform(const SetupFrame& f, const float* positions, std::uint32_t count) {
-  vertices_.resize(count);
+  if (vertices_.size() < count) vertices_.resize(count);  // (kept: no refill per object)
   const double depth_scale = std::fabs(f.key_scale);
   for (std::uint32_t i = 0; i < count; ++i) {
     const double x = positions[i * 3], y = positions[i * 3 + 1], z = positions[i * 3 + 2];
@@ -76,11 +95,13 @@ bool TriangleSetup::pixelBounds(const SetupFrame& f, double x_min, double x_max,
   // Claims reach up to the slack (plus the sample spread) outside an edge shared with a
   // neighbour; beyond that nothing of this triangle is claimed.
   const double pad = std::max(t.s_x, t.s_y) + f.radius + 1e-3;
-  const double s = f.scale, half = 0.5 * s;
-  t.x0 = std::int32_t(std::max(0.0, std::ceil((x_min - pad - half) / s)));
-  t.y0 = std::int32_t(std::max(0.0, std::ceil((y_min - pad - half) / s)));
-  t.x1 = std::int32_t(std::min(double(f.buffer_w), std::floor((x_max + pad - half) / s) + 1));
-  t.y1 = std::int32_t(std::min(double(f.buffer_h), std::floor((y_max + pad - half) / s) + 1));
+  const double inv = f.inv_scale, half = 0.5 * f.scale;
+  // (Magnitudes are below the guard band, so the clamped values fit an int.)
+  const double w = f.buffer_w, h = f.buffer_h;
+  t.x0 = ceilInt(std::clamp((x_min - pad - half) * inv, 0.0, w));
+  t.y0 = ceilInt(std::clamp((y_min - pad - half) * inv, 0.0, h));
+  t.x1 = std::min(f.buffer_w, floorInt(std::clamp((x_max + pad - half) * inv, -1.0, w)) + 1);
+  t.y1 = std::min(f.buffer_h, floorInt(std::clamp((y_max + pad - half) * inv, -1.0, h)) + 1);
   return t.x0 < t.x1 && t.y0 < t.y1;
 }
 
@@ -92,6 +113,12 @@ bool TriangleSetup::setUp(const SetupFrame& f, const SetupObject& o, const std::
   if (!t.clipped) {
     // Wholly in front of the near plane: plain window-space set-up.
     if (v[0]->beyond_far || v[1]->beyond_far || v[2]->beyond_far) return false;
+    const double area = (v[1]->wx - v[0]->wx) * (v[2]->wy - v[0]->wy) -
+                        (v[2]->wx - v[0]->wx) * (v[1]->wy - v[0]->wy);
+    if (!(area != 0) || !std::isfinite(area)) return false;
+    // A closed surface's triangles that face the eye (counter-clockwise for a surface
+    // wound so from outside) cover all it covers.
+    if (closed != 0 && f.skip_closed_back_faces && (area < 0) == (closed == 1)) return false;
     const double x_min = std::min({v[0]->wx, v[1]->wx, v[2]->wx});
     const double x_max = std::max({v[0]->wx, v[1]->wx, v[2]->wx});
     const double y_min = std::min({v[0]->wy, v[1]->wy, v[2]->wy});
@@ -107,12 +134,6 @@ bool TriangleSetup::setUp(const SetupFrame& f, const SetupObject& o, const std::
     t.s_y = std::max(
         o.s_y, f.snap + f.render_k * std::max({v[0]->ey, v[1]->ey, v[2]->ey}) + 16 * kU * mag);
     if (!pixelBounds(f, x_min, x_max, y_min, y_max, t)) return false;
-    const double area = (v[1]->wx - v[0]->wx) * (v[2]->wy - v[0]->wy) -
-                        (v[2]->wx - v[0]->wx) * (v[1]->wy - v[0]->wy);
-    if (!(area != 0) || !std::isfinite(area)) return false;
-    // A closed surface's triangles that face the eye (counter-clockwise for a surface
-    // wound so from outside) cover all it covers.
-    if (closed != 0 && f.skip_closed_back_faces && (area < 0) == (closed == 1)) return false;
     const double key_max = std::max({v[0]->key, v[1]->key, v[2]->key});
     t.key_min = std::min({v[0]->key, v[1]->key, v[2]->key});
     t.margin =
@@ -237,7 +258,8 @@ bool TriangleSetup::setUpClipped(const SetupFrame& f, const SetupObject& o, cons
 
 void TriangleSetup::finish(const SetupFrame& f, Work& t) const {
   // Reference point and the float error of evaluating planes relative to it: three
-  // roundings of terms each at most the extent or the value at the reference.
+  // roundings of terms each at most the extent or the value at the reference, and up to
+  // seven more where the kernels step down a block row by row (raster_kernel.inl).
   const double s = f.scale, r = f.radius;
   t.rx = double(t.x0) * s;
   t.ry = double(t.y0) * s;
@@ -245,23 +267,26 @@ void TriangleSetup::finish(const SetupFrame& f, Work& t) const {
   for (int k = 0; k < kTriangleEdges; ++k) {
     const double at_ref = t.a[k] * t.rx + t.b[k] * t.ry + t.c[k];
     t.c[k] = at_ref;
-    t.err[k] = f.exact_coverage ? 0.0 : 8 * kU * (2 * (dx + dy) + std::fabs(at_ref)) + 1e-30;
+    t.err[k] = f.exact_coverage ? 0.0 : 24 * kU * (2 * (dx + dy) + std::fabs(at_ref)) + 1e-30;
     t.slack[k] =
         f.exact_coverage ? 0.0 : (t.s_x + r) * std::fabs(t.a[k]) + (t.s_y + r) * std::fabs(t.b[k]);
   }
   if (!t.clipped) t.slack[3] = 0, t.err[3] = 0;
   t.zc = t.za * t.rx + t.zb * t.ry + t.zc;
+  t.g = std::fabs(t.za) + std::fabs(t.zb);
+  t.z_err = 24 * kU * (std::fabs(t.za) * dx + std::fabs(t.zb) * dy + std::fabs(t.zc));
 }
 
 std::size_t TriangleSetup::run(const SetupFrame& f, const OccluderMeshes& meshes,
-                               const SetupObject& o, std::vector<RasterTriangle>& out) {
+                               const SetupObject& o, std::vector<RasterTriangle>& out,
+                               std::size_t& count) {
   const OccluderObject& obj = meshes.object(o.occluder);
   transform(f, meshes.positions().data() + std::size_t(obj.first_vertex) * 3, obj.vertex_count);
 
-  work_.resize(obj.triangle_count);
+  if (work_.size() < obj.triangle_count) work_.resize(obj.triangle_count);
   const std::uint32_t* indices = meshes.indices().data() + std::size_t(obj.first_triangle) * 3;
   const std::uint8_t* closed = meshes.closed().data() + obj.first_triangle;
-  std::uint32_t next = std::uint32_t(out.size());
+  std::uint32_t next = std::uint32_t(count);
   for (std::uint32_t t = 0; t < obj.triangle_count; ++t) {
     Work& w = work_[t];
     w.out = setUp(f, o, indices + std::size_t(t) * 3, obj.first_vertex, closed[t], w)
@@ -271,21 +296,19 @@ std::size_t TriangleSetup::run(const SetupFrame& f, const OccluderMeshes& meshes
 
   const std::uint32_t* adjacency = meshes.adjacency().data();
   const double r = f.radius;
-  out.resize(next);
+  if (out.size() < next) out.resize(std::max<std::size_t>(next, 2 * out.size()));
+  count = next;
   for (std::uint32_t t = 0; t < obj.triangle_count; ++t) {
     const Work& w = work_[t];
     if (w.out == kNoNeighbour) continue;
     RasterTriangle& rt = out[w.out];
-    rt = RasterTriangle{};
+    rt.interior = 0;
+    for (int k = 0; k < 3; ++k) rt.band_key[k] = 0, rt.nb[k] = 0, rt.nb_edge[k] = 0;
     rt.rx = float(w.rx);
     rt.ry = float(w.ry);
-    const double g = std::fabs(w.za) + std::fabs(w.zb);
-    const double z_err = 8 * kU *
-                         (std::fabs(w.za) * (w.x1 - w.x0 + 1) * f.scale +
-                          std::fabs(w.zb) * (w.y1 - w.y0 + 1) * f.scale + std::fabs(w.zc));
+    const double g = w.g, z_err = w.z_err;
     for (int k = 0; k < kTriangleEdges; ++k) {
       rt.ea[k] = float(w.a[k]);
-      rt.inv_ea[k] = rt.ea[k] != 0 ? 1.0f / rt.ea[k] : 0.0f;
       rt.eb[k] = float(w.b[k]);
       rt.ec[k] = float(w.c[k]);
       rt.hi[k] = float(w.slack[k] + w.err[k]);
@@ -317,14 +340,10 @@ std::size_t TriangleSetup::run(const SetupFrame& f, const OccluderMeshes& meshes
         // The neighbour's plane exceeds this one's by at most (g + g_n) times the
         // distance from the edge (at most the slack, the sample spread, and rounding),
         // and the neighbour's vertices move too.
-        const double gn = std::fabs(n->za) + std::fabs(n->zb);
         const double distance = std::max(w.s_x, w.s_y) + 2 * r + w.err[k] + 1e-6;
-        const double n_err = 8 * kU *
-                             (std::fabs(n->za) * (n->x1 - n->x0 + 1) * f.scale +
-                              std::fabs(n->zb) * (n->y1 - n->y0 + 1) * f.scale + std::fabs(n->zc));
-        rt.band_key[k] = floatUp(
-            ((g + gn) * distance + std::fabs(n->za) * n->s_x + std::fabs(n->zb) * n->s_y + n_err) *
-            (1 + 4 * kU));
+        rt.band_key[k] = floatUp(((g + n->g) * distance + std::fabs(n->za) * n->s_x +
+                                  std::fabs(n->zb) * n->s_y + n->z_err) *
+                                 (1 + 4 * kU));
       }
     }
     rt.za = float(w.za);
@@ -336,6 +355,12 @@ std::size_t TriangleSetup::run(const SetupFrame& f, const OccluderMeshes& meshes
     // the plane is at least its nearest vertex's key less the gradient over that reach.
     const double reach = std::max(w.s_x, w.s_y) + r + 1e-3;
     rt.zmin = floatDown(w.key_min - g * reach - z_err);
+    // The kernels classify blocks from corner values: each a sum of two products and a
+    // constant, rounded four times, every term at most the samples' reach or |ec|.
+    double ec_max = 0;
+    for (int k = 0; k < kTriangleEdges; ++k) ec_max = std::max(ec_max, std::fabs(w.c[k]));
+    const double reach_px = double(w.x1 - w.x0 + 1) * f.scale + double(w.y1 - w.y0 + 1) * f.scale;
+    rt.block_tol = floatUp(8 * kU * (2 * reach_px + ec_max) + 1e-30);
     rt.x0 = w.x0, rt.y0 = w.y0, rt.x1 = w.x1, rt.y1 = w.y1;
   }
   return obj.triangle_count;

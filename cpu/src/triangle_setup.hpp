@@ -25,7 +25,8 @@ struct SetupFrame {
   double half_w = 0, half_h = 0;
   double key_scale = 0, key_offset = 0;  // key = (key_scale z + key_offset w) / w
   double near_key = 0, clear_key = 1;
-  int scale = 1;      // viewport pixels per buffer pixel
+  int scale = 1;  // viewport pixels per buffer pixel
+  double inv_scale = 1;
   double radius = 0;  // half the spread of a buffer pixel's samples: (scale - 1) / 2
   std::int32_t buffer_w = 0, buffer_h = 0;
   bool skip_closed_back_faces = true;
@@ -44,10 +45,11 @@ struct SetupObject {
 
 class TriangleSetup {
  public:
-  // Appends the object's usable triangles to `out` (neighbours refer to indices in
-  // `out`) and returns how many triangles of the object it looked at.
+  // Writes the object's usable triangles to out[count, ...) (neighbours refer to indices
+  // in `out`), growing `out` where needed but never clearing it (a frame reuses it),
+  // advances `count`, and returns how many triangles of the object it looked at.
   std::size_t run(const SetupFrame& frame, const OccluderMeshes& meshes, const SetupObject& object,
-                  std::vector<RasterTriangle>& out);
+                  std::vector<RasterTriangle>& out, std::size_t& count);
 
  private:
   struct Vertex {
@@ -65,6 +67,8 @@ class TriangleSetup {
     double s_x, s_y;    // how far GL may move the vertices, per axis
     double margin;      // depth margin
     double key_min;     // the nearest key of its (clipped) vertices
+    double g;           // |dz/dx| + |dz/dy| of the key plane
+    double z_err;       // float error of the kernels' evaluation of the plane
     double rx, ry;
     std::int32_t x0, y0, x1, y1;
     bool clipped;

@@ -20,6 +20,13 @@ struct Lanes {
   static F mul(F a, F b) { return _mm256_mul_ps(a, b); }
   static M gt(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
   static M le(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_LE_OQ); }
+  static M lt(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_LT_OQ); }
+  static int count(M m) { return __builtin_popcount(unsigned(_mm256_movemask_ps(m))); }
+  static float hmin(F a) {
+    __m128 b = _mm_min_ps(_mm256_castps256_ps128(a), _mm256_extractf128_ps(a, 1));
+    b = _mm_min_ps(b, _mm_movehl_ps(b, b));
+    return _mm_cvtss_f32(_mm_min_ss(b, _mm_shuffle_ps(b, b, 1)));
+  }
   static M and_(M a, M b) { return _mm256_and_ps(a, b); }
   static M or_(M a, M b) { return _mm256_or_ps(a, b); }
   static M andNot(M a, M b) { return _mm256_andnot_ps(b, a); }
@@ -50,6 +57,11 @@ struct Lanes {
 void rasterAvx2(const RasterTriangle* tris, const std::uint32_t* list, std::size_t n,
                 RasterTarget& target) {
   rasterTile<Lanes>(tris, list, n, target);
+}
+
+KeyRange rangeAvx2(const float* keys, std::size_t stride, std::int32_t x0, std::int32_t y0,
+                   std::int32_t x1, std::int32_t y1, float threshold) {
+  return keyRange<Lanes>(keys, stride, x0, y0, x1, y1, threshold);
 }
 
 }  // namespace logrid::cpu::detail

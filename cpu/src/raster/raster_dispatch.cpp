@@ -3,19 +3,23 @@
 
 namespace logrid::cpu::detail {
 
-RasterFunction rasterFunction(Isa isa) {
+Kernels kernels(Isa isa) {
   switch (isa) {
-    case Isa::Scalar: return rasterScalar;
+    case Isa::Scalar: return {rasterScalar, rangeScalar};
 #if LOGRID_CPU_X86
-    case Isa::Sse41: return __builtin_cpu_supports("sse4.1") ? rasterSse41 : nullptr;
-    case Isa::Avx2: return __builtin_cpu_supports("avx2") ? rasterAvx2 : nullptr;
+    case Isa::Sse41:
+      if (__builtin_cpu_supports("sse4.1")) return {rasterSse41, rangeSse41};
+      return {};
+    case Isa::Avx2:
+      if (__builtin_cpu_supports("avx2")) return {rasterAvx2, rangeAvx2};
+      return {};
 #else
     case Isa::Sse41:
-    case Isa::Avx2: return nullptr;
+    case Isa::Avx2: return {};
 #endif
-    case Isa::Auto: return rasterFunction(bestIsa());
+    case Isa::Auto: return kernels(bestIsa());
   }
-  return nullptr;
+  return {};
 }
 
 Isa bestIsa() {

@@ -20,6 +20,9 @@ struct Lanes {
   static F mul(F a, F b) { return {a.v * b.v}; }
   static M gt(F a, F b) { return {a.v > b.v}; }
   static M le(F a, F b) { return {a.v <= b.v}; }
+  static M lt(F a, F b) { return {a.v < b.v}; }
+  static int count(M m) { return m.v ? 1 : 0; }
+  static float hmin(F a) { return a.v; }
   static M and_(M a, M b) { return {a.v && b.v}; }
   static M or_(M a, M b) { return {a.v || b.v}; }
   static M andNot(M a, M b) { return {a.v && !b.v}; }
@@ -40,6 +43,11 @@ struct Lanes {
 void rasterScalar(const RasterTriangle* tris, const std::uint32_t* list, std::size_t n,
                   RasterTarget& target) {
   rasterTile<Lanes>(tris, list, n, target);
+}
+
+KeyRange rangeScalar(const float* keys, std::size_t stride, std::int32_t x0, std::int32_t y0,
+                     std::int32_t x1, std::int32_t y1, float threshold) {
+  return keyRange<Lanes>(keys, stride, x0, y0, x1, y1, threshold);
 }
 
 }  // namespace logrid::cpu::detail

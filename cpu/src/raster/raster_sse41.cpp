@@ -19,6 +19,12 @@ struct Lanes {
   static F mul(F a, F b) { return _mm_mul_ps(a, b); }
   static M gt(F a, F b) { return _mm_cmpgt_ps(a, b); }
   static M le(F a, F b) { return _mm_cmple_ps(a, b); }
+  static M lt(F a, F b) { return _mm_cmplt_ps(a, b); }
+  static int count(M m) { return __builtin_popcount(unsigned(_mm_movemask_ps(m))); }
+  static float hmin(F a) {
+    const __m128 b = _mm_min_ps(a, _mm_movehl_ps(a, a));
+    return _mm_cvtss_f32(_mm_min_ss(b, _mm_shuffle_ps(b, b, 1)));
+  }
   static M and_(M a, M b) { return _mm_and_ps(a, b); }
   static M or_(M a, M b) { return _mm_or_ps(a, b); }
   static M andNot(M a, M b) { return _mm_andnot_ps(b, a); }
@@ -47,6 +53,11 @@ struct Lanes {
 void rasterSse41(const RasterTriangle* tris, const std::uint32_t* list, std::size_t n,
                  RasterTarget& target) {
   rasterTile<Lanes>(tris, list, n, target);
+}
+
+KeyRange rangeSse41(const float* keys, std::size_t stride, std::int32_t x0, std::int32_t y0,
+                    std::int32_t x1, std::int32_t y1, float threshold) {
+  return keyRange<Lanes>(keys, stride, x0, y0, x1, y1, threshold);
 }
 
 }  // namespace logrid::cpu::detail

@@ -28,8 +28,8 @@ struct RasterTriangle {
   // No sample of the triangle gets a key below this: a tile whose keys are all at or
   // in front of it cannot change.
   float zmin = 0;
-  // 1 / ea[k] (0 where ea[k] is 0), for the span of a row that can hold candidates.
-  float inv_ea[kTriangleEdges] = {};
+  // Rounding allowance of the kernels' block classification (raster_kernel.inl).
+  float block_tol = 0;
   float band_key[3] = {};                       // added to samples in the band of edge k
   std::uint32_t nb[3] = {0, 0, 0};              // neighbour across edge k (index into the frame's
                                                 // triangles), valid where interior bit k is set
@@ -37,6 +37,8 @@ struct RasterTriangle {
   std::uint8_t interior = 0;                    // bit k: edge k has a neighbour
   std::int32_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // buffer pixels the triangle may claim
 };
+
+inline constexpr int kBlockSide = 8;  // the kernels' blocks, buffer pixels
 
 // A tile of the buffer being rasterised: buffer pixels [x0, x1) x [y0, y1); x0 is a
 // multiple of 8 and rows are padded to a multiple of 8 floats, so 8-wide stores stay
@@ -47,20 +49,43 @@ struct RasterTarget {
   std::int32_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
   float scale = 1;  // viewport pixels per buffer pixel
   float half = 0.5f;
-  // In: an upper bound of every key in the tile; out: a (possibly smaller) one after.
-  float max_key = 0;
+  // Per block of 8 x 8 buffer pixels of the tile (row by row): an upper bound of its
+  // keys, kept up to date by the kernel.
+  float* block_max = nullptr;
 };
 
 // Rasterises the triangles tris[list[0..n)] into the target (key = min(key, bound)).
 using RasterFunction = void (*)(const RasterTriangle* tris, const std::uint32_t* list,
                                 std::size_t n, RasterTarget& target);
 
-// The kernel of an ISA (not Auto); nullptr if this build or CPU lacks it.
-RasterFunction rasterFunction(Isa isa);
+// Over buffer pixels [x0, x1) x [y0, y1) of `keys` (rows `stride` floats apart): the
+// nearest and farthest key and how many keys are not below `threshold`.
+struct KeyRange {
+  float min_key = 0;
+  float max_key = 0;
+  std::uint32_t at_or_beyond = 0;
+};
+using RangeFunction = KeyRange (*)(const float* keys, std::size_t stride, std::int32_t x0,
+                                   std::int32_t y0, std::int32_t x1, std::int32_t y1,
+                                   float threshold);
+
+struct Kernels {
+  RasterFunction raster = nullptr;
+  RangeFunction range = nullptr;
+};
+
+// The kernels of an ISA (not Auto); null functions if this build or CPU lacks it.
+Kernels kernels(Isa isa);
 Isa bestIsa();
 
 void rasterScalar(const RasterTriangle*, const std::uint32_t*, std::size_t, RasterTarget&);
 void rasterSse41(const RasterTriangle*, const std::uint32_t*, std::size_t, RasterTarget&);
 void rasterAvx2(const RasterTriangle*, const std::uint32_t*, std::size_t, RasterTarget&);
+KeyRange rangeScalar(const float*, std::size_t, std::int32_t, std::int32_t, std::int32_t,
+                     std::int32_t, float);
+KeyRange rangeSse41(const float*, std::size_t, std::int32_t, std::int32_t, std::int32_t,
+                    std::int32_t, float);
+KeyRange rangeAvx2(const float*, std::size_t, std::int32_t, std::int32_t, std::int32_t,
+                   std::int32_t, float);
 
 }  // namespace logrid::cpu::detail
