@@ -3,8 +3,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
 #include <optional>
 #include <sstream>
+#include <thread>
+#include <utility>
 
 #include "logrid/error.hpp"
 #include "raster/raster_triangle.hpp"
@@ -103,9 +108,31 @@ struct OcclusionBuffer::Impl {
     PixelRect rect;  // viewport pixels the object may cover
   };
 
+  // A worker thread: sets up each object it takes from the queue with its own set-up
+  // and triangle store, and rasterises it at once into the bins it touches (each bin
+  // under its lock). What it counted is added to `stats` when the caller drains.
+  struct Worker {
+    detail::TriangleSetup setup;
+    std::vector<detail::RasterTriangle> tris;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> bin_tris;  // (bin, triangle)
+    std::vector<std::uint32_t> list;
+    OcclusionBufferStats counted;
+    std::thread thread;
+  };
+
   Impl(const OccluderMeshes& m, const OcclusionBufferDesc& d) : meshes(m), desc(d) {
     isa = d.isa == Isa::Auto ? detail::bestIsa() : d.isa;
     kernels = detail::kernels(isa);
+    workers.resize(d.threads);
+    for (Worker& w : workers) w.thread = std::thread([this, &w] { work(w); });
+  }
+  ~Impl() {
+    {
+      std::lock_guard<std::mutex> lock(queue_mutex);
+      stop = true;
+    }
+    queue_cv.notify_all();
+    for (Worker& w : workers) w.thread.join();
   }
 
   const OccluderMeshes& meshes;
@@ -133,6 +160,22 @@ struct OcclusionBuffer::Impl {
   std::size_t tri_count = 0;
   detail::TriangleSetup setup;
 
+  // Workers (desc.threads > 0): objects wait in `queue`; `queued` counts those handed
+  // over, `finished` those done. The caller reads keys only after drain(), when every
+  // object handed over is done and no worker touches the buffer.
+  std::vector<Worker> workers;
+  std::unique_ptr<std::mutex[]> bin_locks;
+  std::mutex queue_mutex;
+  std::condition_variable queue_cv, done_cv;
+  std::deque<PendingObject> queue;
+  std::uint64_t queued = 0, finished = 0;
+  bool stop = false;
+
+  void work(Worker& w);
+  void rasterizeObject(Worker& w, const PendingObject& p);
+  void drain();
+  void clearBinIfStale(Bin& b, std::int32_t bx, std::int32_t by);
+
   void begin(const Camera& camera);
   void draw(std::uint32_t id);
   // Brings every buffer pixel under the viewport rectangle up to date.
@@ -154,6 +197,7 @@ struct OcclusionBuffer::Impl {
 };
 
 void OcclusionBuffer::Impl::begin(const Camera& camera) {
+  drain();                                     // workers leave the buffer alone from here
   projector.emplace(camera, desc.projection);  // validates the camera
   const Mat4d& m = camera.view_projection;
   for (int i = 0; i < 16; ++i) frame.m[i] = m.m[i];
@@ -199,6 +243,7 @@ void OcclusionBuffer::Impl::begin(const Camera& camera) {
     stride = std::size_t(bins_x) * std::size_t(bin);  // whole bins: 8-wide stores stay inside
     keys.assign(stride * std::size_t(bins_y) * std::size_t(bin), clear_key);
     bins.assign(std::size_t(bins_x) * std::size_t(bins_y), Bin{});
+    if (!workers.empty()) bin_locks.reset(new std::mutex[bins.size()]);
     stamp = 0;
   }
   frame.buffer_w = bw;
@@ -244,7 +289,88 @@ void OcclusionBuffer::Impl::draw(std::uint32_t id) {
     po.object.margin = p.margin;
   }
   po.rect = p.rect;
-  pending.push_back(po);
+  if (workers.empty()) {
+    pending.push_back(po);
+    return;
+  }
+  {
+    std::lock_guard<std::mutex> lock(queue_mutex);
+    queue.push_back(po);
+    ++queued;
+  }
+  queue_cv.notify_one();
+}
+
+void OcclusionBuffer::Impl::work(Worker& w) {
+  std::unique_lock<std::mutex> lock(queue_mutex);
+  for (;;) {
+    queue_cv.wait(lock, [&] { return stop || !queue.empty(); });
+    if (queue.empty()) return;  // stopping, nothing left
+    const PendingObject p = queue.front();
+    queue.pop_front();
+    lock.unlock();
+    const auto start = Clock::now();
+    rasterizeObject(w, p);
+    w.counted.worker_seconds += secondsSince(start);
+    lock.lock();
+    if (++finished == queued) done_cv.notify_all();
+  }
+}
+
+void OcclusionBuffer::Impl::rasterizeObject(Worker& w, const PendingObject& p) {
+  std::size_t n = 0;  // the worker's store holds one object at a time
+  w.counted.triangles_set_up += w.setup.run(frame, meshes, p.object, w.tris, n);
+  ++w.counted.objects_set_up;
+  w.bin_tris.clear();
+  for (std::size_t t = 0; t < n; ++t) {
+    const detail::RasterTriangle& rt = w.tris[t];
+    for (std::int32_t by = rt.y0 / bin; by <= (rt.y1 - 1) / bin; ++by) {
+      for (std::int32_t bx = rt.x0 / bin; bx <= (rt.x1 - 1) / bin; ++bx) {
+        w.bin_tris.emplace_back(std::uint32_t(by * bins_x + bx), std::uint32_t(t));
+      }
+    }
+  }
+  std::sort(w.bin_tris.begin(), w.bin_tris.end());
+  for (std::size_t i = 0; i < w.bin_tris.size();) {
+    const std::uint32_t index = w.bin_tris[i].first;
+    w.list.clear();
+    for (; i < w.bin_tris.size() && w.bin_tris[i].first == index; ++i) {
+      w.list.push_back(w.bin_tris[i].second);
+    }
+    const std::int32_t bx = std::int32_t(index) % bins_x, by = std::int32_t(index) / bins_x;
+    std::lock_guard<std::mutex> lock(bin_locks[index]);
+    Bin& b = bins[index];
+    clearBinIfStale(b, bx, by);
+    detail::RasterTarget target;
+    target.keys = keys.data();
+    target.stride = stride;
+    target.x0 = bx * bin;
+    target.y0 = by * bin;
+    target.x1 = std::min(target.x0 + bin, bw);
+    target.y1 = std::min(target.y0 + bin, bh);
+    target.scale = float(scale);
+    target.half = 0.5f * float(scale);
+    target.block_max = b.block_max.data();
+    kernels.raster(w.tris.data(), w.list.data(), w.list.size(), target);
+    w.counted.triangles_rasterized += w.list.size();
+    ++w.counted.tiles_rasterized;
+  }
+}
+
+void OcclusionBuffer::Impl::drain() {
+  if (workers.empty()) return;
+  const auto start = Clock::now();
+  std::unique_lock<std::mutex> lock(queue_mutex);
+  done_cv.wait(lock, [&] { return finished == queued; });
+  for (Worker& w : workers) {
+    stats.objects_set_up += w.counted.objects_set_up;
+    stats.triangles_set_up += w.counted.triangles_set_up;
+    stats.triangles_rasterized += w.counted.triangles_rasterized;
+    stats.tiles_rasterized += w.counted.tiles_rasterized;
+    stats.worker_seconds += w.counted.worker_seconds;
+    w.counted = OcclusionBufferStats{};
+  }
+  stats.wait_seconds += secondsSince(start);
 }
 
 void OcclusionBuffer::Impl::setUpObject(const PendingObject& p) {
@@ -264,8 +390,7 @@ void OcclusionBuffer::Impl::setUpObject(const PendingObject& p) {
   }
 }
 
-void OcclusionBuffer::Impl::rasterizeBin(std::int32_t bx, std::int32_t by) {
-  Bin& b = bins[std::size_t(by) * std::size_t(bins_x) + std::size_t(bx)];
+void OcclusionBuffer::Impl::clearBinIfStale(Bin& b, std::int32_t bx, std::int32_t by) {
   const std::int32_t x0 = bx * bin, y0 = by * bin;
   if (b.stamp != stamp) {
     for (std::int32_t y = y0; y < y0 + bin; ++y) {
@@ -276,6 +401,12 @@ void OcclusionBuffer::Impl::rasterizeBin(std::int32_t bx, std::int32_t by) {
     const std::size_t side = std::size_t(bin / detail::kBlockSide);
     b.block_max.assign(side * side, clear_key);
   }
+}
+
+void OcclusionBuffer::Impl::rasterizeBin(std::int32_t bx, std::int32_t by) {
+  Bin& b = bins[std::size_t(by) * std::size_t(bins_x) + std::size_t(bx)];
+  const std::int32_t x0 = bx * bin, y0 = by * bin;
+  clearBinIfStale(b, bx, by);
   if (b.pending.empty()) return;
   detail::RasterTarget target;
   target.keys = keys.data();
@@ -294,6 +425,7 @@ void OcclusionBuffer::Impl::rasterizeBin(std::int32_t bx, std::int32_t by) {
 }
 
 void OcclusionBuffer::Impl::ensure(const PixelRect& rect) {
+  drain();
   for (std::size_t i = 0; i < pending.size();) {
     if (overlaps(pending[i].rect, rect)) {
       const PendingObject p = pending[i];
@@ -374,7 +506,10 @@ void OcclusionBuffer::beginFrame(const Camera& camera) {
   impl_->stats.seconds += secondsSince(start);
 }
 
-void OcclusionBuffer::endFrame() { impl_->in_frame = false; }
+void OcclusionBuffer::endFrame() {
+  impl_->drain();  // the workers' counts belong to this frame
+  impl_->in_frame = false;
+}
 
 void OcclusionBuffer::drawObject(std::uint32_t id) {
   if (!impl_->in_frame) {

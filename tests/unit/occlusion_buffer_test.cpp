@@ -244,6 +244,50 @@ TEST(OcclusionBufferTest, EveryKernelWritesTheSameBuffer) {
   }
 }
 
+TEST(OcclusionBufferTest, WorkerThreadsWriteTheSameBuffer) {
+  // One and three workers, one buffer over several frames (tiles left from the frame
+  // before must be cleared), a request between draws: every key as the lazy caller's.
+  std::mt19937 rng(11);
+  for (std::uint32_t threads : {1u, 3u}) {
+    std::size_t covered = 0;  // keys in front of the clear one (the comparison is not vacuous)
+    for (int s = 0; s < 8; ++s) {
+      const OccluderMeshes meshes = meshesOf(test::randomScene(std::uint32_t(s) + 40));
+      OcclusionBufferDesc desc;
+      desc.resolution = randomCase(rng).resolution;
+      desc.threads = threads;
+      OcclusionBuffer buffer(meshes, desc);
+      for (std::uint32_t frame = 0; frame < 3; ++frame) {
+        const PropertyCase c = randomCase(rng);
+        const Camera cam = test::randomCamera(std::uint32_t(s) * 3 + frame + 5, 70, 52,
+                                              c.convention, c.range, c.format);
+        OcclusionBufferDesc lazy = desc;
+        lazy.threads = 0;
+        const std::vector<float> expected = render(meshes, cam, lazy);
+        buffer.beginFrame(cam);
+        const std::uint32_t half = std::uint32_t(meshes.objectCount() / 2);
+        for (std::uint32_t i = 0; i < half; ++i) buffer.drawObject(i);
+        const PixelRect corner{0, 0, 20, 20};
+        AreaDepth a;
+        buffer.summarize(&corner, 1, &a);
+        for (std::uint32_t i = half; i < meshes.objectCount(); ++i) buffer.drawObject(i);
+        std::vector<float> keys(expected.size());
+        buffer.readKeys({0, 0, std::int32_t(cam.width), std::int32_t(cam.height)}, keys.data());
+        buffer.endFrame();
+        for (std::size_t i = 0; i < keys.size(); ++i) {
+          ASSERT_EQ(keys[i], expected[i])
+              << threads << " workers, scene " << s << " frame " << frame << " pixel " << i;
+          const float clear = c.convention == DepthConvention::Reversed ? 0.0f : 1.0f;
+          covered += keys[i] != clear;
+        }
+      }
+      EXPECT_EQ(buffer.stats().objects_set_up,
+                buffer.stats().objects_drawn - buffer.stats().objects_skipped);
+      EXPECT_GT(buffer.stats().worker_seconds, 0.0);
+    }
+    EXPECT_GT(covered, 0u);
+  }
+}
+
 TEST(OcclusionBufferTest, CoarseResolutionsHoldTheFarthestKeyOfTheirBlock) {
   // A wall facing the camera, seen at full, half and quarter resolution: a covered
   // block's key is at or behind every full-resolution key in it, and blocks at the

@@ -69,9 +69,12 @@
 // eye otherwise), and the fallback (or nothing) else.
 //
 // Threads: with OcclusionBufferDesc::threads > 0, drawObject() hands the object to worker
-// threads, which set up, bin and rasterise it while the application goes on drawing; a
-// request waits only for the work that touches its tiles (the time it waits is counted
-// as wait_seconds). Without workers, everything runs lazily inside the requests.
+// threads, which set up each object and rasterise it at once into every tile it touches
+// (each tile under its own lock) while the application goes on drawing; a request (and
+// beginFrame, endFrame) first waits until every object handed over is done (the time it
+// waits is counted as wait_seconds). Without workers, everything runs lazily inside the
+// requests: objects are set up only when a request touches their rectangle, and only
+// the requested tiles are rasterised.
 //
 // One frame: beginFrame(camera) after the application cleared its depth buffer;
 // drawObject(id) for every object drawn (Culler: from the draw callback); requests
@@ -135,7 +138,7 @@ struct OcclusionBufferStats {
   std::uint64_t tiles_rasterized = 0;      // tiles brought up to date
   double seconds = 0;         // CPU time of the caller inside the buffer (drawObject, requests)
   double wait_seconds = 0;    // of which waiting for workers
-  double worker_seconds = 0;  // CPU time of the workers
+  double worker_seconds = 0;  // time the workers spent on objects (summed over workers)
 };
 
 class OcclusionBuffer final : public DepthSource {
