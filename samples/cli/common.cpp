@@ -28,6 +28,9 @@ void addWalkthroughOptions(CLI::App& app, WalkOptions& o) {
   app.add_option("--path", o.path_file, "camera path JSON (keys: position, look_at, time)");
   app.add_option("--frames", o.frames, "frames along the path")->check(CLI::Range(1, 10000000));
   app.add_option("--leaf", o.leaf, "objects (or triangles) per hierarchy leaf; 0: the scene's");
+  app.add_option("--tree-parts", o.tree_parts,
+                 "forest: each tree one object (whole), trunk and crown apart (trunk-crown), or "
+                 "the trunk and each crown tier apart (tiers)");
   app.add_option("--platform", o.platform, "EGL platform: auto, surfaceless or device");
   app.add_option("--lp-threads", o.lp_threads,
                  "llvmpipe raster threads (sets LP_NUM_THREADS; 0 makes each depth read's flush "
@@ -66,6 +69,15 @@ void addViewOptions(CLI::App& app, WalkOptions& o) {
                  "approximate: read every k-th pixel row of a tile (default 1: every row)");
 }
 
+std::vector<std::string> splitList(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
 std::pair<std::uint32_t, std::uint32_t> parseSize(const std::string& text) {
   unsigned long w = 0, h = 0;
   char x = 0, extra = 0;
@@ -92,6 +104,14 @@ DepthConvention parseDepthConvention(const std::string& text) {
   if (text == "reversed") return DepthConvention::Reversed;
   throw Error(ErrorCode::InvalidArgument,
               "depth convention '" + text + "' is unknown; use standard or reversed");
+}
+
+TreeParts parseTreeParts(const std::string& text) {
+  for (TreeParts p : {TreeParts::Whole, TreeParts::TrunkCrown, TreeParts::Tiers}) {
+    if (text == toString(p)) return p;
+  }
+  throw Error(ErrorCode::InvalidArgument,
+              "tree parts '" + text + "' is unknown; use whole, trunk-crown or tiers");
 }
 
 std::uint32_t parseLookahead(const std::string& text) {
@@ -147,7 +167,7 @@ LoadedScene loadScene(const WalkOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   Scene scene;
   if (o.scene == "forest") {
-    scene = makeForest({o.scale, o.seed});
+    scene = makeForest({o.scale, o.seed, parseTreeParts(o.tree_parts)});
   } else if (o.scene == "city") {
     scene = makeCity({o.scale, o.seed});
   } else {
@@ -168,9 +188,10 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
   RunConfig c;
   const auto method = parseMethodChoice(o.method);
   if (!method) {
-    throw Error(ErrorCode::InvalidArgument, "method '" + o.method +
-                                                "' is unknown; use log-state, log-zfar, bog, hzb, "
-                                                "pq, vfc or oracle");
+    throw Error(ErrorCode::InvalidArgument,
+                "method '" + o.method + "' is unknown; use " + methodNames() +
+                    " or oracle, optionally followed by :K or :all (lookahead) and :tc "
+                    "(temporal coherence), e.g. log-state:16:tc");
   }
   c.method = *method;
   if (!findReader(o.reader)) {
@@ -201,8 +222,8 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
   if (o.tile < 1)
     throw Error(ErrorCode::InvalidArgument, "tile size 0 is invalid; use 1 pixel or more");
   c.culler.approximation = o.approximation;
-  c.culler.lookahead = parseLookahead(o.lookahead);
-  c.culler.temporal_coherence = o.coherence;
+  c.culler.lookahead = c.method.lookahead ? *c.method.lookahead : parseLookahead(o.lookahead);
+  c.culler.temporal_coherence = c.method.coherence || o.coherence;
   if (c.method.method) {
     CullerDesc check = c.culler;
     check.method = *c.method.method;

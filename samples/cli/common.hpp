@@ -7,9 +7,11 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "cli/frame_runner.hpp"
 #include "logrid/gl/context.hpp"
+#include "scene/generators.hpp"
 #include "scene/prepare.hpp"
 
 namespace logrid::samples {
@@ -41,9 +43,10 @@ struct WalkOptions {
   std::string images;
   bool overlay = false;
   std::string platform = "auto";
-  int lp_threads = -1;              // >= 0: LP_NUM_THREADS for llvmpipe (PLATFORM.md); -1: leave it
-  std::uint32_t leaf = 0;           // 0: the scene's default
-  GridApproximation approximation;  // off by default
+  int lp_threads = -1;     // >= 0: LP_NUM_THREADS for llvmpipe (PLATFORM.md); -1: leave it
+  std::uint32_t leaf = 0;  // 0: the scene's default
+  std::string tree_parts = "whole";  // forest: whole, trunk-crown or tiers
+  GridApproximation approximation;   // off by default
 };
 
 // Adds the options every walkthrough command has (--scene ... --platform).
@@ -52,10 +55,14 @@ void addSceneOptions(CLI::App& app, WalkOptions& o);
 void addWalkthroughOptions(CLI::App& app, WalkOptions& o);
 void addViewOptions(CLI::App& app, WalkOptions& o);
 
+// Splits a comma-separated list ("forest,city"), dropping empty items.
+std::vector<std::string> splitList(const std::string& text);
+
 // Parses "WxH"; throws logrid::Error(InvalidArgument) naming the text.
 std::pair<std::uint32_t, std::uint32_t> parseSize(const std::string& text);
 DepthFormat parseDepthFormat(const std::string& text);
 DepthConvention parseDepthConvention(const std::string& text);
+TreeParts parseTreeParts(const std::string& text);
 // "1", "16", ... or "all" (kUnlimitedLookahead).
 std::uint32_t parseLookahead(const std::string& text);
 
