@@ -16,6 +16,7 @@
 #include "cli/common.hpp"
 #include "cli/experiment.hpp"
 #include "cli/plot.hpp"
+#include "cli/readers.hpp"
 #include "cli/report.hpp"
 #include "cli/tradeoff.hpp"
 #include "cli/traversal_sweep.hpp"
@@ -379,7 +380,8 @@ void addBenchCommand(CLI::App& app) {
                     "comma-separated: " + methodNames() +
                         ", oracle; each may take :K or :all and :tc (e.g. log-state:16:tc)");
   bench->add_option("--readers", o->readers,
-                    "log-state again with these depth readers (pbo, query, software; '' for none)");
+                    "log-state again with these depth readers (comma-separated: " + readerNames() +
+                        "; '' for none)");
   addWalkthroughOptions(*bench, o->walk);
   addViewOptions(*bench, o->walk);  // --tile, --reader, depth, projection, approximate knobs
   bench->add_option("--forest-scale", o->forest_scale, "scale of the forest (default --scale)");

@@ -56,6 +56,9 @@ void addViewOptions(CLI::App& app, WalkOptions& o) {
   app.add_option("--cpu-isa", o.cpu_isa, "--reader cpu: kernel auto, scalar, sse4.1 or avx2");
   app.add_option("--depth-format", o.depth_format, "depth buffer: 16, 24 or 32f");
   app.add_option("--depth-convention", o.depth_convention, "standard or reversed");
+  app.add_option("--samples", o.samples,
+                 "samples per pixel (multisampled framebuffer; 0: single-sampled)")
+      ->check(CLI::Range(0, 64));
   app.add_option("--near", o.near_plane, "near plane (default: the scene's)");
   app.add_option("--far", o.far_plane, "far plane (default: the scene's)");
   auto* fov = app.add_option("--fov", o.fov, "vertical field of view in degrees");
@@ -248,6 +251,7 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
   }
   c.view.depth =
       depthSetupFor(parseDepthConvention(o.depth_convention), parseDepthFormat(o.depth_format));
+  c.view.samples = o.samples;
   c.frames = o.frames;
   c.verify = o.verify;
   c.images_dir = o.images;

@@ -34,6 +34,7 @@ struct WalkOptions {
   bool coherence = false;
   std::string depth_format = "32f";
   std::string depth_convention = "standard";
+  std::uint32_t samples = 0;
   double near_plane = 0;  // 0: the scene's
   double far_plane = 0;
   double fov = 60;

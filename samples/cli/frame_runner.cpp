@@ -102,6 +102,7 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
   fb.width = config.view.width;
   fb.height = config.view.height;
   fb.depth = config.view.depth;
+  fb.samples = config.view.samples;
   fb.object_ids = config.verify || !config.method.method;
   framebuffer_ = std::make_unique<gl::Framebuffer>(fb);
 
@@ -143,7 +144,10 @@ Camera FrameRunner::cameraFor(std::size_t frame) const {
 }
 
 gl::OracleFrame FrameRunner::idPass(const Camera& camera) {
+  // A multisampled framebuffer gives one id and depth per sample: an object is visible
+  // if any sample of it survives.
   return gl::objectIdOracle(*framebuffer_, camera, scene_.object_boxes, [&] {
+    if (config_.hooks.after_clear) config_.hooks.after_clear();
     renderer_.begin(gl::Pass::ObjectIds, camera);
     vfc_->cullFrame(camera, scene_.hierarchy, g_no_depth, [&](ObjectId id) { renderer_.draw(id); });
     renderer_.end();
@@ -172,9 +176,17 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
   const auto start = std::chrono::steady_clock::now();
   framebuffer_->bind();
   framebuffer_->clear(kBackground);
+  if (config_.hooks.after_clear) config_.hooks.after_clear();
   renderer_.begin(gl::Pass::Shaded, camera);
+  const FrameHooks& hooks = config_.hooks;
   auto draw = [&](ObjectId id) {
+    if (hooks.before_draw) {
+      hooks.before_draw();
+      framebuffer_->bind();
+      renderer_.begin(gl::Pass::Shaded, camera);
+    }
     renderer_.draw(id);
+    if (hooks.after_draw) hooks.after_draw();
     rec.triangles += renderer_.triangles(id);
     if (!drawn_[id]) {
       drawn_[id] = 1;
@@ -188,8 +200,10 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
     rec.stats.objects_drawn = oracle.visible.size() + oracle.artifacts.size();
   } else {
     reader_->beginFrame(camera);
+    if (hooks.before_cull) hooks.before_cull();
     rec.stats = culler_->cullFrame(camera, scene_.hierarchy, reader_->source(), draw);
     if (auto* cpu = dynamic_cast<CpuFrameReader*>(reader_.get())) rec.cpu = cpu->takeFrameStats();
+    if (hooks.after_cull) hooks.after_cull();
   }
   renderer_.end();
   glFinish();

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -28,6 +29,9 @@ namespace logrid::samples {
 // command's --lookahead and --coherence: ":K" (a lookahead, or ":all") and ":tc"
 // (temporal coherence), e.g. "log-state:16:tc".
 struct MethodChoice {
+  MethodChoice() = default;
+  MethodChoice(std::optional<Method> m) : method(m) {}  // NOLINT: implicit on purpose
+
   std::optional<Method> method;  // empty: oracle
   std::optional<std::uint32_t> lookahead;
   bool coherence = false;
@@ -35,8 +39,23 @@ struct MethodChoice {
 };
 std::optional<MethodChoice> parseMethodChoice(const std::string& name);
 
+// Calls into a frame, for tests that act as an application with state of its own (the
+// GL-state fuzz test). Each is optional.
+struct FrameHooks {
+  // The frame's buffers were just cleared (the culled frame and the ID pass alike).
+  std::function<void()> after_clear;
+  // Right before and right after Culler::cullFrame (the culled frame only).
+  std::function<void()> before_cull;
+  std::function<void()> after_cull;
+  // Inside the draw callback, around the renderer's draw. With before_draw set, the
+  // runner binds its framebuffer and renderer again after it (as an application that
+  // leaves other bindings between its draws would).
+  std::function<void()> before_draw;
+  std::function<void()> after_draw;
+};
+
 struct RunConfig {
-  MethodChoice method{Method::LogState, std::nullopt, false};
+  MethodChoice method{Method::LogState};
   CullerDesc culler;                  // method is taken from `method`
   std::string reader = "readpixels";  // a name of readerTable()
   CpuReaderOptions cpu;               // for --reader cpu
@@ -45,6 +64,7 @@ struct RunConfig {
   bool verify = false;       // object-ID check after each frame
   std::string images_dir;    // write PNG frames here when set
   bool overlay = false;      // and overlay pictures (tile grid, boxes)
+  FrameHooks hooks;
 };
 
 struct FrameRecord {

@@ -174,6 +174,7 @@ inline std::string reproducer(const SceneKey& key, const RunConfig& c) {
       << formatName(c.view.depth.format) << " --depth-convention "
       << toString(c.view.depth.convention) << " --near " << c.view.near_plane << " --far "
       << c.view.far_plane;
+  if (c.view.samples > 1) out << " --samples " << c.view.samples;
   if (c.view.orthographic) {
     out << " --ortho";
   } else {
