@@ -194,8 +194,8 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
                                                   " needs depth values, which " + reader->name +
                                                   " cannot give; use --reader " + readers);
     }
-    reader_ =
-        reader->make({scene, framebuffer_->handle(), fb.width, fb.height, fb.depth, &motion_});
+    reader_ = reader->make({scene, framebuffer_->handle(), fb.width, fb.height, fb.depth, &motion_,
+                            &config.cpu, desc.projection});
   }
   CullerDesc vfc;
   vfc.method = Method::Vfc;
@@ -323,6 +323,7 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
     rec.stats = queries_
                     ? culler_->cullFrame(camera, hierarchy(), reader_->source(), *queries_, draw)
                     : culler_->cullFrame(camera, hierarchy(), reader_->source(), draw);
+    if (auto* cpu = dynamic_cast<CpuFrameReader*>(reader_.get())) rec.cpu = cpu->takeFrameStats();
     if (hooks.after_cull) hooks.after_cull();
   }
   renderer_.end();
