@@ -53,6 +53,7 @@ std::optional<MethodChoice> parseMethodChoice(const std::string& name) {
     } else if (!choice.lookahead && !parts[i].empty() &&
                (parts[i] == "all" ||
                 parts[i].find_first_not_of("0123456789") == std::string::npos)) {
+      if (parts[i].size() > 10) return std::nullopt;  // beyond any 32-bit count
       const unsigned long k = parts[i] == "all" ? kUnlimitedLookahead : std::stoul(parts[i]);
       if (k < 1 || k > kUnlimitedLookahead) return std::nullopt;
       choice.lookahead = std::uint32_t(k);

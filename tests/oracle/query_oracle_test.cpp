@@ -182,8 +182,9 @@ TEST(QueryMethodNames, LogHwqTakesItsScheduleAsASuffix) {
   const auto plain = samples::parseMethodChoice("log+hwq");
   ASSERT_TRUE(plain);
   EXPECT_FALSE(plain->schedule);
-  for (const char* bad : {"log+hwq:log+hwq", "log+hwq:log-state", "log+hwq:chc:stat", "hwq:chc",
-                          "log-state:stat", "oracle:chc", "log+hwq:bogus"}) {
+  for (const char* bad :
+       {"log+hwq:log+hwq", "log+hwq:log-state", "log+hwq:chc:stat", "hwq:chc", "log-state:stat",
+        "oracle:chc", "log+hwq:bogus", "log-state:99999999999999999999", "log-state:4294967296"}) {
     EXPECT_FALSE(samples::parseMethodChoice(bad)) << bad;
   }
 }
