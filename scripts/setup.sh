@@ -11,8 +11,10 @@ packages=(
   # libraries
   libglm-dev libopenimageio-dev openimageio-tools libcli11-dev libassimp-dev zlib1g-dev
   nlohmann-json3-dev fonts-dejavu-core
-  # tests, benchmarks, plots
-  libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
+  # the interactive viewer (logrid view): a window through GLFW with GLX, a Dear ImGui panel
+  libglfw3-dev libimgui-dev libstb-dev libgl1 libglx-mesa0
+  # tests, benchmarks, plots; Xvfb runs the viewer's tests without a screen
+  libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox xvfb xauth
 )
 
 missing=()

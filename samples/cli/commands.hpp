@@ -10,5 +10,8 @@ namespace logrid::samples {
 void addWalkCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 void addTuneCommand(CLI::App& app);
+// samples/viewer/view_command.cpp, or cli/view_unavailable.cpp in a build without GLFW
+// and Dear ImGui.
+void addViewCommand(CLI::App& app);
 
 }  // namespace logrid::samples

@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <limits>
 
-#include "cli/images.hpp"
 #include "logrid/error.hpp"
 #include "logrid/gl/context.hpp"
 #include "logrid/zread/gl_sources.hpp"
@@ -148,22 +147,40 @@ OracleFrame FrameRunner::idPass(const Camera& camera) {
   return out;
 }
 
-OracleFrame FrameRunner::visibleSet(std::size_t frame, const Camera& camera) {
-  if (!oracle_cache_) return idPass(camera);
+OracleFrame FrameRunner::visibleSet(std::optional<std::size_t> frame, const Camera& camera) {
+  if (!oracle_cache_ || !frame) return idPass(camera);
   auto& frames = oracle_cache_->frames;
-  if (frames.size() <= frame) frames.resize(frame + 1);
-  if (!frames[frame]) frames[frame] = idPass(camera);
-  return *frames[frame];
+  if (frames.size() <= *frame) frames.resize(*frame + 1);
+  if (!frames[*frame]) frames[*frame] = idPass(camera);
+  return *frames[*frame];
 }
 
 FrameRecord FrameRunner::renderFrame(std::size_t frame) {
+  return render(cameraFor(frame), frame, true);
+}
+
+FrameRecord FrameRunner::renderCamera(const Camera& camera, std::size_t frame) {
+  if (camera.width != config_.view.width || camera.height != config_.view.height ||
+      camera.depth.convention != config_.view.depth.convention ||
+      camera.depth.format != config_.view.depth.format ||
+      camera.depth.clip_range != config_.view.depth.clip_range) {
+    throw Error(ErrorCode::InvalidArgument,
+                "FrameRunner::renderCamera: the camera's viewport or depth set-up differs from "
+                "the runner's view; make a runner for that view");
+  }
+  return render(camera, frame, false);
+}
+
+FrameRecord FrameRunner::render(const Camera& camera, std::size_t frame, bool cached) {
   FrameRecord rec;
   rec.frame = frame;
-  const Camera camera = cameraFor(frame);
+  const std::optional<std::size_t> cache_key =
+      cached ? std::optional<std::size_t>(frame) : std::nullopt;
   OracleFrame oracle;
-  if (!config_.method.method) oracle = visibleSet(frame, camera);  // not timed
+  if (!config_.method.method) oracle = visibleSet(cache_key, camera);  // not timed
   for (ObjectId id : drawn_list_) drawn_[id] = 0;
   drawn_list_.clear();
+  missed_.clear();
   observer_->clear();
 
   glFinish();
@@ -195,15 +212,13 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
 
   if (!config_.images_dir.empty()) writeImages(frame, camera);
   if (config_.verify || !config_.method.method) {
-    if (config_.method.method) oracle = visibleSet(frame, camera);
+    if (config_.method.method) oracle = visibleSet(cache_key, camera);
     rec.visible = std::int64_t(oracle.visible.size());
-    rec.missed = 0;
     for (ObjectId id : oracle.visible) {
-      if (!drawn_[id]) {
-        ++rec.missed;
-        if (rec.missed_ids.size() < 16) rec.missed_ids.push_back(id);
-      }
+      if (!drawn_[id]) missed_.push_back(id);
     }
+    rec.missed = std::int64_t(missed_.size());
+    for (std::size_t i = 0; i < missed_.size() && i < 16; ++i) rec.missed_ids.push_back(missed_[i]);
     rec.artifacts = std::int64_t(oracle.artifacts.size());
     rec.missed_artifacts = 0;
     for (ObjectId id : oracle.artifacts) rec.missed_artifacts += !drawn_[id];
@@ -219,15 +234,19 @@ void FrameRunner::writeImages(std::size_t frame, const Camera& camera) {
                 scene_.name.c_str(), config_.method.name().c_str(), frame);
   writePng(std::string(stem) + ".png", color, camera.width, camera.height);
   if (config_.overlay && culler_) {
-    OverlayData overlay;
-    overlay.grid = culler_->grid();
-    overlay.occluded = observer_->occluded;
-    overlay.tested_visible = observer_->tested_visible;
-    for (NodeId n : observer_->drawn_nodes)
-      overlay.drawn_boxes.push_back(scene_.hierarchy.bounds(n));
-    writePng(std::string(stem) + "_overlay.png", drawOverlay(color, camera, overlay), camera.width,
-             camera.height);
+    writePng(std::string(stem) + "_overlay.png", drawOverlay(color, camera, overlayData()),
+             camera.width, camera.height);
   }
+}
+
+OverlayData FrameRunner::overlayData() const {
+  OverlayData overlay;
+  if (!culler_) return overlay;
+  overlay.grid = culler_->grid();
+  overlay.occluded = observer_->occluded;
+  overlay.tested_visible = observer_->tested_visible;
+  for (NodeId n : observer_->drawn_nodes) overlay.drawn_boxes.push_back(scene_.hierarchy.bounds(n));
+  return overlay;
 }
 
 }  // namespace logrid::samples

@@ -2,7 +2,7 @@
 // the scene's path, cull and draw through logrid (or the oracle's exact visible set),
 // glFinish, then optionally images and the object-ID check. `walk`, `bench` and `tune`
 // are loops over FrameRunners; bench interleaves several runners frame by frame so that
-// machine drift hits every method alike.
+// machine drift hits every method alike. `view` renders the cameras a person flies.
 #pragma once
 
 #include <cstdint>
@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/images.hpp"
 #include "cli/readers.hpp"
 #include "logrid/culler.hpp"
 #include "logrid/gl/framebuffer.hpp"
@@ -36,7 +37,8 @@ struct RunConfig {
   std::size_t frames = 100;  // frames spread over the whole path
   bool verify = false;       // object-ID check after each frame
   std::string images_dir;    // write PNG frames here when set
-  bool overlay = false;      // and overlay pictures (tile grid, boxes)
+  bool overlay = false;      // and overlay pictures (tile grid, boxes); records what
+                             // overlayData() returns
 };
 
 struct FrameRecord {
@@ -48,7 +50,7 @@ struct FrameRecord {
   std::int64_t missed = -1;            // visible objects not drawn (with verify)
   std::int64_t artifacts = -1;         // objects shown only through depth-extrapolated fragments
   std::int64_t missed_artifacts = -1;  // of those, not drawn (reported apart, see OracleFrame)
-  std::vector<ObjectId> missed_ids;    // the first few
+  std::vector<ObjectId> missed_ids;    // the first few (all of them: missedObjects())
 };
 
 // The visible set of each frame found by the ID pass, shared by runners that render
@@ -78,17 +80,32 @@ class FrameRunner {
 
   const RunConfig& config() const { return config_; }
   FrameRecord renderFrame(std::size_t frame);
+  // Renders any camera of the configured view (size and depth set-up as config().view),
+  // e.g. one a person flies; the ID pass (verify, oracle) is not shared with other runners.
+  // `frame` only labels the record and image files.
+  FrameRecord renderCamera(const Camera& camera, std::size_t frame);
   // The camera of a frame (for callers that need it, e.g. overlays and tests).
   Camera cameraFor(std::size_t frame) const;
   // Share ID-pass results with other runners of the same frames and view.
   void shareOracle(std::shared_ptr<OracleCache> cache) { oracle_cache_ = std::move(cache); }
   // Last frame's colour image (RGBA8, bottom-up rows).
   std::vector<std::uint8_t> readColor() const { return framebuffer_->readColor(); }
+  // The framebuffer the frames are drawn into (colour attachment 0 holds the picture).
+  const gl::Framebuffer& framebuffer() const { return *framebuffer_; }
+
+  // What the last frame did, for overlays and viewers:
+  // the grid, the tested boxes and the drawn leaf boxes (recorded when config().overlay);
+  OverlayData overlayData() const;
+  // the objects drawn;
+  const std::vector<ObjectId>& drawnObjects() const { return drawn_list_; }
+  // the visible objects not drawn (verify), every one of them.
+  const std::vector<ObjectId>& missedObjects() const { return missed_; }
 
  private:
   OracleFrame idPass(const Camera& camera);
   // The ID pass of a frame, from the shared cache when another runner did it.
-  OracleFrame visibleSet(std::size_t frame, const Camera& camera);
+  OracleFrame visibleSet(std::optional<std::size_t> frame, const Camera& camera);
+  FrameRecord render(const Camera& camera, std::size_t frame, bool cached);
   void writeImages(std::size_t frame, const Camera& camera);
 
   const PreparedScene& scene_;
@@ -102,6 +119,7 @@ class FrameRunner {
   std::unique_ptr<Observer> observer_;
   std::vector<std::uint8_t> drawn_;  // per object, this frame
   std::vector<ObjectId> drawn_list_;
+  std::vector<ObjectId> missed_;
   std::shared_ptr<OracleCache> oracle_cache_;
 };
 

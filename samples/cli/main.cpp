@@ -1,4 +1,4 @@
-// logrid: occlusion-culling walkthroughs, benchmarks and tuning.
+// logrid: occlusion-culling walkthroughs, benchmarks, tuning and the interactive viewer.
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   logrid::samples::addWalkCommand(app);
   logrid::samples::addBenchCommand(app);
   logrid::samples::addTuneCommand(app);
+  logrid::samples::addViewCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::RuntimeError& done) {

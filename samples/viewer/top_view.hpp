@@ -1,0 +1,47 @@
+// The view from above: every object's footprint coloured by what the culler did with it
+// this frame (drawn, occluded, outside the frustum, or visible but missed), the camera's
+// frustum and the camera path. Drawn with Dear ImGui into its own panel window.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "logrid/camera.hpp"
+#include "scene/prepare.hpp"
+#include "viewer/fly_camera.hpp"
+
+namespace logrid::viewer {
+
+class TopView {
+ public:
+  // The footprints are taken once, along the fly camera's horizontal axes.
+  TopView(const samples::PreparedScene& scene, const FlyCamera& camera);
+
+  struct Frame {
+    const Camera* camera = nullptr;  // this frame's (nullptr: none drawn)
+    const std::vector<ObjectId>* drawn = nullptr;
+    const std::vector<ObjectId>* missed = nullptr;
+    const std::vector<DVec3>* recorded = nullptr;  // world positions being recorded
+    bool flash = false;                            // missed objects' blink phase
+  };
+  // Counts of the last draw() (for the panel and tests).
+  struct Counts {
+    std::size_t drawn = 0, occluded = 0, outside = 0, missed = 0;
+  };
+  // An ImGui window; `open` is cleared when the person closes it.
+  Counts draw(const Frame& frame, bool* open);
+
+ private:
+  const samples::PreparedScene& scene_;
+  DVec3 east_, north_;
+  std::vector<float> rects_;  // per object: east min, north min, east max, north max (local)
+  float lo_[2] = {0, 0}, hi_[2] = {1, 1};
+  std::vector<float> path_;           // the scene's camera path, sampled, local (east, north) pairs
+  std::vector<std::uint32_t> order_;  // objects by footprint, largest first
+  std::vector<std::uint8_t> state_;
+};
+
+// The inverse of a 4x4 matrix; false when it is singular.
+bool invert(const Mat4d& m, Mat4d& out);
+
+}  // namespace logrid::viewer

@@ -1,0 +1,82 @@
+// What the viewer's panel and keys choose from (samples/viewer/settings.hpp) comes from
+// logrid's tables, so methods and readers added there appear without a change.
+#include "viewer/settings.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "cli/readers.hpp"
+#include "expect_error.hpp"
+#include "viewer/top_view.hpp"
+
+namespace {
+
+using logrid::viewer::CullSettings;
+
+TEST(ViewSettingsTest, ChoicesAreTheTables) {
+  const std::vector<std::string> methods = logrid::viewer::methodChoices();
+  ASSERT_EQ(methods.size(), logrid::methodTable().size() + 1);
+  for (const logrid::MethodInfo& m : logrid::methodTable()) {
+    EXPECT_NE(std::find(methods.begin(), methods.end(), m.name), methods.end()) << m.name;
+  }
+  EXPECT_EQ(methods.back(), "oracle");
+  EXPECT_EQ(logrid::viewer::readerChoices().size(), logrid::samples::readerTable().size());
+  EXPECT_EQ(logrid::viewer::cycle(methods, methods.back(), 1), methods.front());
+  EXPECT_EQ(logrid::viewer::cycle(methods, methods.front(), -1), methods.back());
+}
+
+TEST(ViewSettingsTest, ConfigurationCarriesEverySetting) {
+  logrid::samples::RunConfig base;
+  CullSettings s;
+  s.method = "log-zfar";
+  s.reader = "pbo";
+  s.tile = 16;
+  s.format = logrid::DepthFormat::D24;
+  s.convention = logrid::DepthConvention::Reversed;
+  s.lookahead = 8;
+  s.coherence = true;
+  s.approximation.row_stride = 2;
+  s.verify = true;
+  const logrid::samples::RunConfig c = logrid::viewer::configFor(base, s, 320, 200);
+  EXPECT_EQ(c.view.width, 320u);
+  EXPECT_EQ(c.view.height, 200u);
+  EXPECT_EQ(c.view.depth.clip_range, logrid::ClipDepthRange::ZeroToOne);
+  EXPECT_TRUE(c.overlay);
+  EXPECT_TRUE(logrid::viewer::settingsOf(c) == s) << logrid::viewer::describe(s);
+  s.method = "no-such-method";
+  logrid::test::expectError([&] { logrid::viewer::configFor(base, s, 320, 200); },
+                            logrid::ErrorCode::InvalidArgument, {"no-such-method", "oracle"});
+  s.method = "log-state";
+  s.tile = 0;
+  logrid::test::expectError([&] { logrid::viewer::configFor(base, s, 320, 200); },
+                            logrid::ErrorCode::InvalidArgument, {"tile"});
+}
+
+TEST(ViewSettingsTest, ShadeFollowsTheMethodsSemantics) {
+  using logrid::samples::TileShade;
+  using logrid::viewer::ShadeChoice;
+  for (const logrid::MethodInfo& m : logrid::methodTable()) {
+    EXPECT_EQ(logrid::viewer::shadeFor(ShadeChoice::Auto, m.name),
+              m.state_semantics ? TileShade::States : TileShade::Zfar)
+        << m.name;
+  }
+  EXPECT_EQ(logrid::viewer::shadeFor(ShadeChoice::Zfar, "log-state"), TileShade::Zfar);
+}
+
+TEST(TopViewTest, InvertsMatrices) {
+  logrid::Mat4d m;
+  const double values[16] = {2, 0.5, 0, 0.1, -1, 3, 0.2, 0, 0, 0.3, 1.5, -0.4, 4, -2, 1, 1};
+  std::copy(values, values + 16, m.m);
+  logrid::Mat4d inverse;
+  ASSERT_TRUE(logrid::viewer::invert(m, inverse));
+  const logrid::Mat4d product = logrid::multiply(m, inverse);
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) EXPECT_NEAR(product(r, c), r == c ? 1 : 0, 1e-12);
+  }
+  logrid::Mat4d singular;
+  singular(3, 3) = 0;
+  EXPECT_FALSE(logrid::viewer::invert(singular, inverse));
+}
+
+}  // namespace
