@@ -17,6 +17,17 @@ bool CullSettings::operator==(const CullSettings& o) const {
          approximation.row_stride == o.approximation.row_stride && verify == o.verify;
 }
 
+GridApproximation effectiveApproximation(const std::string& method, const GridApproximation& a) {
+  const auto m = parseMethod(method);
+  GridApproximation out;
+  if (!m) return out;
+  const MethodInfo& info = methodInfo(*m);
+  if (info.takes_visible_pixels) out.visible_pixels = a.visible_pixels;
+  if (info.takes_full_fraction) out.full_free_fraction = a.full_free_fraction;
+  if (info.takes_row_stride) out.row_stride = a.row_stride;
+  return out;
+}
+
 CullSettings settingsOf(const samples::RunConfig& config) {
   CullSettings s;
   s.method = config.method.name();
@@ -44,7 +55,7 @@ samples::RunConfig configFor(const samples::RunConfig& base, const CullSettings&
   c.culler.tile_size = s.tile;
   c.culler.lookahead = s.lookahead;
   c.culler.temporal_coherence = s.coherence;
-  c.culler.approximation = s.approximation;
+  c.culler.approximation = effectiveApproximation(s.method, s.approximation);
   c.view.depth = samples::depthSetupFor(s.convention, s.format);
   c.view.width = width;
   c.view.height = height;
@@ -70,12 +81,12 @@ std::string describe(const CullSettings& s) {
     out << s.lookahead;
   }
   out << ", coherence " << (s.coherence ? "on" : "off") << ", verify " << (s.verify ? "on" : "off");
-  if (s.approximation.exact()) {
+  const GridApproximation a = effectiveApproximation(s.method, s.approximation);
+  if (a.exact()) {
     out << ", exact";
   } else {
-    out << ", approximate (visible pixels " << s.approximation.visible_pixels << ", full fraction "
-        << s.approximation.full_free_fraction << ", row stride " << s.approximation.row_stride
-        << ")";
+    out << ", approximate (visible pixels " << a.visible_pixels << ", full fraction "
+        << a.full_free_fraction << ", row stride " << a.row_stride << ")";
   }
   return out.str();
 }

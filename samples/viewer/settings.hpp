@@ -27,12 +27,20 @@ struct CullSettings {
   bool operator!=(const CullSettings& o) const { return !(*this == o); }
 };
 
+// The knobs of `approximation` that `method` takes (MethodInfo::takes_*); the others are
+// left at their exact values, as the panel shows them disabled for that method.
+GridApproximation effectiveApproximation(const std::string& method,
+                                         const GridApproximation& approximation);
+
 // The settings a run configuration holds.
 CullSettings settingsOf(const samples::RunConfig& config);
-// `base` with the settings applied, for a drawable of width x height pixels.
+// `base` with the settings applied (the approximation as effectiveApproximation()), for
+// a drawable of width x height pixels. Throws logrid::Error(InvalidArgument) for an
+// unknown method or settings the culler refuses.
 samples::RunConfig configFor(const samples::RunConfig& base, const CullSettings& settings,
                              std::uint32_t width, std::uint32_t height);
-// One line: "method log-state, reader readpixels, tile 32, depth 32f standard, ...".
+// One line: "method log-state, reader readpixels, tile 32, depth 32f standard, ...",
+// with the approximation in effect.
 std::string describe(const CullSettings& settings);
 
 // Every method a frame runner takes, in the order of logrid's method table, then the

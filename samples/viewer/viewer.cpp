@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <optional>
+#include <thread>
 
 #include "cli/images.hpp"
 #include "cli/readers.hpp"
@@ -170,6 +171,7 @@ class Viewer {
       glClear(GL_COLOR_BUFFER_BIT);
       std::optional<samples::FrameRecord> record;
       if (ready && fw > 0 && fh > 0) record = renderFrame(fw, fh);
+      if (!ready && !script_) std::this_thread::sleep_for(std::chrono::milliseconds(20));
       drawUi(fw, fh, ww, wh);
       ui_->render();
       if (screenshot_) screenshot(fw, fh);
@@ -183,11 +185,12 @@ class Viewer {
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
                 .count();
         stats_.add(FrameSample::of(*record, clock_, loop_ms));
+        ++frames_drawn_;
       }
       if (script_ && frame_ >= script_->lastFrame()) break;
     }
     if (recording_) finishRecording();
-    std::string summary = std::to_string(frame_ + 1) + " frames";
+    std::string summary = std::to_string(frames_drawn_) + " frames drawn";
     if (verified_frames_ > 0) {
       summary += "; verify: " + std::to_string(verified_frames_) + " frames checked, " +
                  std::to_string(missed_total_) + " visible objects missed (" +
@@ -207,6 +210,7 @@ class Viewer {
   samples::CameraPose poseAt(double path_frame) const {
     const samples::CameraPath& path = scene_.prepared.path;
     const std::size_t frames = base_.frames;
+    if (path.empty()) return path.at(0);  // throws the empty-path error
     const double t0 = path.keys().front().time;
     if (frames < 2) return path.at(t0);
     return path.at(t0 + path.duration() * std::clamp(path_frame / double(frames - 1), 0.0, 1.0));
@@ -368,7 +372,9 @@ class Viewer {
       ++verified_frames_;
       missed_total_ += std::size_t(rec.missed);
       frames_with_misses_ += rec.missed > 0;
-      if (applied_.approximation.exact()) missed_exact_ += std::size_t(rec.missed);
+      if (effectiveApproximation(applied_.method, applied_.approximation).exact()) {
+        missed_exact_ += std::size_t(rec.missed);
+      }
       if (rec.missed > 0) {
         say("frame " + std::to_string(frame_) + ": " + std::to_string(rec.missed) +
             " visible objects not drawn (first: " + std::to_string(rec.missed_ids.front()) + ")");
@@ -517,7 +523,8 @@ class Viewer {
   RollingStats stats_;
   Camera camera_;
   std::string renderer_name_, scene_line_, message_, error_;
-  std::size_t frame_ = 0;
+  std::size_t frame_ = 0;  // viewer frames (the script's numbers)
+  std::size_t frames_drawn_ = 0;
   double clock_ = 0;
   bool quit_ = false;
   bool screenshot_ = false;

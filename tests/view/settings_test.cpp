@@ -53,6 +53,25 @@ TEST(ViewSettingsTest, ConfigurationCarriesEverySetting) {
                             logrid::ErrorCode::InvalidArgument, {"tile"});
 }
 
+// Knobs a method does not take are left out (the panel shows them disabled), so that
+// switching method never fails on them; switching back brings them back.
+TEST(ViewSettingsTest, KnobsApplyOnlyWhereTheMethodTakesThem) {
+  CullSettings s;
+  s.approximation.visible_pixels = 10;
+  s.approximation.full_free_fraction = 0.1f;
+  s.approximation.row_stride = 2;
+  for (const logrid::MethodInfo& m : logrid::methodTable()) {
+    s.method = m.name;
+    const logrid::samples::RunConfig c = logrid::viewer::configFor({}, s, 64, 64);
+    const logrid::GridApproximation& a = c.culler.approximation;
+    EXPECT_EQ(a.visible_pixels, m.takes_visible_pixels ? 10u : 0u) << m.name;
+    EXPECT_EQ(a.full_free_fraction, m.takes_full_fraction ? 0.1f : 0.0f) << m.name;
+    EXPECT_EQ(a.row_stride, m.takes_row_stride ? 2u : 1u) << m.name;
+  }
+  s.method = "vfc";
+  EXPECT_NE(logrid::viewer::describe(s).find("exact"), std::string::npos);
+}
+
 TEST(ViewSettingsTest, ShadeFollowsTheMethodsSemantics) {
   using logrid::samples::TileShade;
   using logrid::viewer::ShadeChoice;
