@@ -1,20 +1,29 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages logrid needs, only those missing. Quiet when
-# everything is present. Sourced or run by scripts/test.sh and scripts/bench.sh.
+# everything is present. Run by scripts/build.sh (for test.sh and bench.sh); scripts that
+# need more (scripts/fuzz.sh: clang) name the extra packages as arguments.
 set -euo pipefail
 
+# Exactly what the README's two commands use (each line says who needs it).
 packages=(
   # toolchain
   g++ cmake ninja-build pkg-config
-  # GL through EGL (Mesa llvmpipe works without a GPU)
-  libepoxy-dev libegl-dev libopengl-dev libglvnd-dev libegl-mesa0 libgl1-mesa-dri
-  # libraries
+  # GL through EGL: libepoxy at build time (it brings the EGL and GL headers); at run time
+  # it loads libEGL and libGL (GLVND), which need Mesa's EGL and its drivers (llvmpipe
+  # works without a GPU)
+  libepoxy-dev libegl1 libgl1 libegl-mesa0 libgl1-mesa-dri
+  # libraries: GLM (core), OpenImageIO with the tools its CMake targets name, CLI11,
+  # assimp and the zlib its target links, nlohmann-json (samples)
   libglm-dev libopenimageio-dev openimageio-tools libcli11-dev libassimp-dev zlib1g-dev
-  nlohmann-json3-dev fonts-dejavu-core
-  # the interactive viewer (logrid view): a window through GLFW with GLX, a Dear ImGui panel
-  libglfw3-dev libimgui-dev libstb-dev libgl1 libglx-mesa0
-  # tests, benchmarks, plots; Xvfb runs the viewer's tests without a screen
-  libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox xvfb xauth
+  nlohmann-json3-dev
+  # logrid view (built where these are found): a window through GLFW with GLX (Mesa's GLX
+  # vendor library), a Dear ImGui panel (its pkg-config file requires stb)
+  libglfw3-dev libimgui-dev libstb-dev libglx-mesa0
+  # tests (GoogleTest; Xvfb gives the viewer's tests a display), micro-benchmarks (Google
+  # Benchmark), plots of `logrid bench`
+  libgtest-dev xvfb libbenchmark-dev gnuplot-nox
+  # extra packages named by the caller (scripts/fuzz.sh: clang)
+  "$@"
 )
 
 missing=()

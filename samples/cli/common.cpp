@@ -27,7 +27,14 @@ void addWalkthroughOptions(CLI::App& app, WalkOptions& o) {
   app.add_option("--seed", o.seed, "seed of the procedural scenes");
   app.add_option("--path", o.path_file, "camera path JSON (keys: position, look_at, time)");
   app.add_option("--frames", o.frames, "frames along the path")->check(CLI::Range(1, 10000000));
+  app.add_option("--span", o.span,
+                 "fraction of the path the frames cover, from its start (1: all of it; small: "
+                 "consecutive frames as close as at a real frame rate)")
+      ->check(CLI::Range(1e-6, 1.0));
   app.add_option("--leaf", o.leaf, "objects (or triangles) per hierarchy leaf; 0: the scene's");
+  app.add_option("--tree-parts", o.tree_parts,
+                 "forest: each tree one object (whole), trunk and crown apart (trunk-crown), or "
+                 "the trunk and each crown tier apart (tiers)");
   app.add_option("--platform", o.platform, "EGL platform: auto, surfaceless or device");
   app.add_option("--lp-threads", o.lp_threads,
                  "llvmpipe raster threads (sets LP_NUM_THREADS; 0 makes each depth read's flush "
@@ -45,6 +52,9 @@ void addViewOptions(CLI::App& app, WalkOptions& o) {
                "draw last frame's visible leaves first, then refresh the grid in one batch");
   app.add_option("--depth-format", o.depth_format, "depth buffer: 16, 24 or 32f");
   app.add_option("--depth-convention", o.depth_convention, "standard or reversed");
+  app.add_option("--samples", o.samples,
+                 "samples per pixel (multisampled framebuffer; 0: single-sampled)")
+      ->check(CLI::Range(0, 64));
   app.add_option("--near", o.near_plane, "near plane (default: the scene's)");
   app.add_option("--far", o.far_plane, "far plane (default: the scene's)");
   auto* fov = app.add_option("--fov", o.fov, "vertical field of view in degrees");
@@ -56,6 +66,15 @@ void addViewOptions(CLI::App& app, WalkOptions& o) {
       "approximate: tiles with at most this fraction free count as full (log-state, bog)");
   app.add_option("--row-stride", o.approximation.row_stride,
                  "approximate: read every k-th pixel row of a tile (default 1: every row)");
+}
+
+std::vector<std::string> splitList(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
 }
 
 std::pair<std::uint32_t, std::uint32_t> parseSize(const std::string& text) {
@@ -84,6 +103,14 @@ DepthConvention parseDepthConvention(const std::string& text) {
   if (text == "reversed") return DepthConvention::Reversed;
   throw Error(ErrorCode::InvalidArgument,
               "depth convention '" + text + "' is unknown; use standard or reversed");
+}
+
+TreeParts parseTreeParts(const std::string& text) {
+  for (TreeParts p : {TreeParts::Whole, TreeParts::TrunkCrown, TreeParts::Tiers}) {
+    if (text == toString(p)) return p;
+  }
+  throw Error(ErrorCode::InvalidArgument,
+              "tree parts '" + text + "' is unknown; use whole, trunk-crown or tiers");
 }
 
 std::uint32_t parseLookahead(const std::string& text) {
@@ -139,7 +166,7 @@ LoadedScene loadScene(const WalkOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   Scene scene;
   if (o.scene == "forest") {
-    scene = makeForest({o.scale, o.seed});
+    scene = makeForest({o.scale, o.seed, parseTreeParts(o.tree_parts)});
   } else if (o.scene == "city") {
     scene = makeCity({o.scale, o.seed});
   } else {
@@ -160,9 +187,10 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
   RunConfig c;
   const auto method = parseMethodChoice(o.method);
   if (!method) {
-    throw Error(ErrorCode::InvalidArgument, "method '" + o.method +
-                                                "' is unknown; use log-state, log-zfar, bog, hzb, "
-                                                "pq, vfc or oracle");
+    throw Error(ErrorCode::InvalidArgument,
+                "method '" + o.method + "' is unknown; use " + methodNames() +
+                    " or oracle, optionally followed by :K or :all (lookahead) and :tc "
+                    "(temporal coherence), e.g. log-state:16:tc");
   }
   c.method = *method;
   if (!findReader(o.reader)) {
@@ -174,8 +202,8 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
   if (o.tile < 1)
     throw Error(ErrorCode::InvalidArgument, "tile size 0 is invalid; use 1 pixel or more");
   c.culler.approximation = o.approximation;
-  c.culler.lookahead = parseLookahead(o.lookahead);
-  c.culler.temporal_coherence = o.coherence;
+  c.culler.lookahead = c.method.lookahead ? *c.method.lookahead : parseLookahead(o.lookahead);
+  c.culler.temporal_coherence = c.method.coherence || o.coherence;
   if (c.method.method) {
     CullerDesc check = c.culler;
     check.method = *c.method.method;
@@ -200,7 +228,9 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
   }
   c.view.depth =
       depthSetupFor(parseDepthConvention(o.depth_convention), parseDepthFormat(o.depth_format));
+  c.view.samples = o.samples;
   c.frames = o.frames;
+  c.span = o.span;
   c.verify = o.verify;
   c.images_dir = o.images;
   c.overlay = o.overlay;

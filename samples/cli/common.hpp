@@ -7,9 +7,11 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "cli/frame_runner.hpp"
 #include "logrid/gl/context.hpp"
+#include "scene/generators.hpp"
 #include "scene/prepare.hpp"
 
 namespace logrid::samples {
@@ -20,6 +22,7 @@ struct WalkOptions {
   std::uint64_t seed = 1;
   std::string path_file;
   std::size_t frames = 100;
+  double span = 1.0;  // fraction of the path the frames cover
   std::string method = "log-state";
   std::string size = "640x480";
   std::uint32_t tile = 32;
@@ -28,6 +31,7 @@ struct WalkOptions {
   bool coherence = false;
   std::string depth_format = "32f";
   std::string depth_convention = "standard";
+  std::uint32_t samples = 0;
   double near_plane = 0;  // 0: the scene's
   double far_plane = 0;
   double fov = 60;
@@ -37,9 +41,10 @@ struct WalkOptions {
   std::string images;
   bool overlay = false;
   std::string platform = "auto";
-  int lp_threads = -1;              // >= 0: LP_NUM_THREADS for llvmpipe (PLATFORM.md); -1: leave it
-  std::uint32_t leaf = 0;           // 0: the scene's default
-  GridApproximation approximation;  // off by default
+  int lp_threads = -1;     // >= 0: LP_NUM_THREADS for llvmpipe (PLATFORM.md); -1: leave it
+  std::uint32_t leaf = 0;  // 0: the scene's default
+  std::string tree_parts = "whole";  // forest: whole, trunk-crown or tiers
+  GridApproximation approximation;   // off by default
 };
 
 // Adds the options every walkthrough command has (--scene ... --platform).
@@ -48,10 +53,14 @@ void addSceneOptions(CLI::App& app, WalkOptions& o);
 void addWalkthroughOptions(CLI::App& app, WalkOptions& o);
 void addViewOptions(CLI::App& app, WalkOptions& o);
 
+// Splits a comma-separated list ("forest,city"), dropping empty items.
+std::vector<std::string> splitList(const std::string& text);
+
 // Parses "WxH"; throws logrid::Error(InvalidArgument) naming the text.
 std::pair<std::uint32_t, std::uint32_t> parseSize(const std::string& text);
 DepthFormat parseDepthFormat(const std::string& text);
 DepthConvention parseDepthConvention(const std::string& text);
+TreeParts parseTreeParts(const std::string& text);
 // "1", "16", ... or "all" (kUnlimitedLookahead).
 std::uint32_t parseLookahead(const std::string& text);
 

@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <limits>
 
 #include "logrid/error.hpp"
 #include "logrid/gl/context.hpp"
@@ -14,10 +13,45 @@
 
 namespace logrid::samples {
 
+std::string MethodChoice::name() const {
+  std::string out = method ? toString(*method) : "oracle";
+  if (lookahead) {
+    out +=
+        ":" + (*lookahead == kUnlimitedLookahead ? std::string("all") : std::to_string(*lookahead));
+  }
+  if (coherence) out += ":tc";
+  return out;
+}
+
 std::optional<MethodChoice> parseMethodChoice(const std::string& name) {
-  if (name == "oracle") return MethodChoice{std::nullopt};
-  if (const auto m = parseMethod(name)) return MethodChoice{*m};
-  return std::nullopt;
+  std::vector<std::string> parts;
+  std::size_t start = 0;
+  for (std::size_t colon; (colon = name.find(':', start)) != std::string::npos; start = colon + 1) {
+    parts.push_back(name.substr(start, colon - start));
+  }
+  parts.push_back(name.substr(start));
+  MethodChoice choice;
+  if (parts[0] != "oracle") {
+    const auto m = parseMethod(parts[0]);
+    if (!m) return std::nullopt;
+    choice.method = *m;
+  } else if (parts.size() > 1) {
+    return std::nullopt;  // the oracle takes no traversal settings
+  }
+  for (std::size_t i = 1; i < parts.size(); ++i) {
+    if (parts[i] == "tc" && !choice.coherence) {
+      choice.coherence = true;
+    } else if (!choice.lookahead && !parts[i].empty() &&
+               (parts[i] == "all" ||
+                parts[i].find_first_not_of("0123456789") == std::string::npos)) {
+      const unsigned long k = parts[i] == "all" ? kUnlimitedLookahead : std::stoul(parts[i]);
+      if (k < 1 || k > kUnlimitedLookahead) return std::nullopt;
+      choice.lookahead = std::uint32_t(k);
+    } else {
+      return std::nullopt;
+    }
+  }
+  return choice;
 }
 
 namespace {
@@ -67,6 +101,7 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
   fb.width = config.view.width;
   fb.height = config.view.height;
   fb.depth = config.view.depth;
+  fb.samples = config.view.samples;
   fb.object_ids = config.verify || !config.method.method;
   framebuffer_ = std::make_unique<gl::Framebuffer>(fb);
 
@@ -85,9 +120,9 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
       for (const ReaderInfo& r : readerTable()) {
         if (r.reads_depth) readers += std::string(readers.empty() ? "" : ", ") + r.name;
       }
-      throw Error(ErrorCode::InvalidArgument,
-                  std::string("method ") + toString(desc.method) + " needs depth values, which " +
-                      reader->name + " cannot give; use --reader " + readers);
+      throw Error(ErrorCode::InvalidArgument, std::string("method ") + toString(desc.method) +
+                                                  " needs depth values, which " + reader->name +
+                                                  " cannot give; use --reader " + readers);
     }
     reader_ = reader->make({scene, framebuffer_->handle(), fb.width, fb.height, fb.depth});
   }
@@ -103,51 +138,22 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
 FrameRunner::~FrameRunner() = default;
 
 Camera FrameRunner::cameraFor(std::size_t frame) const {
-  return makeCamera(scene_.path.frame(frame, config_.frames), scene_.origin, config_.view);
+  return makeCamera(scene_.path.frame(frame, config_.frames, config_.span), scene_.origin,
+                    config_.view);
 }
 
-OracleFrame FrameRunner::idPass(const Camera& camera) {
-  framebuffer_->bind();
-  framebuffer_->clear(kBackground);
-  framebuffer_->selectIdPass(true);
-  renderer_.begin(gl::Pass::ObjectIds, camera);
-  vfc_->cullFrame(camera, scene_.hierarchy, g_no_depth, [&](ObjectId id) { renderer_.draw(id); });
-  renderer_.end();
-  framebuffer_->selectIdPass(false);
-  const std::vector<std::uint32_t> ids = framebuffer_->readObjectIds();
-  const std::vector<float> depth = framebuffer_->readDepth();
-
-  // Per object: 1 if some fragment lies within its box's depth range, 2 if it only
-  // has fragments nearer than that.
-  const std::size_t objects = scene_.mesh.draws.size();
-  std::vector<std::uint8_t> state(objects, 0);
-  std::vector<float> threshold(objects, 0);
-  // Judged with the default margins, widened kArtifactMargins times, whatever the run's
-  // projection settings: a culler whose margins are too small (or whose boxes do not
-  // enclose their geometry in depth) then shows misses, not artifacts; only fragments
-  // far nearer than any interpolation of their own geometry count as artifacts.
-  constexpr float kArtifactMargins = 16.0f;
-  const Projector projector(camera);
-  const float sign = camera.depth.convention == DepthConvention::Reversed ? -1.0f : 1.0f;
-  OracleFrame out;
-  for (std::size_t i = 0; i < ids.size(); ++i) {
-    const std::uint32_t id = ids[i];
-    if (id >= objects || state[id] == 1) continue;
-    if (state[id] == 0) {
-      const BoxProjection p = projector.project(scene_.object_boxes[id]);
-      threshold[id] = p.cls == ProjectionClass::Inside ? p.near_key - kArtifactMargins * p.margin
-                                                       : -std::numeric_limits<float>::infinity();
-    }
-    state[id] = sign * depth[i] >= threshold[id] ? 1 : 2;
-  }
-  for (ObjectId id = 0; id < objects; ++id) {
-    if (state[id] == 1) out.visible.push_back(id);
-    if (state[id] == 2) out.artifacts.push_back(id);
-  }
-  return out;
+gl::OracleFrame FrameRunner::idPass(const Camera& camera) {
+  // A multisampled framebuffer gives one id and depth per sample: an object is visible
+  // if any sample of it survives.
+  return gl::objectIdOracle(*framebuffer_, camera, scene_.object_boxes, [&] {
+    if (config_.hooks.after_clear) config_.hooks.after_clear();
+    renderer_.begin(gl::Pass::ObjectIds, camera);
+    vfc_->cullFrame(camera, scene_.hierarchy, g_no_depth, [&](ObjectId id) { renderer_.draw(id); });
+    renderer_.end();
+  });
 }
 
-OracleFrame FrameRunner::visibleSet(std::optional<std::size_t> frame, const Camera& camera) {
+gl::OracleFrame FrameRunner::visibleSet(std::optional<std::size_t> frame, const Camera& camera) {
   if (!oracle_cache_ || !frame) return idPass(camera);
   auto& frames = oracle_cache_->frames;
   if (frames.size() <= *frame) frames.resize(*frame + 1);
@@ -176,7 +182,7 @@ FrameRecord FrameRunner::render(const Camera& camera, std::size_t frame, bool ca
   rec.frame = frame;
   const std::optional<std::size_t> cache_key =
       cached ? std::optional<std::size_t>(frame) : std::nullopt;
-  OracleFrame oracle;
+  gl::OracleFrame oracle;
   if (!config_.method.method) oracle = visibleSet(cache_key, camera);  // not timed
   for (ObjectId id : drawn_list_) drawn_[id] = 0;
   drawn_list_.clear();
@@ -187,9 +193,17 @@ FrameRecord FrameRunner::render(const Camera& camera, std::size_t frame, bool ca
   const auto start = std::chrono::steady_clock::now();
   framebuffer_->bind();
   framebuffer_->clear(kBackground);
+  if (config_.hooks.after_clear) config_.hooks.after_clear();
   renderer_.begin(gl::Pass::Shaded, camera);
+  const FrameHooks& hooks = config_.hooks;
   auto draw = [&](ObjectId id) {
+    if (hooks.before_draw) {
+      hooks.before_draw();
+      framebuffer_->bind();
+      renderer_.begin(gl::Pass::Shaded, camera);
+    }
     renderer_.draw(id);
+    if (hooks.after_draw) hooks.after_draw();
     rec.triangles += renderer_.triangles(id);
     if (!drawn_[id]) {
       drawn_[id] = 1;
@@ -203,7 +217,9 @@ FrameRecord FrameRunner::render(const Camera& camera, std::size_t frame, bool ca
     rec.stats.objects_drawn = oracle.visible.size() + oracle.artifacts.size();
   } else {
     reader_->beginFrame(camera);
+    if (hooks.before_cull) hooks.before_cull();
     rec.stats = culler_->cullFrame(camera, scene_.hierarchy, reader_->source(), draw);
+    if (hooks.after_cull) hooks.after_cull();
   }
   renderer_.end();
   glFinish();
@@ -214,11 +230,10 @@ FrameRecord FrameRunner::render(const Camera& camera, std::size_t frame, bool ca
   if (config_.verify || !config_.method.method) {
     if (config_.method.method) oracle = visibleSet(cache_key, camera);
     rec.visible = std::int64_t(oracle.visible.size());
-    for (ObjectId id : oracle.visible) {
-      if (!drawn_[id]) missed_.push_back(id);
-    }
+    missed_ = oracle.missedBy(drawn_list_);
     rec.missed = std::int64_t(missed_.size());
-    for (std::size_t i = 0; i < missed_.size() && i < 16; ++i) rec.missed_ids.push_back(missed_[i]);
+    rec.missed_ids.assign(missed_.begin(),
+                          missed_.begin() + std::min<std::ptrdiff_t>(16, rec.missed));
     rec.artifacts = std::int64_t(oracle.artifacts.size());
     rec.missed_artifacts = 0;
     for (ObjectId id : oracle.artifacts) rec.missed_artifacts += !drawn_[id];

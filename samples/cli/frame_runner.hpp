@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -16,29 +17,55 @@
 #include "logrid/culler.hpp"
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
+#include "logrid/gl/object_id_oracle.hpp"
 #include "scene/prepare.hpp"
 #include "scene/view.hpp"
 
 namespace logrid::samples {
 
-// A method name: one of logrid::Method's, or "oracle" (draws exactly the visible set
-// found by an ID pass that is not timed: the floor no culling method can beat).
+// A method as the commands name it: one of logrid::Method's names, or "oracle" (draws
+// exactly the visible set found by an ID pass that is not timed: the floor no culling
+// method can beat), optionally followed by traversal settings that override the
+// command's --lookahead and --coherence: ":K" (a lookahead, or ":all") and ":tc"
+// (temporal coherence), e.g. "log-state:16:tc".
 struct MethodChoice {
+  MethodChoice() = default;
+  MethodChoice(std::optional<Method> m) : method(m) {}  // NOLINT: implicit on purpose
+
   std::optional<Method> method;  // empty: oracle
-  std::string name() const { return method ? toString(*method) : "oracle"; }
+  std::optional<std::uint32_t> lookahead;
+  bool coherence = false;
+  std::string name() const;
 };
 std::optional<MethodChoice> parseMethodChoice(const std::string& name);
+
+// Calls into a frame, for tests that act as an application with state of its own (the
+// GL-state fuzz test). Each is optional.
+struct FrameHooks {
+  // The frame's buffers were just cleared (the culled frame and the ID pass alike).
+  std::function<void()> after_clear;
+  // Right before and right after Culler::cullFrame (the culled frame only).
+  std::function<void()> before_cull;
+  std::function<void()> after_cull;
+  // Inside the draw callback, around the renderer's draw. With before_draw set, the
+  // runner binds its framebuffer and renderer again after it (as an application that
+  // leaves other bindings between its draws would).
+  std::function<void()> before_draw;
+  std::function<void()> after_draw;
+};
 
 struct RunConfig {
   MethodChoice method{Method::LogState};
   CullerDesc culler;                  // method is taken from `method`
   std::string reader = "readpixels";  // a name of readerTable()
   ViewSettings view;
-  std::size_t frames = 100;  // frames spread over the whole path
+  std::size_t frames = 100;  // frames spread over the path's first `span`
+  double span = 1.0;         // fraction of the path the frames cover (0, 1]
   bool verify = false;       // object-ID check after each frame
   std::string images_dir;    // write PNG frames here when set
   bool overlay = false;      // and overlay pictures (tile grid, boxes); records what
                              // overlayData() returns
+  FrameHooks hooks;
 };
 
 struct FrameRecord {
@@ -49,26 +76,16 @@ struct FrameRecord {
   std::int64_t visible = -1;           // objects in the ID buffer (with verify or oracle)
   std::int64_t missed = -1;            // visible objects not drawn (with verify)
   std::int64_t artifacts = -1;         // objects shown only through depth-extrapolated fragments
-  std::int64_t missed_artifacts = -1;  // of those, not drawn (reported apart, see OracleFrame)
+  std::int64_t missed_artifacts = -1;  // of those, not drawn (reported apart, see
+                                       // logrid/gl/object_id_oracle.hpp)
   std::vector<ObjectId> missed_ids;    // the first few (all of them: missedObjects())
 };
 
-// The visible set of each frame found by the ID pass, shared by runners that render
-// the same frames with the same view (bench cells), so the pass runs once per frame.
-// What the ID pass of a frame found. A fragment whose depth lies far nearer than its
-// own object's box allows (key < near_key - 16 default margins) cannot come from
-// interpolating the object's triangles: Mesa llvmpipe produces such fragments on edge-on sliver
-// triangles (areas around 1e-4 pixel), whose depth plane it extrapolates to pixel centres that
-// fixed-point snapping let in (docs/ANALYSIS.md, "Depth-extrapolation artifacts"). No
-// method that compares box depths can see them, so objects shown only through such
-// fragments are counted apart, never silently dropped.
-struct OracleFrame {
-  std::vector<ObjectId> visible;    // at least one fragment within the box's depth range
-  std::vector<ObjectId> artifacts;  // only fragments nearer than the box allows
-};
-
+// The visible set of each frame found by the object-ID oracle (gl::objectIdOracle),
+// shared by runners that render the same frames with the same view (bench cells), so the
+// pass runs once per frame.
 struct OracleCache {
-  std::vector<std::optional<OracleFrame>> frames;
+  std::vector<std::optional<gl::OracleFrame>> frames;
 };
 
 class FrameRunner {
@@ -102,9 +119,9 @@ class FrameRunner {
   const std::vector<ObjectId>& missedObjects() const { return missed_; }
 
  private:
-  OracleFrame idPass(const Camera& camera);
+  gl::OracleFrame idPass(const Camera& camera);
   // The ID pass of a frame, from the shared cache when another runner did it.
-  OracleFrame visibleSet(std::optional<std::size_t> frame, const Camera& camera);
+  gl::OracleFrame visibleSet(std::optional<std::size_t> frame, const Camera& camera);
   FrameRecord render(const Camera& camera, std::size_t frame, bool cached);
   void writeImages(std::size_t frame, const Camera& camera);
 

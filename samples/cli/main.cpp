@@ -12,10 +12,8 @@ int main(int argc, char** argv) {
   CLI::App app{"logrid: conservative occlusion culling with a lazy occlusion grid"};
   logrid::samples::setCommandLine(argc, argv);
   app.require_subcommand(1);
-  logrid::samples::addWalkCommand(app);
-  logrid::samples::addBenchCommand(app);
-  logrid::samples::addTuneCommand(app);
-  logrid::samples::addViewCommand(app);
+  logrid::samples::addCommands(app);
+  logrid::samples::addViewCommand(app);  // after addCommands: takes its option policy
   try {
     app.parse(argc, argv);
   } catch (const CLI::RuntimeError& done) {

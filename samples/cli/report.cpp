@@ -1,9 +1,11 @@
 #include "cli/report.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "logrid/error.hpp"
 
@@ -97,6 +99,7 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
   nlohmann::json j = {{"method", config.method.name()},
                       {"reader", config.reader},
                       {"frames", records.size()},
+                      {"span", config.span},
                       {"width", config.view.width},
                       {"height", config.view.height},
                       {"tile", config.culler.tile_size},
@@ -141,6 +144,20 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
     j["per_frame"] = std::move(frames);
   }
   return j;
+}
+
+std::string framesAlong(std::size_t frames, double span) {
+  std::string text = std::to_string(frames) + " frames along the ";
+  if (span < 1.0) text += "first " + formatFixed(100.0 * span, span < 0.01 ? 2 : 1) + "% of the ";
+  return text + "walkthrough";
+}
+
+std::string grouped(double v) {
+  std::string digits = std::to_string(static_cast<long long>(std::llround(v)));
+  for (int i = int(digits.size()) - 3; i > 0 && digits[std::size_t(i) - 1] != '-'; i -= 3) {
+    digits.insert(std::size_t(i), ",");
+  }
+  return digits;
 }
 
 }  // namespace logrid::samples

@@ -28,4 +28,9 @@ std::string formatFixed(double value, int decimals = 2);
 // The path of `target` relative to the folder of `document` (for links in markdown).
 std::string linkFrom(const std::string& document, const std::string& target);
 
+// "30 frames along the walkthrough", or "... along the first 5% of the walkthrough".
+std::string framesAlong(std::size_t frames, double span);
+// 1234567 -> "1,234,567"
+std::string grouped(double value);
+
 }  // namespace logrid::samples

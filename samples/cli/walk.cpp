@@ -71,7 +71,10 @@ void addWalkCommand(CLI::App& app) {
   auto options = std::make_shared<WalkOptions>();
   CLI::App* walk = app.add_subcommand("walk", "render a walkthrough with one culling method");
   addSceneOptions(*walk, *options);
-  walk->add_option("--method", options->method, "log-state, log-zfar, bog, hzb, pq, vfc or oracle");
+  walk->add_option("--method", options->method,
+                   methodNames() +
+                       " or oracle; :K or :all and :tc set the lookahead and "
+                       "temporal coherence (e.g. log-state:16:tc)");
   walk->add_option("--size", options->size, "viewport WIDTHxHEIGHT");
   addViewOptions(*walk, *options);
   walk->add_flag("--verify", options->verify, "check every frame against the object-ID oracle");

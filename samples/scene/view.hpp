@@ -19,12 +19,14 @@ struct ViewSettings {
   double near_plane = 0.1;
   double far_plane = 1000.0;
   DepthSetup depth;
+  // Samples per pixel of the framebuffer (0: single-sampled); sets Camera::multisample.
+  std::uint32_t samples = 0;
 };
 
 // The usual clip range for a convention: -1..1 (GL's default) for standard, 0..1 for
 // reversed.
 DepthSetup depthSetupFor(DepthConvention convention, DepthFormat format);
 
-Camera makeCamera(const CameraPose& pose, const DVec3& scene_origin, const ViewSettings& view);
+Camera makeCamera(const CameraPose& pose, const glm::dvec3& scene_origin, const ViewSettings& view);
 
 }  // namespace logrid::samples

@@ -2,25 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glm/geometric.hpp>
 
 #include "logrid/error.hpp"
 
 namespace logrid::viewer {
-namespace {
-
-DVec3 add(DVec3 a, DVec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-DVec3 sub(DVec3 a, DVec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-DVec3 mul(DVec3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
-double dot(DVec3 a, DVec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-DVec3 cross(DVec3 a, DVec3 b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-double length(DVec3 a) { return std::sqrt(dot(a, a)); }
-
-}  // namespace
 
 FlyCamera::FlyCamera(const samples::CameraPose& pose, double speed) {
-  const double up_length = length(pose.up);
+  const double up_length = glm::length(pose.up);
   if (!(up_length > 0) || !std::isfinite(up_length)) {
     throw Error(ErrorCode::InvalidArgument,
                 "fly camera: the path's up vector must be finite and non-zero");
@@ -29,49 +18,47 @@ FlyCamera::FlyCamera(const samples::CameraPose& pose, double speed) {
     throw Error(ErrorCode::InvalidArgument,
                 "fly camera: speed " + std::to_string(speed) + " must be finite and positive");
   }
-  up_ = mul(pose.up, 1 / up_length);
+  up_ = pose.up / up_length;
   // East: the world axis least aligned with up, made perpendicular to it.
-  const DVec3 axes[3] = {{1, 0, 0}, {0, 0, -1}, {0, 1, 0}};
-  const DVec3* best = &axes[0];
-  for (const DVec3& a : axes) {
-    if (std::fabs(dot(a, up_)) < std::fabs(dot(*best, up_))) best = &a;
+  const glm::dvec3 axes[3] = {{1, 0, 0}, {0, 0, -1}, {0, 1, 0}};
+  const glm::dvec3* best = &axes[0];
+  for (const glm::dvec3& a : axes) {
+    if (std::fabs(glm::dot(a, up_)) < std::fabs(glm::dot(*best, up_))) best = &a;
   }
-  east_ = sub(*best, mul(up_, dot(*best, up_)));
-  east_ = mul(east_, 1 / length(east_));
-  north_ = cross(up_, east_);
+  east_ = glm::normalize(*best - up_ * glm::dot(*best, up_));
+  north_ = glm::cross(up_, east_);
   speed_ = initial_speed_ = speed;
   setPose(pose);
 }
 
 void FlyCamera::setPose(const samples::CameraPose& pose) {
-  const DVec3 d = sub(pose.look_at, pose.position);
-  const double distance = length(d);
+  const glm::dvec3 d = pose.look_at - pose.position;
+  const double distance = glm::length(d);
   if (!(distance > 0) || !std::isfinite(distance)) {
     throw Error(ErrorCode::InvalidArgument,
                 "fly camera: a pose's look_at must differ from its position");
   }
   position_ = pose.position;
   focus_ = distance;
-  const DVec3 f = mul(d, 1 / distance);
-  pitch_ = std::clamp(std::asin(std::clamp(dot(f, up_), -1.0, 1.0)), -kMaxPitch, kMaxPitch);
-  yaw_ = std::atan2(dot(f, north_), dot(f, east_));
+  const glm::dvec3 f = d / distance;
+  pitch_ = std::clamp(std::asin(std::clamp(glm::dot(f, up_), -1.0, 1.0)), -kMaxPitch, kMaxPitch);
+  yaw_ = std::atan2(glm::dot(f, north_), glm::dot(f, east_));
 }
 
-DVec3 FlyCamera::forward() const {
+glm::dvec3 FlyCamera::forward() const {
   const double c = std::cos(pitch_);
-  return add(add(mul(east_, c * std::cos(yaw_)), mul(north_, c * std::sin(yaw_))),
-             mul(up_, std::sin(pitch_)));
+  return east_ * (c * std::cos(yaw_)) + north_ * (c * std::sin(yaw_)) + up_ * std::sin(pitch_);
 }
 
-DVec3 FlyCamera::right() const {
+glm::dvec3 FlyCamera::right() const {
   // Horizontal: east and north turned by yaw, a quarter turn clockwise seen from above.
-  return sub(mul(east_, std::sin(yaw_)), mul(north_, std::cos(yaw_)));
+  return east_ * std::sin(yaw_) - north_ * std::cos(yaw_);
 }
 
 samples::CameraPose FlyCamera::pose() const {
   samples::CameraPose p;
   p.position = position_;
-  p.look_at = add(position_, mul(forward(), focus_));
+  p.look_at = position_ + forward() * focus_;
   p.up = up_;
   return p;
 }
@@ -86,9 +73,8 @@ void FlyCamera::move(double forward_amount, double right_amount, double up_amoun
   if (!(seconds > 0) || !std::isfinite(seconds)) return;
   const double step = speed_ * seconds;
   auto c = [](double v) { return std::isfinite(v) ? std::clamp(v, -1.0, 1.0) : 0.0; };
-  position_ = add(position_, mul(forward(), c(forward_amount) * step));
-  position_ = add(position_, mul(right(), c(right_amount) * step));
-  position_ = add(position_, mul(up_, c(up_amount) * step));
+  position_ += forward() * (c(forward_amount) * step) + right() * (c(right_amount) * step) +
+               up_ * (c(up_amount) * step);
 }
 
 void FlyCamera::scaleSpeed(double steps) {

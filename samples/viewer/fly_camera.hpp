@@ -34,19 +34,19 @@ class FlyCamera {
   // [1e-6, 1e6] times the initial speed.
   void scaleSpeed(double steps);
 
-  const DVec3& position() const { return position_; }
+  const glm::dvec3& position() const { return position_; }
   double yaw() const { return yaw_; }
   double pitch() const { return pitch_; }
-  DVec3 forward() const;
-  DVec3 right() const;  // horizontal, perpendicular to forward and up
-  const DVec3& up() const { return up_; }
+  glm::dvec3 forward() const;
+  glm::dvec3 right() const;  // horizontal, perpendicular to forward and up
+  const glm::dvec3& up() const { return up_; }
   // The horizontal axes of a view from above: `east` to the right, `north` up the page.
-  const DVec3& east() const { return east_; }
-  const DVec3& north() const { return north_; }
+  const glm::dvec3& east() const { return east_; }
+  const glm::dvec3& north() const { return north_; }
 
  private:
-  DVec3 up_, east_, north_;  // orthonormal, right-handed: east x north = up
-  DVec3 position_;
+  glm::dvec3 up_, east_, north_;  // orthonormal, right-handed: east x north = up
+  glm::dvec3 position_;
   double yaw_ = 0;    // from east towards north
   double pitch_ = 0;  // towards up
   double focus_ = 1;  // distance to the look-at point

@@ -10,7 +10,9 @@
 namespace logrid::viewer {
 namespace {
 
-double dot(const DVec3& a, double x, double y, double z) { return a.x * x + a.y * y + a.z * z; }
+double dot(const glm::dvec3& a, double x, double y, double z) {
+  return a.x * x + a.y * y + a.z * z;
+}
 
 enum : std::uint8_t { kOutside, kOccluded, kDrawn, kMissed };
 
@@ -61,9 +63,9 @@ TopView::TopView(const samples::PreparedScene& scene, const FlyCamera& camera)
                          0.5 * (double(b.min.z) + b.max.z)};
     const double h[3] = {0.5 * (double(b.max.x) - b.min.x), 0.5 * (double(b.max.y) - b.min.y),
                          0.5 * (double(b.max.z) - b.min.z)};
-    const DVec3* axes[2] = {&east_, &north_};
+    const glm::dvec3* axes[2] = {&east_, &north_};
     for (int k = 0; k < 2; ++k) {
-      const DVec3& a = *axes[k];
+      const glm::dvec3& a = *axes[k];
       const double mid = dot(a, c[0], c[1], c[2]);
       const double half = std::fabs(a.x) * h[0] + std::fabs(a.y) * h[1] + std::fabs(a.z) * h[2];
       rects_[i * 4 + std::size_t(k)] = float(mid - half);
@@ -172,9 +174,9 @@ TopView::Counts TopView::draw(const Frame& f, bool* open) {
   }
   if (f.recorded) {
     for (std::size_t i = 1; i < f.recorded->size(); ++i) {
-      const DVec3& a = (*f.recorded)[i - 1];
-      const DVec3& b = (*f.recorded)[i];
-      const DVec3& o = scene_.origin;
+      const glm::dvec3& a = (*f.recorded)[i - 1];
+      const glm::dvec3& b = (*f.recorded)[i];
+      const glm::dvec3& o = scene_.origin;
       dl->AddLine(atLocal(a.x - o.x, a.y - o.y, a.z - o.z),
                   atLocal(b.x - o.x, b.y - o.y, b.z - o.z), IM_COL32(255, 160, 40, 255), 2);
     }

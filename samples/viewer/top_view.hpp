@@ -21,8 +21,8 @@ class TopView {
     const Camera* camera = nullptr;  // this frame's (nullptr: none drawn)
     const std::vector<ObjectId>* drawn = nullptr;
     const std::vector<ObjectId>* missed = nullptr;
-    const std::vector<DVec3>* recorded = nullptr;  // world positions being recorded
-    bool flash = false;                            // missed objects' blink phase
+    const std::vector<glm::dvec3>* recorded = nullptr;  // world positions being recorded
+    bool flash = false;                                 // missed objects' blink phase
   };
   // Counts of the last draw() (for the panel and tests).
   struct Counts {
@@ -33,7 +33,7 @@ class TopView {
 
  private:
   const samples::PreparedScene& scene_;
-  DVec3 east_, north_;
+  glm::dvec3 east_, north_;
   std::vector<float> rects_;  // per object: east min, north min, east max, north max (local)
   float lo_[2] = {0, 0}, hi_[2] = {1, 1};
   std::vector<float> path_;           // the scene's camera path, sampled, local (east, north) pairs

@@ -534,7 +534,7 @@ class Viewer {
   bool recording_ = false;
   double record_start_ = 0;
   std::vector<samples::CameraKey> recorded_;
-  std::vector<DVec3> recorded_positions_;
+  std::vector<glm::dvec3> recorded_positions_;
   std::size_t verified_frames_ = 0, missed_total_ = 0, frames_with_misses_ = 0, missed_exact_ = 0;
 };
 

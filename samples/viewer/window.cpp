@@ -39,12 +39,14 @@ bool onPath(const char* program) {
 }
 
 std::string noDisplayAdvice() {
-  return onPath("xvfb-run")
-             ? "Run it on a desktop, or under a virtual display: xvfb-run -a logrid view ... "
-               "(`logrid walk` renders without any display)."
-             : "Run it on a desktop, or under a virtual display (Debian: apt-get install xvfb "
-               "xauth, then xvfb-run -a logrid view ...); `logrid walk` renders without any "
-               "display.";
+  if (onPath("xvfb-run") && onPath("xauth")) {
+    return "Run it on a desktop, or under a virtual display: xvfb-run -a logrid view ... "
+           "(`logrid walk` renders without any display).";
+  }
+  // xvfb-run needs xauth, which Debian's xvfb only recommends.
+  return "Run it on a desktop, or under a virtual display (Debian: apt-get install xvfb "
+         "xauth, then xvfb-run -a logrid view ...); `logrid walk` renders without any "
+         "display.";
 }
 
 }  // namespace

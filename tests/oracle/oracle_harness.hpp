@@ -146,7 +146,7 @@ struct View {
 inline RunConfig makeConfig(const PreparedScene& scene, Method method, const std::string& reader,
                             const View& v, std::size_t frames) {
   RunConfig c;
-  c.method = samples::MethodChoice{method};
+  c.method.method = method;
   c.culler.tile_size = v.tile;
   c.reader = reader;
   c.view.width = v.width;
@@ -174,6 +174,7 @@ inline std::string reproducer(const SceneKey& key, const RunConfig& c) {
       << formatName(c.view.depth.format) << " --depth-convention "
       << toString(c.view.depth.convention) << " --near " << c.view.near_plane << " --far "
       << c.view.far_plane;
+  if (c.view.samples > 1) out << " --samples " << c.view.samples;
   if (c.view.orthographic) {
     out << " --ortho";
   } else {
@@ -230,9 +231,10 @@ inline WalkTotals checkedWalk(const SceneKey& key, LoadedScene& scene, const Run
       out << "\n  reproduce: " << reproducer(key, config);
       return out.str();
     }();
-    // Objects the oracle sets apart as depth-extrapolation artifacts (frame_runner.hpp)
-    // must also be drawn here: the small test walks have none, so one that is not drawn
-    // is either a new artifact to look at or a culling bug the classification hid.
+    // Objects the oracle sets apart as depth-extrapolation artifacts
+    // (logrid/gl/object_id_oracle.hpp) must also be drawn here: the small test walks have
+    // none, so one that is not drawn is either a new artifact to look at or a culling bug
+    // the classification hid.
     EXPECT_EQ(r.missed_artifacts, 0)
         << config.method.name() << " frame " << f << ": " << r.missed_artifacts
         << " objects shown only by fragments far nearer than their boxes were not drawn; "

@@ -90,7 +90,7 @@ class VirtualDisplay {
   VirtualDisplay() {
     const auto xvfb = findProgram("Xvfb");
     if (!xvfb) {
-      error_ = "Xvfb is not installed (Debian: apt-get install xvfb xauth; scripts/setup.sh)";
+      error_ = "Xvfb is not installed (Debian: apt-get install xvfb; scripts/setup.sh)";
       return;
     }
     int fds[2];

@@ -16,10 +16,12 @@
 
 #include "logrid/camera.hpp"
 #include "logrid/error.hpp"
+#include "logrid/glm_camera.hpp"
 
 namespace {
 
-using logrid::DVec3;
+// The samples keep their vectors in GLM.
+using DVec3 = glm::dvec3;
 using logrid::Error;
 using logrid::ErrorCode;
 using logrid::samples::CameraKey;
@@ -47,7 +49,9 @@ void expectUsable(const CameraPose& pose, double time) {
   ASSERT_TRUE(isFinite(pose.position)) << "time " << time;
   ASSERT_TRUE(isFinite(pose.look_at)) << "time " << time;
   ASSERT_FALSE(same(pose.position, pose.look_at)) << "time " << time;
-  EXPECT_NO_THROW(logrid::lookAt(pose.position, pose.look_at, pose.up)) << "time " << time;
+  EXPECT_NO_THROW(logrid::lookAt(logrid::toDVec3(pose.position), logrid::toDVec3(pose.look_at),
+                                 logrid::toDVec3(pose.up)))
+      << "time " << time;
 }
 
 // Runs `f`, expects a logrid::Error with `code` and returns its message.
@@ -163,6 +167,22 @@ TEST(CameraPathTest, AssignsTimesByDistanceForConstantSpeed) {
   EXPECT_EQ(path.duration(), 18.0);
   // Frames spread evenly in time then cover equal distances per key segment.
   expectSame(path.frame(5, 19).position, DVec3{3, 4, 0});
+}
+
+TEST(CameraPathTest, SpanLimitsTheFramesToTheStartOfThePath) {
+  const CameraPath path = CameraPath::fromJsonText(R"({"keys": [
+      {"position": [0, 0, 0], "look_at": [0, 0, -1], "time": 0},
+      {"position": [10, 0, 0], "look_at": [10, 0, -1], "time": 10}]})");
+  // 11 frames over the first 10 % of the path: one unit of time apart, the last at t = 1.
+  expectSame(path.frame(0, 11, 0.1).position, path.at(0).position);
+  expectSame(path.frame(5, 11, 0.1).position, path.at(0.5).position);
+  expectSame(path.frame(10, 11, 0.1).position, path.at(1).position);
+  // A span of 1 is the whole path, as without it.
+  expectSame(path.frame(10, 11, 1.0).position, path.frame(10, 11).position);
+  for (double bad : {0.0, -0.5, 1.5, std::nan("")}) {
+    expectContains(errorOf([&] { path.frame(0, 2, bad); }, ErrorCode::InvalidArgument),
+                   {"span", "(0, 1]"});
+  }
 }
 
 TEST(CameraPathTest, SpacesKeysEvenlyWhenTheCameraOnlyTurns) {

@@ -10,7 +10,7 @@
 
 namespace {
 
-using logrid::DVec3;
+using DVec3 = glm::dvec3;
 using logrid::samples::CameraPose;
 using logrid::viewer::FlyCamera;
 

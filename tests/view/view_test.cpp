@@ -174,7 +174,7 @@ TEST(ViewTest, ScriptedFlightUnderXvfb) {
   const std::string path_file = recorded[0].substr(0, recorded[0].find(' '));
   const logrid::samples::CameraPath path = logrid::samples::CameraPath::fromJsonFile(path_file);
   EXPECT_GE(path.keys().size(), 10u);
-  const logrid::DVec3 a = path.keys().front().position, b = path.keys().back().position;
+  const glm::dvec3 a = path.keys().front().position, b = path.keys().back().position;
   EXPECT_GT(std::hypot(a.x - b.x, a.y - b.y, a.z - b.z), 1.0) << "the flight did not move";
   const ProcessResult walk =
       runProcess({kLogrid, "walk", "--scene", "forest", "--scale", "0.1", "--path", path_file,
