@@ -254,6 +254,13 @@ TEST(ViewTest, BadOptionsExit2BeforeAnyWindow) {
   r = runProcess({kLogrid, "view", "--scene", "forest", "--size", "0x10"}, no_display, dir);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("size '0x10'"), std::string::npos) << r.err;
+  // A repeated option is no usage error, the last one wins, as in walk, bench and tune.
+  r = runProcess({kLogrid, "view", "--scene", "forest", "--size", "64x48", "--method", "magic",
+                  "--method", "log-state", "--size", "0x10"},
+                 no_display, dir);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("size '0x10'"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("magic"), std::string::npos) << r.err;
 }
 
 }  // namespace
