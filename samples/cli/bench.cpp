@@ -12,6 +12,7 @@
 #include <memory>
 #include <sstream>
 
+#include "cli/bench_motion.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/experiment.hpp"
@@ -21,6 +22,7 @@
 #include "cli/tradeoff.hpp"
 #include "cli/traversal_sweep.hpp"
 #include "logrid/error.hpp"
+#include "logrid/method.hpp"
 
 namespace logrid::samples {
 namespace {
@@ -74,6 +76,7 @@ struct BenchOptions {
   bool tradeoff = false;
   bool traversal = false;
   std::string lookaheads = "1,4,16,64,all";  // --traversal
+  MotionBenchOptions motion;                 // --motion: bench_motion.cpp
 };
 
 std::string ratio(double a, double b) { return b > 0 ? formatFixed(a / b, 2) + "×" : "–"; }
@@ -90,6 +93,8 @@ struct Row {
   double tiles_per_box = 0;
   double read_share = 0;
   double flushes = 0;
+  bool box_queries = false;  // a hardware-query method (MethodInfo::box_queries)
+  double queries = 0, query_waits = 0, query_boxes = 0;
   std::int64_t missed = -1;
   std::int64_t missed_artifacts = 0;  // objects shown only by depth-extrapolated fragments
   bool conservative = true;
@@ -100,7 +105,10 @@ Row makeRow(const std::string& label, const ConfigResult& r, const nlohmann::jso
   Row row;
   row.label = label;
   row.method = r.config.method.name();
-  row.reader = r.config.method.method ? r.config.reader : "–";
+  // Only methods that read the depth buffer use a reader (not vfc, nor hwq, chc, stat, nohc).
+  row.reader = r.config.method.method && methodInfo(*r.config.method.method).uses_depth_source
+                   ? r.config.reader
+                   : "–";
   row.ms = r.avg_ms();
   row.spread = r.spread();
   row.objects = s["avg_drawn_objects"];
@@ -111,6 +119,14 @@ Row makeRow(const std::string& label, const ConfigResult& r, const nlohmann::jso
   double flushes = 0;
   for (const FrameRecord& f : r.records) flushes += double(f.stats.flushes);
   row.flushes = r.records.empty() ? 0 : flushes / double(r.records.size());
+  if (r.config.method.method && methodInfo(*r.config.method.method).box_queries) {
+    row.box_queries = true;
+    row.queries = s["avg_queries"];
+    row.query_waits = s["avg_query_waits"];
+    double boxes = 0;
+    for (const FrameRecord& f : r.records) boxes += double(f.stats.query_boxes);
+    row.query_boxes = r.records.empty() ? 0 : boxes / double(r.records.size());
+  }
   if (s.contains("missed_visible_objects")) {
     row.missed = s["missed_visible_objects"];
     row.missed_artifacts = s["missed_depth_artifact_objects"];
@@ -128,13 +144,36 @@ const Row* findRow(const std::vector<Row>& rows, const std::string& label) {
   return nullptr;
 }
 
+// The hardware-query methods of a cell (issue 12): queries and waits per frame, and the
+// papers' ratios: queries against hwq (Kovalčík & Sochor, CHC++), frame time against the
+// oracle (NOHC's Table 4 compares with an optimum). Nothing when no such method ran.
+void writeQueryTable(std::ostream& md, const std::vector<Row>& rows) {
+  const Row* hwq = findRow(rows, "hwq");
+  const Row* oracle = findRow(rows, "oracle");
+  bool any = false;
+  for (const Row& r : rows) any = any || r.box_queries;
+  if (!any) return;
+  md << "\nHardware occlusion queries (per frame; a multi-query counts once and draws several "
+        "boxes):\n\n"
+        "| method | queries | boxes queried | waited for | flushes | queries ÷ hwq | time ÷ hwq "
+        "| time ÷ oracle |\n|---|--:|--:|--:|--:|--:|--:|--:|\n";
+  for (const Row& r : rows) {
+    if (!r.box_queries) continue;
+    md << "| " << r.label << " | " << formatFixed(r.queries, 1) << " | "
+       << formatFixed(r.query_boxes, 1) << " | " << formatFixed(r.query_waits, 1) << " | "
+       << formatFixed(r.flushes, 1) << " | " << (hwq ? ratio(r.queries, hwq->queries) : "–")
+       << " | " << (hwq ? ratio(r.ms, hwq->ms) : "–") << " | "
+       << (oracle ? ratio(r.ms, oracle->ms) : "–") << " |\n";
+  }
+}
+
 // The markdown of one scene × size cell: the measured table, the ratios beside the
 // paper's, and the targets.
 void writeCell(std::ostream& md, const std::string& scene, std::uint32_t width,
                std::uint32_t height, const std::vector<Row>& rows, const RunConfig& config,
                std::size_t repeats, const std::string& plot_prefix) {
   md << "\n### " << scene << " " << width << "×" << height << "\n\n";
-  md << framesAlong(config.frames, config.span) << ", " << repeats
+  md << framesAlong(config.frames, config.time_step) << ", " << repeats
      << " interleaved repetitions; ms/frame is the average over frames of the per-frame median, "
         "spread is (max − min) / median of the repetitions' averages.\n\n";
   md << "| method | reader | ms/frame | spread | drawn objects | drawn triangles | pixels read "
@@ -150,6 +189,8 @@ void writeCell(std::ostream& md, const std::string& scene, std::uint32_t width,
        << (r.missed_artifacts > 0 ? " (+" + std::to_string(r.missed_artifacts) + " artifact)" : "")
        << " |\n";
   }
+
+  writeQueryTable(md, rows);
 
   const Row* log = findRow(rows, "log-state");
   if (!log) return;
@@ -212,6 +253,11 @@ int runBench(const BenchOptions& o) {
   if (o.tradeoff)
     return runTradeoff(o.walk, splitList(o.scenes), splitList(o.sizes), o.forest_scale,
                        o.city_scale, o.repeat, o.markdown, o.json, o.plots);
+  if (o.motion.enabled) {
+    return runMotionBench(
+        o.motion, {o.walk, splitList(o.scenes), splitList(o.sizes), o.forest_scale, o.city_scale,
+                   o.repeat, o.warmup, !o.no_verify, o.markdown, o.json, o.plots});
+  }
   if (o.traversal) {
     TraversalSweepOptions t;
     t.scenes = splitList(o.scenes);
@@ -398,6 +444,7 @@ void addBenchCommand(CLI::App& app) {
                   "sweep lookahead K x temporal coherence x --readers for log-state and log-zfar "
                   "instead: flushes, batches, bytes, time against the oracle");
   bench->add_option("--lookaheads", o->lookaheads, "with --traversal: the K values to sweep");
+  addMotionBenchOptions(*bench, o->motion);
   bench->final_callback([o] { throw CLI::RuntimeError(runBench(*o)); });
 }
 

@@ -22,7 +22,7 @@ struct WalkOptions {
   std::uint64_t seed = 1;
   std::string path_file;
   std::size_t frames = 100;
-  double span = 1.0;  // fraction of the path the frames cover
+  double time_step = 0;  // > 0: path time between frames (RunConfig::time_step)
   std::string method = "log-state";
   std::string size = "640x480";
   std::uint32_t tile = 32;
@@ -45,6 +45,19 @@ struct WalkOptions {
   std::uint32_t leaf = 0;  // 0: the scene's default
   std::string tree_parts = "whole";  // forest: whole, trunk-crown or tiers
   GridApproximation approximation;   // off by default
+  // Motion (motion.hpp, movers.hpp).
+  std::uint32_t movers = 0;        // moving objects added to the scene
+  std::string motion_file;         // a scene from a file: its meshes' paths
+  std::string hierarchy = "auto";  // RunConfig::hierarchy
+  bool colliding = false;          // CullerDesc::detect_colliding
+  // The query methods (hwq, chc, stat, nohc, log+hwq), CullerDesc::queries.
+  std::string query_schedule = "stat";  // log+hwq's schedule of the undecided boxes
+  std::string query_shape = "box";      // box or rect
+  bool any_samples = false;             // GL_ANY_SAMPLES_PASSED_CONSERVATIVE queries
+  std::uint32_t chc_batch = 50;
+  std::uint32_t chc_interval = 5;
+  std::uint32_t stat_in_flight = 20;
+  std::uint32_t stat_base = 20;
 };
 
 // Adds the options every walkthrough command has (--scene ... --platform).

@@ -18,6 +18,7 @@
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
 #include "logrid/gl/object_id_oracle.hpp"
+#include "logrid/motion.hpp"
 #include "scene/prepare.hpp"
 #include "scene/view.hpp"
 
@@ -35,6 +36,9 @@ struct MethodChoice {
   std::optional<Method> method;  // empty: oracle
   std::optional<std::uint32_t> lookahead;
   bool coherence = false;
+  // log+hwq: the schedule of the boxes the grid leaves undecided (hwq, chc, stat or
+  // nohc), from a suffix (log+hwq:chc); empty: RunConfig::culler.queries.schedule.
+  std::optional<Method> schedule;
   std::string name() const;
 };
 std::optional<MethodChoice> parseMethodChoice(const std::string& name);
@@ -54,24 +58,45 @@ struct FrameHooks {
   std::function<void()> after_draw;
 };
 
+// nohc (and log+hwq scheduled by nohc) needs the hardware parameters of this renderer:
+// fills desc.queries.hardware from zread::hardwareParameters() (measured on first use,
+// kept per renderer for the process) unless it holds valid ones. Needs a GL context.
+void measureHardwareIfNeeded(CullerDesc& desc);
+
 struct RunConfig {
   MethodChoice method{Method::LogState};
   CullerDesc culler;                  // method is taken from `method`
   std::string reader = "readpixels";  // a name of readerTable()
+  // The query methods (MethodInfo::box_queries) issue their queries through a
+  // zread::BoxQuerySource over the frame's framebuffer, of this GL target.
+  bool any_samples_passed = false;  // GL_ANY_SAMPLES_PASSED_CONSERVATIVE, else GL_SAMPLES_PASSED
+  // The hierarchy culled: "static" (the scene's own, PreparedScene::hierarchy), a name of
+  // bvh::motionTable() (built over every object's box and updated each frame), or
+  // "auto": static for a scene without moving objects, refit for one with them.
+  std::string hierarchy = "auto";
+  bvh::MotionDesc motion;  // settings of the motion hierarchies
   ViewSettings view;
-  std::size_t frames = 100;  // frames spread over the path's first `span`
-  double span = 1.0;         // fraction of the path the frames cover (0, 1]
-  bool verify = false;       // object-ID check after each frame
-  std::string images_dir;    // write PNG frames here when set
-  bool overlay = false;      // and overlay pictures (tile grid, boxes); records what
-                             // overlayData() returns
+  std::size_t frames = 100;  // frames spread over the whole path
+  // > 0: frame f is at path time (first key) + f * time_step instead (the camera stops
+  // at the path's end; movers go on): consecutive frames as close as at an interactive
+  // rate, for what methods carry from frame to frame (temporal coherence, the query
+  // schedules). Untimed paths, as the procedural ones, count time in metres travelled.
+  double time_step = 0;
+  bool verify = false;     // object-ID check after each frame
+  std::string images_dir;  // write PNG frames here when set
+  bool overlay = false;    // and overlay pictures (tile grid, boxes); records what
+                           // overlayData() returns
   FrameHooks hooks;
 };
 
 struct FrameRecord {
   std::size_t frame = 0;
-  double ms = 0;  // clear + cull + draw + glFinish
+  double ms = 0;  // hierarchy update + clear + cull + draw + statistics + glFinish
   FrameStats stats;
+  double time = 0;                     // the frame's time (motion.hpp)
+  bvh::UpdateStats update;             // the motion hierarchy's update (zero for static ones)
+  bvh::MeasureStats measure;           // its statistics pass after the frame (ternary)
+  std::uint64_t moved = 0;             // objects whose box changed since the last frame
   std::uint64_t triangles = 0;         // triangles drawn
   std::int64_t visible = -1;           // objects in the ID buffer (with verify or oracle)
   std::int64_t missed = -1;            // visible objects not drawn (with verify)
@@ -97,12 +122,21 @@ class FrameRunner {
 
   const RunConfig& config() const { return config_; }
   FrameRecord renderFrame(std::size_t frame);
-  // Renders any camera of the configured view (size and depth set-up as config().view),
-  // e.g. one a person flies; the ID pass (verify, oracle) is not shared with other runners.
-  // `frame` only labels the record and image files.
-  FrameRecord renderCamera(const Camera& camera, std::size_t frame);
+  // Renders the frame from any pose, e.g. one a person flies (moving objects where they
+  // are at frameTime(frame)); the ID pass (verify, oracle) is not shared with other
+  // runners. `frame` also labels the record and image files.
+  FrameRecord renderPose(const CameraPose& pose, std::size_t frame);
   // The camera of a frame (for callers that need it, e.g. overlays and tests).
   Camera cameraFor(std::size_t frame) const;
+  // The camera of a pose in the configured view (what renderPose() renders).
+  Camera cameraAt(const CameraPose& pose) const;
+  CameraPose poseFor(std::size_t frame) const;
+  double frameTime(std::size_t frame) const;
+  // The hierarchy culled (the scene's static one or the motion hierarchy).
+  const Hierarchy& hierarchy() const;
+  const bvh::MotionHierarchy* motionHierarchy() const { return dynamic_.get(); }
+  // Every object's box in the last frame rendered (movers where they were).
+  const std::vector<Aabb>& objectBoxes() const { return motion_.boxes; }
   // Share ID-pass results with other runners of the same frames and view.
   void shareOracle(std::shared_ptr<OracleCache> cache) { oracle_cache_ = std::move(cache); }
   // Last frame's colour image (RGBA8, bottom-up rows).
@@ -119,10 +153,12 @@ class FrameRunner {
   const std::vector<ObjectId>& missedObjects() const { return missed_; }
 
  private:
+  // Moves the movers to `time`: boxes, `moved`, and the renderer's transforms.
+  void applyMotion(double time);
   gl::OracleFrame idPass(const Camera& camera);
   // The ID pass of a frame, from the shared cache when another runner did it.
   gl::OracleFrame visibleSet(std::optional<std::size_t> frame, const Camera& camera);
-  FrameRecord render(const Camera& camera, std::size_t frame, bool cached);
+  FrameRecord render(const CameraPose& pose, std::size_t frame, bool cached);
   void writeImages(std::size_t frame, const Camera& camera);
 
   const PreparedScene& scene_;
@@ -130,10 +166,15 @@ class FrameRunner {
   RunConfig config_;
   std::unique_ptr<gl::Framebuffer> framebuffer_;
   std::unique_ptr<FrameReader> reader_;
+  std::unique_ptr<OcclusionQueries> queries_;  // query methods
   std::unique_ptr<Culler> culler_;
   std::unique_ptr<Culler> vfc_;  // for the ID pass
   struct Observer;
   std::unique_ptr<Observer> observer_;
+  struct FanOut;
+  std::unique_ptr<FanOut> fan_out_;
+  std::unique_ptr<bvh::MotionHierarchy> dynamic_;  // null: the static hierarchy
+  MotionFrame motion_;
   std::vector<std::uint8_t> drawn_;  // per object, this frame
   std::vector<ObjectId> drawn_list_;
   std::vector<ObjectId> missed_;

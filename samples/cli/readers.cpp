@@ -26,7 +26,7 @@ class GlReader final : public FrameReader {
 class SoftwareReader final : public FrameReader {
  public:
   explicit SoftwareReader(const ReaderContext& c)
-      : scene_(c.scene), buffer_(c.width, c.height, c.depth.convention) {}
+      : scene_(c.scene), motion_(c.motion), buffer_(c.width, c.height, c.depth.convention) {}
   DepthSource& source() override { return buffer_; }
   void beginFrame(const Camera& camera) override {
     buffer_.clear();
@@ -35,12 +35,28 @@ class SoftwareReader final : public FrameReader {
   void objectDrawn(ObjectId id) override {
     const gl::RenderMesh& mesh = scene_.mesh;
     const gl::RenderMesh::Draw& d = mesh.draws[id];
+    // A mover's vertices where the renderer puts them (in double, rounded once).
+    const RigidTransform* t = nullptr;
+    if (motion_ && id >= scene_.static_objects &&
+        id - scene_.static_objects < motion_->transforms.size()) {
+      t = &motion_->transforms[id - scene_.static_objects];
+    }
+    float moved[3][3];
     for (std::uint32_t i = d.first_index; i < d.first_index + d.index_count; i += 3) {
       const float* v[3];
       for (std::uint32_t k = 0; k < 3; ++k) {
         const std::uint32_t local =
             mesh.indices16.empty() ? mesh.indices32[i + k] : mesh.indices16[i + k];
         v[k] = &mesh.positions[(std::size_t(d.base_vertex) + local) * 3];
+        if (t) {
+          const double tr[3] = {t->translation.x, t->translation.y, t->translation.z};
+          for (int r = 0; r < 3; ++r) {
+            moved[k][r] =
+                static_cast<float>(t->rotation[r] * v[k][0] + t->rotation[3 + r] * v[k][1] +
+                                   t->rotation[6 + r] * v[k][2] + tr[r]);
+          }
+          v[k] = moved[k];
+        }
       }
       raster_->drawTriangle(v[0], v[1], v[2], id);
     }
@@ -48,6 +64,7 @@ class SoftwareReader final : public FrameReader {
 
  private:
   const PreparedScene& scene_;
+  const MotionFrame* motion_;
   cpu::SoftwareDepthBuffer buffer_;
   std::optional<cpu::SoftwareRasterizer> raster_;
 };

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "logrid/depth_source.hpp"
+#include "scene/motion.hpp"
 #include "scene/prepare.hpp"
 
 namespace logrid::samples {
@@ -31,6 +32,9 @@ struct ReaderContext {
   std::uint32_t width;
   std::uint32_t height;
   DepthSetup depth;
+  // The movers' transforms of the current frame (objects from scene.static_objects on);
+  // nullptr or empty when nothing moves.
+  const MotionFrame* motion = nullptr;
 };
 
 struct ReaderInfo {

@@ -54,12 +54,11 @@ class CameraPath {
   // The pose at `time` (clamped to the path), interpolated with a centripetal
   // Catmull-Rom spline through the keys (positions and look-at points alike).
   CameraPose at(double time) const;
-  // The pose of frame `frame` of `frames` frames spread evenly over the first `span`
-  // (0 < span <= 1) of the path's duration: 1 spreads them over the whole path; a small
-  // span gives consecutive frames as close as a real frame rate would (a walkthrough's
-  // frame-to-frame coherence). Throws logrid::Error(InvalidArgument) for a frame out of
-  // range or a span outside (0, 1].
-  CameraPose frame(std::size_t frame, std::size_t frames, double span = 1.0) const;
+  // The pose of frame `frame` of `frames` frames spread evenly over the whole path.
+  CameraPose frame(std::size_t frame, std::size_t frames) const;
+  // The time of that frame (the time moving objects are evaluated at, motion.hpp).
+  // Throws like frame().
+  double frameTime(std::size_t frame, std::size_t frames) const;
 
  private:
   std::vector<CameraKey> keys_;

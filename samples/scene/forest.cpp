@@ -232,6 +232,10 @@ Scene makeForest(const GeneratorOptions& options) {
   scene.path = CameraPath(std::move(keys));
   scene.near_plane = 0.1;
   scene.far_plane = std::max(300.0, side);
+  // Movers (--movers, movers.hpp): animals walking on the terrain.
+  scene.mover_site.kind = MoverKind::Animals;
+  scene.mover_site.ground = [terrain](double x, double z) { return terrain.height(x, z); };
+  scene.mover_site.size = 1.0;
   computeBounds(scene);
   return scene;
 }

@@ -18,14 +18,21 @@ namespace logrid::samples {
 struct PreparedScene {
   std::string name;
   glm::dvec3 origin{0.0};
-  Aabb bounds;
+  Aabb bounds;  // local, of the static objects
   CameraPath path;
   double near_plane = 0.1;
   double far_plane = 1000.0;
 
+  // The hierarchy of the static objects [0, static_objects); moving objects are not in
+  // it (a walk with movers culls with a motion hierarchy over all objects, motion.hpp).
   bvh::FlatHierarchy hierarchy;
   gl::RenderMesh mesh;
-  std::vector<Aabb> object_boxes;  // local, indexed by ObjectId
+  // Local, indexed by ObjectId; the movers' at time 0 (MotionFrame has them per frame).
+  std::vector<Aabb> object_boxes;
+  // Objects [static_objects, static_objects + motion.movers.size()) move: mover i is
+  // object static_objects + i, drawn with its transform (mesh_renderer.hpp).
+  std::uint32_t static_objects = 0;
+  Motion motion;
 
   std::uint64_t triangles = 0;
   std::uint64_t source_objects = 0;  // objects before splitting (0 for split scenes)
@@ -35,6 +42,8 @@ struct PreparedScene {
 };
 
 // Consumes the scene (its arrays are released as soon as they are no longer needed).
+// Moving objects are appended after the static ones; movers of one shape share one copy
+// of its geometry.
 // args.max_leaf_size: objects per leaf for object scenes, triangles per chunk for split
 // scenes. Throws logrid::Error(BadInput) through validateScene for broken geometry.
 PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args);

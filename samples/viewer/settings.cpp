@@ -5,6 +5,7 @@
 
 #include "cli/readers.hpp"
 #include "logrid/error.hpp"
+#include "logrid/query_schedule.hpp"
 #include "scene/view.hpp"
 
 namespace logrid::viewer {
@@ -65,6 +66,11 @@ samples::RunConfig configFor(const samples::RunConfig& base, const CullSettings&
   if (c.method.method) {
     CullerDesc check = c.culler;
     check.method = *c.method.method;
+    // Unmeasured hardware parameters are no problem here: the frame runner measures
+    // them on its context (measureHardwareIfNeeded) before nohc runs; check the rest.
+    if (!validateHardwareParameters(check.queries.hardware).empty()) {
+      check.queries.hardware.render_setup = check.queries.hardware.query_setup = 1;
+    }
     const std::string problem = validateCullerDesc(check);
     if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
   }

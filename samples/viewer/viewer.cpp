@@ -366,8 +366,9 @@ class Viewer {
   }
 
   samples::FrameRecord renderFrame(std::uint32_t w, std::uint32_t h) {
-    camera_ = samples::makeCamera(fly_->pose(), scene_.prepared.origin, runner_->config().view);
-    samples::FrameRecord rec = runner_->renderCamera(camera_, frame_);
+    const samples::CameraPose pose = fly_->pose();
+    camera_ = runner_->cameraAt(pose);
+    samples::FrameRecord rec = runner_->renderPose(pose, frame_);
     if (rec.missed >= 0) {
       ++verified_frames_;
       missed_total_ += std::size_t(rec.missed);

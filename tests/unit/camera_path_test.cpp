@@ -169,22 +169,6 @@ TEST(CameraPathTest, AssignsTimesByDistanceForConstantSpeed) {
   expectSame(path.frame(5, 19).position, DVec3{3, 4, 0});
 }
 
-TEST(CameraPathTest, SpanLimitsTheFramesToTheStartOfThePath) {
-  const CameraPath path = CameraPath::fromJsonText(R"({"keys": [
-      {"position": [0, 0, 0], "look_at": [0, 0, -1], "time": 0},
-      {"position": [10, 0, 0], "look_at": [10, 0, -1], "time": 10}]})");
-  // 11 frames over the first 10 % of the path: one unit of time apart, the last at t = 1.
-  expectSame(path.frame(0, 11, 0.1).position, path.at(0).position);
-  expectSame(path.frame(5, 11, 0.1).position, path.at(0.5).position);
-  expectSame(path.frame(10, 11, 0.1).position, path.at(1).position);
-  // A span of 1 is the whole path, as without it.
-  expectSame(path.frame(10, 11, 1.0).position, path.frame(10, 11).position);
-  for (double bad : {0.0, -0.5, 1.5, std::nan("")}) {
-    expectContains(errorOf([&] { path.frame(0, 2, bad); }, ErrorCode::InvalidArgument),
-                   {"span", "(0, 1]"});
-  }
-}
-
 TEST(CameraPathTest, SpacesKeysEvenlyWhenTheCameraOnlyTurns) {
   const CameraPath path = CameraPath::fromJsonText(R"({"keys": [
       {"position": [1, 1, 1], "look_at": [1, 1, 0]},
