@@ -220,6 +220,8 @@ BoxProjection Projector::projectWith(const Aabb& box, Extent* extent) const {
   out.near_key = roundDown(key_min);
   out.far_key = roundUp(key_max);
   out.margin = roundUp(quantisation_ + k * (err_z + largest_key));
+  out.widen_x = roundUp(widen_x);
+  out.widen_y = roundUp(widen_y);
 
   if (crosses_near) {
     out.cls = ProjectionClass::CrossesNear;

@@ -63,6 +63,14 @@ void addViewOptions(CLI::App& app, WalkOptions& o) {
   app.add_flag("--colliding", o.colliding,
                "with --lookahead > 1: keep boxes that overlap on screen out of one batch "
                "(colliding-query detection)");
+  app.add_option("--cpu-resolution", o.cpu_resolution,
+                 "--reader cpu: buffer resolution full, half or quarter");
+  app.add_option("--occluders", o.occluders,
+                 "--reader cpu: what it rasterises per drawn object: mesh (its triangles) or "
+                 "model (the scene's simpler occluder where it has one)");
+  app.add_option("--cpu-threads", o.cpu_threads, "--reader cpu: worker threads (0: none)")
+      ->check(CLI::Range(0, 64));
+  app.add_option("--cpu-isa", o.cpu_isa, "--reader cpu: kernel auto, scalar, sse4.1 or avx2");
   app.add_option("--depth-format", o.depth_format, "depth buffer: 16, 24 or 32f");
   app.add_option("--depth-convention", o.depth_convention, "standard or reversed");
   app.add_option("--samples", o.samples,
@@ -229,6 +237,25 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
                 "reader '" + o.reader + "' is unknown; use " + readerNames());
   }
   c.reader = o.reader;
+  if (!cpu::parseResolution(o.cpu_resolution, c.cpu.resolution)) {
+    throw Error(ErrorCode::InvalidArgument, "CPU buffer resolution '" + o.cpu_resolution +
+                                                "' is unknown; use full, half or quarter");
+  }
+  const auto occluders = parseOccluderChoice(o.occluders);
+  if (!occluders) {
+    throw Error(ErrorCode::InvalidArgument,
+                "occluders '" + o.occluders + "' is unknown; use mesh or model");
+  }
+  c.cpu.occluders = *occluders;
+  c.cpu.threads = o.cpu_threads;
+  if (!cpu::parseIsa(o.cpu_isa, c.cpu.isa)) {
+    throw Error(ErrorCode::InvalidArgument,
+                "CPU kernel '" + o.cpu_isa + "' is unknown; use auto, scalar, sse4.1 or avx2");
+  }
+  if (!cpu::isaSupported(c.cpu.isa)) {
+    throw Error(ErrorCode::InvalidArgument,
+                "this CPU does not run the " + o.cpu_isa + " kernel; use --cpu-isa auto or scalar");
+  }
   c.culler.tile_size = o.tile;
   if (o.tile < 1)
     throw Error(ErrorCode::InvalidArgument, "tile size 0 is invalid; use 1 pixel or more");

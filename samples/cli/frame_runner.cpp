@@ -193,8 +193,8 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
                                                   " needs depth values, which " + reader->name +
                                                   " cannot give; use --reader " + readers);
     }
-    reader_ =
-        reader->make({scene, framebuffer_->handle(), fb.width, fb.height, fb.depth, &motion_});
+    reader_ = reader->make({scene, framebuffer_->handle(), fb.width, fb.height, fb.depth, &motion_,
+                            &config.cpu, desc.projection});
   }
   CullerDesc vfc;
   vfc.method = Method::Vfc;
@@ -334,6 +334,7 @@ FrameRecord FrameRunner::render(const CameraPose& pose, std::size_t frame, bool 
     rec.stats = queries_
                     ? culler_->cullFrame(camera, hierarchy(), reader_->source(), *queries_, draw)
                     : culler_->cullFrame(camera, hierarchy(), reader_->source(), draw);
+    if (auto* cpu = dynamic_cast<CpuFrameReader*>(reader_.get())) rec.cpu = cpu->takeFrameStats();
     if (hooks.after_cull) hooks.after_cull();
   }
   renderer_.end();

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/cpu_reader.hpp"
 #include "cli/images.hpp"
 #include "cli/readers.hpp"
 #include "logrid/culler.hpp"
@@ -75,6 +76,7 @@ struct RunConfig {
   // "auto": static for a scene without moving objects, refit for one with them.
   std::string hierarchy = "auto";
   bvh::MotionDesc motion;  // settings of the motion hierarchies
+  CpuReaderOptions cpu;    // for --reader cpu
   ViewSettings view;
   std::size_t frames = 100;  // frames spread over the whole path
   // > 0: frame f is at path time (first key) + f * time_step instead (the camera stops
@@ -104,6 +106,7 @@ struct FrameRecord {
   std::int64_t missed_artifacts = -1;  // of those, not drawn (reported apart, see
                                        // logrid/gl/object_id_oracle.hpp)
   std::vector<ObjectId> missed_ids;    // the first few (all of them: missedObjects())
+  std::optional<CpuFrameStats> cpu;    // with --reader cpu
 };
 
 // The visible set of each frame found by the object-ID oracle (gl::objectIdOracle),

@@ -2,6 +2,7 @@
 
 #include <optional>
 
+#include "cli/cpu_reader.hpp"
 #include "logrid/cpu/software_depth.hpp"
 #include "logrid/cpu/software_rasterizer.hpp"
 #include "logrid/zread/gl_sources.hpp"
@@ -91,6 +92,8 @@ const std::vector<ReaderInfo>& readerTable() {
        }},
       {"software", "a scalar CPU depth buffer fed with the drawn triangles", true,
        [](const ReaderContext& c) { return std::make_unique<SoftwareReader>(c); }},
+      {"cpu", "the conservative CPU occlusion buffer fed with each drawn object's occluder", true,
+       [](const ReaderContext& c) { return makeCpuReader(c); }},
   };
   return table;
 }

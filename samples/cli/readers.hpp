@@ -9,10 +9,13 @@
 #include <vector>
 
 #include "logrid/depth_source.hpp"
+#include "logrid/projection.hpp"
 #include "scene/motion.hpp"
 #include "scene/prepare.hpp"
 
 namespace logrid::samples {
+
+struct CpuReaderOptions;  // cli/cpu_reader.hpp
 
 // A depth source as a frame uses it.
 class FrameReader {
@@ -35,6 +38,8 @@ struct ReaderContext {
   // The movers' transforms of the current frame (objects from scene.static_objects on);
   // nullptr or empty when nothing moves.
   const MotionFrame* motion = nullptr;
+  const CpuReaderOptions* cpu = nullptr;  // the cpu reader's settings (nullptr: defaults)
+  ProjectionSettings projection;          // the culler's
 };
 
 struct ReaderInfo {

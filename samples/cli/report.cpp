@@ -50,6 +50,16 @@ nlohmann::json frameJson(const FrameRecord& r) {
     j["relocated"] = r.update.relocated;
     j["colliding_waits"] = s.colliding_waits;
   }
+  if (r.cpu) {
+    j["cpu"] = {{"ms", r.cpu->ms},
+                {"wait_ms", r.cpu->wait_ms},
+                {"worker_ms", r.cpu->worker_ms},
+                {"objects_set_up", r.cpu->objects},
+                {"triangles_set_up", r.cpu->triangles},
+                {"tile_triangles", r.cpu->tile_triangles},
+                {"tiles", r.cpu->tiles},
+                {"fallbacks", r.cpu->fallbacks}};
+  }
   if (r.visible >= 0) {
     j["visible_objects"] = r.visible;
     j["missed_visible_objects"] = r.missed;
@@ -89,6 +99,7 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
   double ms = 0, objects = 0, triangles = 0, pixels = 0, tiles = 0, boxes = 0, read_ms = 0,
          reads = 0, queries = 0, bytes = 0, batches = 0, flushes = 0, waits = 0, polls = 0,
          decided = 0;
+  CpuFrameStats cpu_sum;  // sums
   std::int64_t visible = 0, missed = 0, artifacts = 0, missed_artifacts = 0;
   bool verified = false;
   std::vector<double> times;
@@ -109,6 +120,16 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
     waits += double(r.stats.query_waits);
     polls += double(r.stats.query_polls);
     decided += double(r.stats.records_decided);
+    if (r.cpu) {
+      cpu_sum.ms += r.cpu->ms;
+      cpu_sum.wait_ms += r.cpu->wait_ms;
+      cpu_sum.worker_ms += r.cpu->worker_ms;
+      cpu_sum.objects += r.cpu->objects;
+      cpu_sum.triangles += r.cpu->triangles;
+      cpu_sum.tile_triangles += r.cpu->tile_triangles;
+      cpu_sum.tiles += r.cpu->tiles;
+      cpu_sum.fallbacks += r.cpu->fallbacks;
+    }
     if (r.visible >= 0) {
       verified = true;
       visible += r.visible;
@@ -170,6 +191,20 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
                       {"query_latency", h.query_latency},
                       {"query_overhead", h.query_overhead},
                       {"poll", h.poll}}}};
+  }
+  if (config.reader == "cpu" && config.method.method) {
+    j["cpu"] = {{"resolution", cpu::toString(config.cpu.resolution)},
+                {"occluders", toString(config.cpu.occluders)},
+                {"threads", config.cpu.threads},
+                {"isa", cpu::toString(config.cpu.isa)},
+                {"avg_ms", cpu_sum.ms / n},
+                {"avg_wait_ms", cpu_sum.wait_ms / n},
+                {"avg_worker_ms", cpu_sum.worker_ms / n},
+                {"avg_objects_set_up", double(cpu_sum.objects) / n},
+                {"avg_triangles_set_up", double(cpu_sum.triangles) / n},
+                {"avg_tile_triangles", double(cpu_sum.tile_triangles) / n},
+                {"avg_tiles", double(cpu_sum.tiles) / n},
+                {"avg_fallbacks", double(cpu_sum.fallbacks) / n}};
   }
   const GridApproximation& a = config.culler.approximation;
   j["conservative"] = a.exact();

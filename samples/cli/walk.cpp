@@ -52,6 +52,18 @@ int runWalk(const WalkOptions& o) {
     }
   }
   std::printf("\n");
+  if (summary.contains("cpu")) {
+    const nlohmann::json& c = summary["cpu"];
+    std::printf(
+        "cpu buffer (%s, %s occluders, %u threads, %s): %.3f ms/frame in the buffer (%.3f waiting, "
+        "workers %.3f), %.0f triangles set up, %.0f triangle-tiles rasterised in %.0f tiles, "
+        "%.1f flushes\n",
+        c["resolution"].get<std::string>().c_str(), c["occluders"].get<std::string>().c_str(),
+        c["threads"].get<unsigned>(), c["isa"].get<std::string>().c_str(),
+        c["avg_ms"].get<double>(), c["avg_wait_ms"].get<double>(), c["avg_worker_ms"].get<double>(),
+        c["avg_triangles_set_up"].get<double>(), c["avg_tile_triangles"].get<double>(),
+        c["avg_tiles"].get<double>(), summary["avg_flushes"].get<double>());
+  }
   if (!o.json.empty()) writeJson(o.json, summary);
 
   if (summary.value("missed_visible_objects", std::int64_t{0}) > 0) {

@@ -356,10 +356,14 @@ void animateMeshes(Scene& scene, const std::string& motion_file) {
     moving[a.mesh] = 1;
   }
   std::vector<SceneObject> still;
+  std::vector<OccluderModel> still_models;  // occluder models follow their objects
   for (std::size_t o = 0; o < scene.objects.size(); ++o) {
-    if (!moving[o]) still.push_back(scene.objects[o]);
+    if (moving[o]) continue;
+    still.push_back(scene.objects[o]);
+    if (!scene.occluder_models.empty()) still_models.push_back(scene.occluder_models[o]);
   }
   scene.objects.swap(still);
+  if (!scene.occluder_models.empty()) scene.occluder_models.swap(still_models);
 }
 
 }  // namespace logrid::samples

@@ -172,6 +172,7 @@ PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args) {
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
       builder.addObject(IotaRange{spans[i].first, spans[i].second}, scene.objects[i].color);
     }
+    out.occluder_models = std::move(scene.occluder_models);
   }
   // Moving objects after the static ones; objects over the same indices share a draw's
   // geometry (the movers of one shape).

@@ -6,12 +6,17 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "logrid/bvh.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
 #include "scene/scene.hpp"
+
+namespace logrid::cpu {
+class OccluderMeshes;
+}
 
 namespace logrid::samples {
 
@@ -33,6 +38,10 @@ struct PreparedScene {
   // object static_objects + i, drawn with its transform (mesh_renderer.hpp).
   std::uint32_t static_objects = 0;
   Motion motion;
+  // Occluder models by ObjectId (Scene::occluder_models), empty when the scene has none.
+  std::vector<OccluderModel> occluder_models;
+  // The CPU occlusion buffer's meshes, built on first use (scene/occluders.hpp).
+  mutable std::shared_ptr<const cpu::OccluderMeshes> occluder_cache[2];
 
   std::uint64_t triangles = 0;
   std::uint64_t source_objects = 0;  // objects before splitting (0 for split scenes)

@@ -86,6 +86,10 @@ void validateScene(const Scene& scene) {
   if (scene.split_by_triangles) return;
   if (scene.objects.empty()) fail("has no objects");
   checkObjects(scene.objects, "object");
+  if (!scene.occluder_models.empty() && scene.occluder_models.size() != scene.objects.size()) {
+    fail("has " + std::to_string(scene.occluder_models.size()) + " occluder models for " +
+         std::to_string(scene.objects.size()) + " objects");
+  }
 }
 
 }  // namespace logrid::samples

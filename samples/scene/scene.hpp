@@ -38,6 +38,16 @@ struct MoverSite {
   double size = 0;                               // metres per mesh unit; 0: from the bounds
 };
 
+// A simpler occluder for one object, for the CPU occlusion buffer (logrid/cpu/
+// occluder_mesh.hpp, OccluderObject::inside_solid): triangles of the object as they are,
+// and triangles that lie inside closed convex solids formed by the object's own
+// triangles (e.g. the convex hull of some of a convex crown's vertices). Positions are
+// bit-identical copies of the object's where they are its vertices.
+struct OccluderModel {
+  std::vector<float> positions;  // xyz, local coordinates
+  std::vector<std::uint32_t> indices;
+};
+
 struct Scene {
   std::string name;
   glm::dvec3 origin{0.0};              // world position of the local origin
@@ -57,6 +67,8 @@ struct Scene {
   std::vector<SceneObject> moving;
   Motion motion;
   MoverSite mover_site;
+  // Optional occluder models, one per object (an empty model: none); object scenes only.
+  std::vector<OccluderModel> occluder_models;
   Aabb bounds;      // local, of all positions
   CameraPath path;  // the default walkthrough
   // Suggested clip planes for the walkthrough (world units).

@@ -194,6 +194,10 @@ inline std::string reproducer(const SceneKey& key, const RunConfig& c) {
   } else {
     out << " --fov " << c.view.fov_degrees;
   }
+  if (c.reader == "cpu") {
+    out << " --cpu-resolution " << cpu::toString(c.cpu.resolution) << " --occluders "
+        << samples::toString(c.cpu.occluders) << " --cpu-threads " << c.cpu.threads;
+  }
   out << " --verify";
   return out.str();
 }

@@ -160,6 +160,11 @@ struct BoxProjection {
   float near_key = 0;  // lower bound of the keys of the box's fragments (rounded down)
   float far_key = 0;   // upper bound of the keys of the box's fragments (rounded up)
   float margin = 0;    // depth margin for this box (see above)
+  // How far (pixels, per axis) a vertex of the box's geometry may land from its exact
+  // window position on a GL rasteriser: sub-pixel snapping plus the float error of (4)
+  // above. `rect` is the footprint widened by these.
+  float widen_x = 0;
+  float widen_y = 0;
 
   // The key a depth buffer value must reach for the box to show in front of it: a
   // pixel whose stored key is >= this may let the box's geometry through.
