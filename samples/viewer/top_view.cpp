@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include <glm/glm.hpp>
+
+#include "logrid/glm_camera.hpp"
 #include "logrid/projection.hpp"
 
 namespace logrid::viewer {
@@ -21,34 +24,19 @@ const ImU32 kColors[4] = {IM_COL32(90, 90, 90, 255), IM_COL32(200, 60, 50, 255),
 
 }  // namespace
 
-bool invert(const Mat4d& m, Mat4d& out) {
-  // Gauss-Jordan with partial pivoting on [m | I].
-  double a[4][8];
-  for (int r = 0; r < 4; ++r) {
-    for (int c = 0; c < 4; ++c) {
-      a[r][c] = m(r, c);
-      a[r][c + 4] = r == c ? 1 : 0;
-    }
+void TopView::setFootprint(std::size_t i, const Aabb& b) {
+  const double c[3] = {0.5 * (double(b.min.x) + b.max.x), 0.5 * (double(b.min.y) + b.max.y),
+                       0.5 * (double(b.min.z) + b.max.z)};
+  const double h[3] = {0.5 * (double(b.max.x) - b.min.x), 0.5 * (double(b.max.y) - b.min.y),
+                       0.5 * (double(b.max.z) - b.min.z)};
+  const glm::dvec3* axes[2] = {&east_, &north_};
+  for (int k = 0; k < 2; ++k) {
+    const glm::dvec3& a = *axes[k];
+    const double mid = dot(a, c[0], c[1], c[2]);
+    const double half = std::fabs(a.x) * h[0] + std::fabs(a.y) * h[1] + std::fabs(a.z) * h[2];
+    rects_[i * 4 + std::size_t(k)] = float(mid - half);
+    rects_[i * 4 + 2 + std::size_t(k)] = float(mid + half);
   }
-  for (int c = 0; c < 4; ++c) {
-    int pivot = c;
-    for (int r = c + 1; r < 4; ++r) {
-      if (std::fabs(a[r][c]) > std::fabs(a[pivot][c])) pivot = r;
-    }
-    if (!(std::fabs(a[pivot][c]) > 0)) return false;
-    std::swap(a[c], a[pivot]);
-    const double inv = 1 / a[c][c];
-    for (double& v : a[c]) v *= inv;
-    for (int r = 0; r < 4; ++r) {
-      if (r == c) continue;
-      const double f = a[r][c];
-      for (int k = 0; k < 8; ++k) a[r][k] -= f * a[c][k];
-    }
-  }
-  for (int r = 0; r < 4; ++r) {
-    for (int c = 0; c < 4; ++c) out(r, c) = a[r][c + 4];
-  }
-  return true;
 }
 
 TopView::TopView(const samples::PreparedScene& scene, const FlyCamera& camera)
@@ -58,21 +46,14 @@ TopView::TopView(const samples::PreparedScene& scene, const FlyCamera& camera)
   lo_[0] = lo_[1] = INFINITY;
   hi_[0] = hi_[1] = -INFINITY;
   for (std::size_t i = 0; i < n; ++i) {
-    const Aabb& b = scene.object_boxes[i];
-    const double c[3] = {0.5 * (double(b.min.x) + b.max.x), 0.5 * (double(b.min.y) + b.max.y),
-                         0.5 * (double(b.min.z) + b.max.z)};
-    const double h[3] = {0.5 * (double(b.max.x) - b.min.x), 0.5 * (double(b.max.y) - b.min.y),
-                         0.5 * (double(b.max.z) - b.min.z)};
-    const glm::dvec3* axes[2] = {&east_, &north_};
-    for (int k = 0; k < 2; ++k) {
-      const glm::dvec3& a = *axes[k];
-      const double mid = dot(a, c[0], c[1], c[2]);
-      const double half = std::fabs(a.x) * h[0] + std::fabs(a.y) * h[1] + std::fabs(a.z) * h[2];
-      rects_[i * 4 + std::size_t(k)] = float(mid - half);
-      rects_[i * 4 + 2 + std::size_t(k)] = float(mid + half);
-      if (std::isfinite(mid - half) && std::isfinite(mid + half)) {
-        lo_[k] = std::min(lo_[k], float(mid - half));
-        hi_[k] = std::max(hi_[k], float(mid + half));
+    setFootprint(i, scene.object_boxes[i]);
+    // The view's extent is the static scene's: movers that leave it are clipped.
+    if (i >= scene.static_objects) continue;
+    for (std::size_t k = 0; k < 2; ++k) {
+      const float lo = rects_[i * 4 + k], hi = rects_[i * 4 + 2 + k];
+      if (std::isfinite(lo) && std::isfinite(hi)) {
+        lo_[k] = std::min(lo_[k], lo);
+        hi_[k] = std::max(hi_[k], hi);
       }
     }
   }
@@ -137,11 +118,14 @@ TopView::Counts TopView::draw(const Frame& f, bool* open) {
   };
 
   const std::size_t n = scene_.object_boxes.size();
+  // Movers where they are this frame (the static objects' footprints never change).
+  const std::vector<Aabb>& boxes = f.boxes && f.boxes->size() == n ? *f.boxes : scene_.object_boxes;
+  for (std::size_t i = scene_.static_objects; i < n; ++i) setFootprint(i, boxes[i]);
   std::fill(state_.begin(), state_.end(), kOutside);
   if (f.camera) {
     const Projector projector(*f.camera);
     for (std::size_t i = 0; i < n; ++i) {
-      if (projector.project(scene_.object_boxes[i]).cls != ProjectionClass::Outside) {
+      if (projector.project(boxes[i]).cls != ProjectionClass::Outside) {
         state_[i] = kOccluded;
       }
     }
@@ -183,20 +167,17 @@ TopView::Counts TopView::draw(const Frame& f, bool* open) {
   }
   if (f.camera) {
     // The frustum: its eight corners from clip space back to the scene's coordinates.
-    Mat4d inverse;
-    if (invert(f.camera->view_projection, inverse)) {
+    const glm::dmat4 view_projection = toGlm(f.camera->view_projection);
+    if (std::fabs(glm::determinant(view_projection)) > 0) {
+      const glm::dmat4 inverse = glm::inverse(view_projection);
       const double z_near = f.camera->depth.clip_range == ClipDepthRange::ZeroToOne ? 0 : -1;
       ImVec2 corner[8];
       bool ok = true;
       for (int i = 0; i < 8; ++i) {
-        const double c[4] = {(i & 1) ? 1.0 : -1.0, (i & 2) ? 1.0 : -1.0, (i & 4) ? 1.0 : z_near,
-                             1.0};
-        double p[4];
-        for (int r = 0; r < 4; ++r) {
-          p[r] = inverse(r, 0) * c[0] + inverse(r, 1) * c[1] + inverse(r, 2) * c[2] + inverse(r, 3);
-        }
-        ok = ok && std::fabs(p[3]) > 1e-12;
-        if (ok) corner[i] = atLocal(p[0] / p[3], p[1] / p[3], p[2] / p[3]);
+        const glm::dvec4 p = inverse * glm::dvec4((i & 1) ? 1.0 : -1.0, (i & 2) ? 1.0 : -1.0,
+                                                  (i & 4) ? 1.0 : z_near, 1.0);
+        ok = ok && std::fabs(p.w) > 1e-12;
+        if (ok) corner[i] = atLocal(p.x / p.w, p.y / p.w, p.z / p.w);
       }
       if (ok) {
         static const int edges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},

@@ -1,6 +1,7 @@
 // The view from above: every object's footprint coloured by what the culler did with it
 // this frame (drawn, occluded, outside the frustum, or visible but missed), the camera's
-// frustum and the camera path. Drawn with Dear ImGui into its own panel window.
+// frustum and the camera path, moving objects where they are in the frame. Drawn with
+// Dear ImGui into its own panel window.
 #pragma once
 
 #include <cstdint>
@@ -19,6 +20,8 @@ class TopView {
 
   struct Frame {
     const Camera* camera = nullptr;  // this frame's (nullptr: none drawn)
+    // Every object's box this frame (movers where they are); nullptr: the scene's boxes.
+    const std::vector<Aabb>* boxes = nullptr;
     const std::vector<ObjectId>* drawn = nullptr;
     const std::vector<ObjectId>* missed = nullptr;
     const std::vector<glm::dvec3>* recorded = nullptr;  // world positions being recorded
@@ -32,6 +35,9 @@ class TopView {
   Counts draw(const Frame& frame, bool* open);
 
  private:
+  // Object i's footprint from its box `b`, into rects_.
+  void setFootprint(std::size_t i, const Aabb& b);
+
   const samples::PreparedScene& scene_;
   glm::dvec3 east_, north_;
   std::vector<float> rects_;  // per object: east min, north min, east max, north max (local)
@@ -40,8 +46,5 @@ class TopView {
   std::vector<std::uint32_t> order_;  // objects by footprint, largest first
   std::vector<std::uint8_t> state_;
 };
-
-// The inverse of a 4x4 matrix; false when it is singular.
-bool invert(const Mat4d& m, Mat4d& out);
 
 }  // namespace logrid::viewer

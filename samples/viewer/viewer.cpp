@@ -442,6 +442,7 @@ class Viewer {
     if (display_.top_view) {
       TopView::Frame f;
       f.camera = runner_ ? &camera_ : nullptr;
+      f.boxes = runner_ ? &runner_->objectBoxes() : nullptr;
       f.drawn = runner_ ? &runner_->drawnObjects() : nullptr;
       f.missed = runner_ ? &runner_->missedObjects() : nullptr;
       f.recorded = recording_ ? &recorded_positions_ : nullptr;

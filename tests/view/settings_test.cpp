@@ -8,7 +8,6 @@
 
 #include "cli/readers.hpp"
 #include "expect_error.hpp"
-#include "viewer/top_view.hpp"
 
 namespace {
 
@@ -81,21 +80,6 @@ TEST(ViewSettingsTest, ShadeFollowsTheMethodsSemantics) {
         << m.name;
   }
   EXPECT_EQ(logrid::viewer::shadeFor(ShadeChoice::Zfar, "log-state"), TileShade::Zfar);
-}
-
-TEST(TopViewTest, InvertsMatrices) {
-  logrid::Mat4d m;
-  const double values[16] = {2, 0.5, 0, 0.1, -1, 3, 0.2, 0, 0, 0.3, 1.5, -0.4, 4, -2, 1, 1};
-  std::copy(values, values + 16, m.m);
-  logrid::Mat4d inverse;
-  ASSERT_TRUE(logrid::viewer::invert(m, inverse));
-  const logrid::Mat4d product = logrid::multiply(m, inverse);
-  for (int r = 0; r < 4; ++r) {
-    for (int c = 0; c < 4; ++c) EXPECT_NEAR(product(r, c), r == c ? 1 : 0, 1e-12);
-  }
-  logrid::Mat4d singular;
-  singular(3, 3) = 0;
-  EXPECT_FALSE(logrid::viewer::invert(singular, inverse));
 }
 
 }  // namespace
