@@ -16,8 +16,12 @@ packages=(
   # assimp and the zlib its target links, nlohmann-json (samples)
   libglm-dev libopenimageio-dev openimageio-tools libcli11-dev libassimp-dev zlib1g-dev
   nlohmann-json3-dev
-  # tests (GoogleTest), micro-benchmarks (Google Benchmark), plots of `logrid bench`
-  libgtest-dev libbenchmark-dev gnuplot-nox
+  # logrid view (built where these are found): a window through GLFW with GLX (Mesa's GLX
+  # vendor library), a Dear ImGui panel (its pkg-config file requires stb)
+  libglfw3-dev libimgui-dev libstb-dev libglx-mesa0
+  # tests (GoogleTest; Xvfb gives the viewer's tests a display), micro-benchmarks (Google
+  # Benchmark), plots of `logrid bench`
+  libgtest-dev xvfb libbenchmark-dev gnuplot-nox
   # extra packages named by the caller (scripts/fuzz.sh: clang)
   "$@"
 )

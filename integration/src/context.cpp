@@ -248,14 +248,7 @@ Context::Context(const ContextDesc& desc) : impl_(std::make_unique<Impl>()) {
     fail(ErrorCode::Unsupported, "GL: the context reports version " + s.info.version +
                                      "; logrid needs OpenGL 4.5 core. Update Mesa or the driver.");
   }
-  GLint flags = 0;
-  glGetIntegerv(GL_CONTEXT_FLAGS, &flags);
-  s.info.debug = (flags & GL_CONTEXT_FLAG_DEBUG_BIT) != 0;
-  if (s.info.debug) {
-    glEnable(GL_DEBUG_OUTPUT);
-    glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
-    glDebugMessageCallback(debugCallback, nullptr);
-  }
+  s.info.debug = installDebugOutput();
   check("Context");
 }
 
@@ -278,6 +271,16 @@ void Context::makeCurrent() {
 }
 
 void Context::check(const char* where) const { checkGlErrors(where); }
+
+bool installDebugOutput() {
+  GLint flags = 0;
+  glGetIntegerv(GL_CONTEXT_FLAGS, &flags);
+  if ((flags & GL_CONTEXT_FLAG_DEBUG_BIT) == 0) return false;
+  glEnable(GL_DEBUG_OUTPUT);
+  glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+  glDebugMessageCallback(debugCallback, nullptr);
+  return true;
+}
 
 void checkGlErrors(const char* where) {
   std::string problems;

@@ -17,5 +17,9 @@ void addWalkCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 void addTuneCommand(CLI::App& app);
 void addCalibrateCommand(CLI::App& app);
+// samples/viewer/view_command.cpp, or cli/view_unavailable.cpp in a build without GLFW
+// and Dear ImGui. Not in addCommands (logrid_app cannot depend on the viewer, which
+// depends on it): main() adds it after addCommands, so it takes the same option policy.
+void addViewCommand(CLI::App& app);
 
 }  // namespace logrid::samples

@@ -8,7 +8,6 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "cli/images.hpp"
 #include "logrid/error.hpp"
 #include "logrid/gl/context.hpp"
 #include "logrid/zread/box_query_source.hpp"
@@ -220,8 +219,10 @@ CameraPose FrameRunner::poseFor(std::size_t frame) const {
   return scene_.path.at(frameTime(frame));
 }
 
-Camera FrameRunner::cameraFor(std::size_t frame) const {
-  return makeCamera(poseFor(frame), scene_.origin, config_.view);
+Camera FrameRunner::cameraFor(std::size_t frame) const { return cameraAt(poseFor(frame)); }
+
+Camera FrameRunner::cameraAt(const CameraPose& pose) const {
+  return makeCamera(pose, scene_.origin, config_.view);
 }
 
 const Hierarchy& FrameRunner::hierarchy() const {
@@ -262,26 +263,36 @@ gl::OracleFrame FrameRunner::idPass(const Camera& camera) {
   });
 }
 
-gl::OracleFrame FrameRunner::visibleSet(std::size_t frame, const Camera& camera) {
-  if (!oracle_cache_) return idPass(camera);
+gl::OracleFrame FrameRunner::visibleSet(std::optional<std::size_t> frame, const Camera& camera) {
+  if (!oracle_cache_ || !frame) return idPass(camera);
   auto& frames = oracle_cache_->frames;
-  if (frames.size() <= frame) frames.resize(frame + 1);
-  if (!frames[frame]) frames[frame] = idPass(camera);
-  return *frames[frame];
+  if (frames.size() <= *frame) frames.resize(*frame + 1);
+  if (!frames[*frame]) frames[*frame] = idPass(camera);
+  return *frames[*frame];
 }
 
 FrameRecord FrameRunner::renderFrame(std::size_t frame) {
+  return render(poseFor(frame), frame, true);
+}
+
+FrameRecord FrameRunner::renderPose(const CameraPose& pose, std::size_t frame) {
+  return render(pose, frame, false);
+}
+
+FrameRecord FrameRunner::render(const CameraPose& pose, std::size_t frame, bool cached) {
   FrameRecord rec;
   rec.frame = frame;
+  const std::optional<std::size_t> cache_key =
+      cached ? std::optional<std::size_t>(frame) : std::nullopt;
   rec.time = frameTime(frame);
   applyMotion(rec.time);
   rec.moved = motion_.moved.size();
-  const CameraPose pose = poseFor(frame);
-  const Camera camera = makeCamera(pose, scene_.origin, config_.view);
+  const Camera camera = cameraAt(pose);
   gl::OracleFrame oracle;
-  if (!config_.method.method) oracle = visibleSet(frame, camera);  // not timed
+  if (!config_.method.method) oracle = visibleSet(cache_key, camera);  // not timed
   for (ObjectId id : drawn_list_) drawn_[id] = 0;
   drawn_list_.clear();
+  missed_.clear();
   observer_->clear();
 
   glFinish();
@@ -336,12 +347,12 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
 
   if (!config_.images_dir.empty()) writeImages(frame, camera);
   if (config_.verify || !config_.method.method) {
-    if (config_.method.method) oracle = visibleSet(frame, camera);
+    if (config_.method.method) oracle = visibleSet(cache_key, camera);
     rec.visible = std::int64_t(oracle.visible.size());
-    const std::vector<ObjectId> missed = oracle.missedBy(drawn_list_);
-    rec.missed = std::int64_t(missed.size());
-    rec.missed_ids.assign(missed.begin(),
-                          missed.begin() + std::min<std::ptrdiff_t>(16, rec.missed));
+    missed_ = oracle.missedBy(drawn_list_);
+    rec.missed = std::int64_t(missed_.size());
+    rec.missed_ids.assign(missed_.begin(),
+                          missed_.begin() + std::min<std::ptrdiff_t>(16, rec.missed));
     rec.artifacts = std::int64_t(oracle.artifacts.size());
     rec.missed_artifacts = 0;
     for (ObjectId id : oracle.artifacts) rec.missed_artifacts += !drawn_[id];
@@ -357,14 +368,19 @@ void FrameRunner::writeImages(std::size_t frame, const Camera& camera) {
                 scene_.name.c_str(), config_.method.name().c_str(), frame);
   writePng(std::string(stem) + ".png", color, camera.width, camera.height);
   if (config_.overlay && culler_) {
-    OverlayData overlay;
-    overlay.grid = culler_->grid();
-    overlay.occluded = observer_->occluded;
-    overlay.tested_visible = observer_->tested_visible;
-    for (NodeId n : observer_->drawn_nodes) overlay.drawn_boxes.push_back(hierarchy().bounds(n));
-    writePng(std::string(stem) + "_overlay.png", drawOverlay(color, camera, overlay), camera.width,
-             camera.height);
+    writePng(std::string(stem) + "_overlay.png", drawOverlay(color, camera, overlayData()),
+             camera.width, camera.height);
   }
+}
+
+OverlayData FrameRunner::overlayData() const {
+  OverlayData overlay;
+  if (!culler_) return overlay;
+  overlay.grid = culler_->grid();
+  overlay.occluded = observer_->occluded;
+  overlay.tested_visible = observer_->tested_visible;
+  for (NodeId n : observer_->drawn_nodes) overlay.drawn_boxes.push_back(hierarchy().bounds(n));
+  return overlay;
 }
 
 }  // namespace logrid::samples

@@ -2,7 +2,7 @@
 // the scene's path, cull and draw through logrid (or the oracle's exact visible set),
 // glFinish, then optionally images and the object-ID check. `walk`, `bench` and `tune`
 // are loops over FrameRunners; bench interleaves several runners frame by frame so that
-// machine drift hits every method alike.
+// machine drift hits every method alike. `view` renders the cameras a person flies.
 #pragma once
 
 #include <cstdint>
@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "cli/cpu_reader.hpp"
+#include "cli/images.hpp"
 #include "cli/readers.hpp"
 #include "logrid/culler.hpp"
 #include "logrid/gl/framebuffer.hpp"
@@ -85,7 +86,8 @@ struct RunConfig {
   double time_step = 0;
   bool verify = false;     // object-ID check after each frame
   std::string images_dir;  // write PNG frames here when set
-  bool overlay = false;    // and overlay pictures (tile grid, boxes)
+  bool overlay = false;    // and overlay pictures (tile grid, boxes); records what
+                           // overlayData() returns
   FrameHooks hooks;
 };
 
@@ -103,7 +105,7 @@ struct FrameRecord {
   std::int64_t artifacts = -1;         // objects shown only through depth-extrapolated fragments
   std::int64_t missed_artifacts = -1;  // of those, not drawn (reported apart, see
                                        // logrid/gl/object_id_oracle.hpp)
-  std::vector<ObjectId> missed_ids;    // the first few
+  std::vector<ObjectId> missed_ids;    // the first few (all of them: missedObjects())
   std::optional<CpuFrameStats> cpu;    // with --reader cpu
 };
 
@@ -123,8 +125,14 @@ class FrameRunner {
 
   const RunConfig& config() const { return config_; }
   FrameRecord renderFrame(std::size_t frame);
+  // Renders the frame from any pose, e.g. one a person flies (moving objects where they
+  // are at frameTime(frame)); the ID pass (verify, oracle) is not shared with other
+  // runners. `frame` also labels the record and image files.
+  FrameRecord renderPose(const CameraPose& pose, std::size_t frame);
   // The camera of a frame (for callers that need it, e.g. overlays and tests).
   Camera cameraFor(std::size_t frame) const;
+  // The camera of a pose in the configured view (what renderPose() renders).
+  Camera cameraAt(const CameraPose& pose) const;
   CameraPose poseFor(std::size_t frame) const;
   double frameTime(std::size_t frame) const;
   // The hierarchy culled (the scene's static one or the motion hierarchy).
@@ -136,13 +144,24 @@ class FrameRunner {
   void shareOracle(std::shared_ptr<OracleCache> cache) { oracle_cache_ = std::move(cache); }
   // Last frame's colour image (RGBA8, bottom-up rows).
   std::vector<std::uint8_t> readColor() const { return framebuffer_->readColor(); }
+  // The framebuffer the frames are drawn into (colour attachment 0 holds the picture).
+  const gl::Framebuffer& framebuffer() const { return *framebuffer_; }
+
+  // What the last frame did, for overlays and viewers:
+  // the grid, the tested boxes and the drawn leaf boxes (recorded when config().overlay);
+  OverlayData overlayData() const;
+  // the objects drawn;
+  const std::vector<ObjectId>& drawnObjects() const { return drawn_list_; }
+  // the visible objects not drawn (verify), every one of them.
+  const std::vector<ObjectId>& missedObjects() const { return missed_; }
 
  private:
   // Moves the movers to `time`: boxes, `moved`, and the renderer's transforms.
   void applyMotion(double time);
   gl::OracleFrame idPass(const Camera& camera);
   // The ID pass of a frame, from the shared cache when another runner did it.
-  gl::OracleFrame visibleSet(std::size_t frame, const Camera& camera);
+  gl::OracleFrame visibleSet(std::optional<std::size_t> frame, const Camera& camera);
+  FrameRecord render(const CameraPose& pose, std::size_t frame, bool cached);
   void writeImages(std::size_t frame, const Camera& camera);
 
   const PreparedScene& scene_;
@@ -161,6 +180,7 @@ class FrameRunner {
   MotionFrame motion_;
   std::vector<std::uint8_t> drawn_;  // per object, this frame
   std::vector<ObjectId> drawn_list_;
+  std::vector<ObjectId> missed_;
   std::shared_ptr<OracleCache> oracle_cache_;
 };
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <glm/common.hpp>
 #include <glm/ext/matrix_double4x4.hpp>
@@ -69,7 +70,8 @@ class Canvas {
 
 constexpr std::uint8_t kRed[3] = {230, 40, 40}, kYellow[3] = {240, 210, 40},
                        kBlue[3] = {40, 110, 240}, kGreen[3] = {40, 220, 60},
-                       kDark[3] = {60, 60, 60}, kLight[3] = {200, 200, 200};
+                       kDark[3] = {60, 60, 60}, kLight[3] = {200, 200, 200},
+                       kCyan[3] = {40, 220, 230};
 
 void wireBox(Canvas& canvas, const Camera& camera, const Aabb& box) {
   const glm::dmat4 m = toGlm(camera.view_projection);
@@ -108,11 +110,26 @@ std::vector<std::uint8_t> drawOverlay(const std::vector<std::uint8_t>& rgba, con
   Canvas canvas(out, std::int32_t(camera.width), std::int32_t(camera.height));
   if (const OcclusionGrid* grid = data.grid) {
     const float clear = clearKey(camera.depth);
+    // Zfar shade: the range of the covered tiles' far keys, nearest white, farthest blue.
+    float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+    for (std::uint32_t ty = 0; ty < grid->tilesY(); ++ty) {
+      for (std::uint32_t tx = 0; tx < grid->tilesX(); ++tx) {
+        const float f = grid->tile(tx, ty).far_key;
+        if (f < clear) lo = std::min(lo, f), hi = std::max(hi, f);
+      }
+    }
     for (std::uint32_t ty = 0; ty < grid->tilesY(); ++ty) {
       for (std::uint32_t tx = 0; tx < grid->tilesX(); ++tx) {
         const TileRecord t = grid->tile(tx, ty);
         const PixelRect r = grid->tileRect(tx, ty);
-        if (t.far_key < clear) {
+        if (data.shade == TileShade::Zfar) {
+          if (t.far_key < clear) {
+            const float u = hi > lo ? (t.far_key - lo) / (hi - lo) : 0.0f;
+            const std::uint8_t c[3] = {std::uint8_t(250 - 210 * u), std::uint8_t(250 - 150 * u),
+                                       250};
+            canvas.fill(r, c, 0.45f);
+          }
+        } else if (t.far_key < clear) {
           canvas.fill(r, kRed, 0.30f);
         } else if (t.near_key < clear) {
           canvas.fill(r, kYellow, 0.25f);
@@ -142,6 +159,9 @@ std::vector<std::uint8_t> drawOverlay(const std::vector<std::uint8_t>& rgba, con
         }
       }
     }
+  }
+  if (data.outline_visible) {
+    for (const BoxProjection& p : data.tested_visible) canvas.outline(p.rect, kCyan);
   }
   for (const BoxProjection& p : data.occluded) canvas.outline(p.rect, kRed);
   for (const Aabb& box : data.drawn_boxes) wireBox(canvas, camera, box);

@@ -18,17 +18,26 @@ namespace logrid::samples {
 void writePng(const std::string& path, const std::vector<std::uint8_t>& rgba, std::uint32_t width,
               std::uint32_t height);
 
+// How the tiles are tinted.
+enum class TileShade : std::uint8_t {
+  States,  // occlusion state: full red, partial yellow, free clear (LOG §3)
+  Zfar,    // the tile's farthest depth (LOG §4): near white to far blue, free clear
+};
+
 struct OverlayData {
   const OcclusionGrid* grid = nullptr;        // the grid at the end of the frame
   std::vector<BoxProjection> occluded;        // boxes the tests culled
   std::vector<BoxProjection> tested_visible;  // boxes the tests let through
   std::vector<Aabb> drawn_boxes;              // leaf boxes whose objects were drawn
+  TileShade shade = TileShade::States;
+  bool outline_visible = false;  // outline tested_visible in cyan (the viewer's box view)
 };
 
 // The frame, dimmed, with: tiles tinted red (full), yellow (partial) or left clear
-// (free), outdated tiles hatched in blue; red outlines for occluded boxes; the internal
-// (dark) and border (light) tiles of the largest occluded box, as in figure 1; and the
-// drawn leaf boxes as green wireframes, as in figure 5.
+// (free), or by their zfar, outdated tiles hatched in blue; red outlines for occluded
+// boxes (and cyan ones for boxes tested visible, when asked); the internal (dark) and
+// border (light) tiles of the largest occluded box, as in figure 1; and the drawn leaf
+// boxes as green wireframes, as in figure 5.
 std::vector<std::uint8_t> drawOverlay(const std::vector<std::uint8_t>& rgba, const Camera& camera,
                                       const OverlayData& data);
 

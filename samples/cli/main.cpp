@@ -1,4 +1,4 @@
-// logrid: occlusion-culling walkthroughs, benchmarks and tuning.
+// logrid: occlusion-culling walkthroughs, benchmarks, tuning and the interactive viewer.
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   logrid::samples::setCommandLine(argc, argv);
   app.require_subcommand(1);
   logrid::samples::addCommands(app);
+  logrid::samples::addViewCommand(app);  // after addCommands: takes its option policy
   try {
     app.parse(argc, argv);
   } catch (const CLI::RuntimeError& done) {

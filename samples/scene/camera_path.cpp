@@ -574,6 +574,16 @@ double CameraPath::duration() const {
   return keys_.empty() ? 0.0 : keys_.back().time - keys_.front().time;
 }
 
+std::string CameraPath::toJsonText() const {
+  auto vec = [](const glm::dvec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
+  nlohmann::json keys = nlohmann::json::array();
+  for (const CameraKey& k : keys_) {
+    keys.push_back({{"position", vec(k.position)}, {"look_at", vec(k.look_at)}, {"time", k.time}});
+  }
+  // nlohmann writes doubles with the shortest text that reads back to the same value.
+  return nlohmann::json{{"keys", keys}, {"up", vec(up_)}}.dump(1) + "\n";
+}
+
 CameraPose CameraPath::at(double time) const {
   if (keys_.empty()) {
     throw Error(ErrorCode::InvalidArgument,

@@ -43,6 +43,9 @@ class CameraPath {
   // fields, more than 1,000,000 keys, and the checks of the constructor.
   static CameraPath fromJsonFile(const std::string& path);
   static CameraPath fromJsonText(const std::string& text, const std::string& name = "<json>");
+  // The JSON format above, every key with its time, numbers written so that they read
+  // back exactly (fromJsonText of it gives the same keys and up).
+  std::string toJsonText() const;
 
   bool empty() const { return keys_.empty(); }
   const std::vector<CameraKey>& keys() const { return keys_; }

@@ -386,6 +386,30 @@ TEST(CameraPathJsonTest, RoundTripsKeysWrittenAsText) {
   }
 }
 
+// toJsonText (what `logrid view` records) reads back bit for bit, up vector included.
+TEST(CameraPathJsonTest, WritesTextThatReadsBackExactly) {
+  std::vector<CameraKey> keys = wavyKeys();
+  for (std::size_t i = 0; i < keys.size(); ++i) keys[i].time = double(i) / 3 + 0.1;
+  const DVec3 up{0.1, 0.2, 0.97};
+  const CameraPath path(keys, up);
+  const CameraPath back = CameraPath::fromJsonText(path.toJsonText(), "written");
+  ASSERT_EQ(back.keys().size(), keys.size());
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    expectSame(back.keys()[i].position, keys[i].position);
+    expectSame(back.keys()[i].look_at, keys[i].look_at);
+    EXPECT_EQ(back.keys()[i].time, keys[i].time);
+    expectPoseIsKey(back.at(keys[i].time), keys[i], up);
+  }
+  // An untimed path is written with the times the constructor gave its keys.
+  std::vector<CameraKey> untimed = wavyKeys();
+  for (CameraKey& k : untimed) k.time = 0;
+  const CameraPath spaced(untimed);
+  const CameraPath spaced_back = CameraPath::fromJsonText(spaced.toJsonText());
+  for (std::size_t i = 0; i < untimed.size(); ++i) {
+    EXPECT_EQ(spaced_back.keys()[i].time, spaced.keys()[i].time);
+  }
+}
+
 TEST(CameraPathJsonTest, SyntaxErrorsGiveTheBytePosition) {
   const std::string message = jsonError(R"({"keys": x})");
   expectContains(message, {"camera path 'test.json'", "invalid JSON at byte 10", "x'"});

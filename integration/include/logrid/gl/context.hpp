@@ -1,4 +1,5 @@
-// A headless OpenGL 4.5 core context through EGL, without a window.
+// A headless OpenGL 4.5 core context through EGL, without a window. (An application
+// with a window of its own uses that window's context instead; see installDebugOutput.)
 //
 // Platforms:
 //   Surfaceless  EGL_MESA_platform_surfaceless: Mesa (llvmpipe without a GPU, or a Mesa
@@ -64,5 +65,12 @@ class Context {
 
 // The same check for code that does not hold the Context (uses the current one).
 void checkGlErrors(const char* where);
+
+// For a context the application made (e.g. a window's, through GLFW or SDL): if the
+// current context is a debug context, routes its error messages into checkGlErrors()
+// as Context does for its own, and returns true; otherwise returns false. logrid's
+// framebuffers, renderer and depth sources need only a current OpenGL 4.5 core context,
+// whoever made it.
+bool installDebugOutput();
 
 }  // namespace logrid::gl
