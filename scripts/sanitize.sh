@@ -5,7 +5,9 @@
 # resolve, the GL sources, the context and framebuffers). Called by .ci/run after
 # scripts/test.sh; about 25 minutes on 2 cores from scratch. Any sanitizer report fails
 # the run. Leaks inside Mesa (its LLVM JIT, the llvmpipe/swrast driver, EGL) are
-# suppressed by name in tests/sanitize/lsan.supp; nothing of logrid's is.
+# suppressed by name in tests/sanitize/lsan.supp; nothing of logrid's is. The GL tests
+# preload Mesa's driver so that it stays mapped until the leak check and its leaks keep
+# their names (tests/CMakeLists.txt, LOGRID_GL_TEST_ENVIRONMENT).
 # Usage: scripts/sanitize.sh [extra ctest arguments]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
