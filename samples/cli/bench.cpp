@@ -267,7 +267,9 @@ int runBench(const BenchOptions& o) {
   bool any_missed = false;
   for (const std::string& scene_name : scenes) {
     const WalkOptions so = optionsForScene(o.walk, scene_name, o.forest_scale, o.city_scale);
-    LoadedScene scene = loadScene(so);
+    bool with_ddo = false;
+    for (const std::string& m : methods) with_ddo = with_ddo || needsDdo(m);
+    LoadedScene scene = loadScene(so, true, with_ddo);
     const nlohmann::json described = scene.describe();
     md << "\n## " << scene.prepared.name << "\n\n"
        << grouped(double(scene.prepared.triangles)) << " triangles in "

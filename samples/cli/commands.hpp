@@ -10,5 +10,7 @@ namespace logrid::samples {
 void addWalkCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 void addTuneCommand(CLI::App& app);
+void addDdoCommand(CLI::App& app);
+void addExportCommand(CLI::App& app);
 
 }  // namespace logrid::samples

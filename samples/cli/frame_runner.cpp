@@ -34,6 +34,8 @@ std::optional<Reader> parseReader(const std::string& name) {
 
 std::optional<MethodChoice> parseMethodChoice(const std::string& name) {
   if (name == "oracle") return MethodChoice{std::nullopt};
+  if (name == "ddo") return MethodChoice{std::nullopt, DdoUse::Culler};
+  if (name == "ddo+log") return MethodChoice{Method::LogState, DdoUse::Occluders};
   if (const auto m = parseMethod(name)) return MethodChoice{*m};
   return std::nullopt;
 }
@@ -86,7 +88,7 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
   fb.width = config.view.width;
   fb.height = config.view.height;
   fb.depth = config.view.depth;
-  fb.object_ids = config.verify || !config.method.method;
+  fb.object_ids = config.verify || config.method.oracle();
   framebuffer_ = std::make_unique<gl::Framebuffer>(fb);
 
   if (config.method.method) {
@@ -108,6 +110,28 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
       throw Error(ErrorCode::InvalidArgument,
                   "method hzb needs depth values; use --reader readpixels, pbo or software");
     }
+  }
+  if (config.method.ddo != DdoUse::None) {
+    if (!scene.ddo) {
+      throw Error(ErrorCode::InvalidArgument,
+                  "method " + config.method.name() +
+                      " needs the scene's DDO octree (samples/scene/ddo_scene.hpp, prepareDdo)");
+    }
+    selector_ = std::make_unique<ddo::Selector>(*scene.ddo);
+  }
+  if (config.method.ddo == DdoUse::Occluders) {
+    // The occlusion-state grid must learn which areas the occluders filled before the
+    // traversal (and how far back they lie), or it would take them for drawn geometry in
+    // front of every box. Culler has no such entry point yet.
+    throw Error(ErrorCode::Unsupported,
+                "method ddo+log needs the culler to accept areas drawn before the traversal, "
+                "which this build lacks; use ddo or log-state");
+    if (config.reader == Reader::Software) {
+      throw Error(ErrorCode::InvalidArgument,
+                  "method ddo+log draws its occluders with GL; use --reader readpixels, pbo or "
+                  "query");
+    }
+    occluder_renderer_ = std::make_unique<gl::OccluderRenderer>();
   }
   CullerDesc vfc;
   vfc.method = Method::Vfc;
@@ -192,7 +216,7 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
   rec.frame = frame;
   const Camera camera = cameraFor(frame);
   OracleFrame oracle;
-  if (!config_.method.method) oracle = visibleSet(frame, camera);  // not timed
+  if (config_.method.oracle()) oracle = visibleSet(frame, camera);  // not timed
   for (ObjectId id : drawn_list_) drawn_[id] = 0;
   drawn_list_.clear();
   observer_->clear();
@@ -201,6 +225,13 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
   const auto start = std::chrono::steady_clock::now();
   framebuffer_->bind();
   framebuffer_->clear(kBackground);
+  ddo::SelectionStats selection;
+  if (config_.method.ddo == DdoUse::Occluders) {
+    // Occluders first, into the depth buffer only; they are no object of the scene.
+    selector_->select(camera, {}, selection, config_.culler.projection);
+    occluder_renderer_->draw(selector_->occluders());
+    rec.occluders = std::int64_t(selector_->occluders().size());
+  }
   renderer_.begin(gl::Pass::Shaded, camera);
   auto draw = [&](ObjectId id) {
     renderer_.draw(id);
@@ -210,10 +241,21 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
       drawn_list_.push_back(id);
     }
   };
-  if (!config_.method.method) {
+  if (config_.method.oracle()) {
     for (ObjectId id : oracle.visible) draw(id);
     for (ObjectId id : oracle.artifacts) draw(id);  // the full render shows them
     rec.stats.objects_drawn = oracle.visible.size() + oracle.artifacts.size();
+  } else if (config_.method.ddo == DdoUse::Culler) {
+    selector_->select(camera, draw, selection, config_.culler.projection);
+    rec.stats.nodes_visited = selection.nodes_visited;
+    rec.stats.boxes_tested = selection.map_tests;
+    rec.stats.boxes_occluded = selection.nodes_occluded;
+    rec.stats.boxes_view_culled = selection.nodes_view_culled;
+    rec.stats.boxes_near = selection.nodes_near;
+    rec.stats.leaves_drawn = selection.leaves_visible;
+    rec.stats.objects_drawn = selection.objects;
+    rec.stats.seconds = selection.seconds;
+    rec.occluders = std::int64_t(selection.faces_selected);
   } else if (software_) {
     software_->clear();
     // Inner coverage: the software buffer must never hold depth where GL drew nothing.
@@ -231,8 +273,8 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
   if (!config_.images_dir.empty()) writeImages(frame, camera);
-  if (config_.verify || !config_.method.method) {
-    if (config_.method.method) oracle = visibleSet(frame, camera);
+  if (config_.verify || config_.method.oracle()) {
+    if (!config_.method.oracle()) oracle = visibleSet(frame, camera);
     rec.visible = std::int64_t(oracle.visible.size());
     rec.missed = 0;
     for (ObjectId id : oracle.visible) {
@@ -255,6 +297,23 @@ void FrameRunner::writeImages(std::size_t frame, const Camera& camera) {
   std::snprintf(stem, sizeof stem, "%s/%s_%s_%04zu", config_.images_dir.c_str(),
                 scene_.name.c_str(), config_.method.name().c_str(), frame);
   writePng(std::string(stem) + ".png", color, camera.width, camera.height);
+  if (config_.overlay && selector_) {
+    // The DDO occlusion map: pixels an occluder claims, tinted magenta over the frame.
+    std::vector<std::uint8_t> tinted = color;
+    const ddo::OcclusionMap& map = selector_->map();
+    if (map.width() == camera.width && map.height() == camera.height) {
+      const float clear = Projector(camera).clearKey();
+      for (std::uint32_t y = 0; y < camera.height; ++y) {
+        for (std::uint32_t x = 0; x < camera.width; ++x) {
+          if (!(map.key(x, y) < clear)) continue;
+          std::uint8_t* p = &tinted[(std::size_t(y) * camera.width + x) * 4];
+          p[0] = std::uint8_t((p[0] + 255) / 2), p[1] = std::uint8_t(p[1] / 2);
+          p[2] = std::uint8_t((p[2] + 255) / 2);
+        }
+      }
+    }
+    writePng(std::string(stem) + "_ddo_map.png", tinted, camera.width, camera.height);
+  }
   if (config_.overlay && culler_) {
     OverlayData overlay;
     overlay.grid = culler_->grid();

@@ -14,8 +14,10 @@
 #include "logrid/cpu/software_depth.hpp"
 #include "logrid/cpu/software_rasterizer.hpp"
 #include "logrid/culler.hpp"
+#include "logrid/ddo/selector.hpp"
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
+#include "logrid/gl/occluder_renderer.hpp"
 #include "scene/prepare.hpp"
 #include "scene/view.hpp"
 
@@ -25,11 +27,26 @@ enum class Reader : std::uint8_t { ReadPixels, Pbo, Query, Software };
 const char* toString(Reader reader);
 std::optional<Reader> parseReader(const std::string& name);
 
-// A method name: one of logrid::Method's, or "oracle" (draws exactly the visible set
-// found by an ID pass that is not timed: the floor no culling method can beat).
+// How a run uses the directional discretized occluders (DDO; scene/ddo_scene.hpp,
+// logrid/ddo/selector.hpp).
+enum class DdoUse : std::uint8_t {
+  None,
+  Culler,     // "ddo": the paper's culler (§4): octree walk, occlusion map, no depth reads
+  Occluders,  // "ddo+log": the selected occluders drawn first (depth only), then log-state
+};
+
+// A method name: one of logrid::Method's, "ddo", "ddo+log", or "oracle" (draws exactly
+// the visible set found by an ID pass that is not timed: the floor no culling method can
+// beat).
 struct MethodChoice {
-  std::optional<Method> method;  // empty: oracle
-  std::string name() const { return method ? toString(*method) : "oracle"; }
+  std::optional<Method> method;  // the logrid culler's method, if one runs
+  DdoUse ddo = DdoUse::None;
+  bool oracle() const { return !method && ddo == DdoUse::None; }
+  std::string name() const {
+    if (ddo == DdoUse::Culler) return "ddo";
+    if (ddo == DdoUse::Occluders) return "ddo+log";
+    return method ? toString(*method) : "oracle";
+  }
 };
 std::optional<MethodChoice> parseMethodChoice(const std::string& name);
 
@@ -54,6 +71,7 @@ struct FrameRecord {
   std::int64_t artifacts = -1;         // objects shown only through depth-extrapolated fragments
   std::int64_t missed_artifacts = -1;  // of those, not drawn (reported apart, see OracleFrame)
   std::vector<ObjectId> missed_ids;    // the first few
+  std::int64_t occluders = -1;         // DDO: quads drawn first (ddo+log) or faces in the map (ddo)
 };
 
 // The visible set of each frame found by the ID pass, shared by runners that render
@@ -104,7 +122,9 @@ class FrameRunner {
   std::unique_ptr<DepthSource> source_;
   std::unique_ptr<cpu::SoftwareDepthBuffer> software_;
   std::unique_ptr<Culler> culler_;
-  std::unique_ptr<Culler> vfc_;  // for the ID pass
+  std::unique_ptr<Culler> vfc_;                              // for the ID pass
+  std::unique_ptr<ddo::Selector> selector_;                  // ddo and ddo+log
+  std::unique_ptr<gl::OccluderRenderer> occluder_renderer_;  // ddo+log
   struct Observer;
   std::unique_ptr<Observer> observer_;
   std::vector<std::uint8_t> drawn_;  // per object, this frame

@@ -15,6 +15,8 @@ int main(int argc, char** argv) {
   logrid::samples::addWalkCommand(app);
   logrid::samples::addBenchCommand(app);
   logrid::samples::addTuneCommand(app);
+  logrid::samples::addDdoCommand(app);
+  logrid::samples::addExportCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::RuntimeError& done) {

@@ -27,6 +27,7 @@ nlohmann::json frameJson(const FrameRecord& r) {
                       {"cull_ms", s.seconds * 1e3},
                       {"order_fallbacks", s.order_fallbacks},
                       {"invalid_boxes", s.invalid_boxes}};
+  if (r.occluders >= 0) j["occluders"] = r.occluders;
   if (r.visible >= 0) {
     j["visible_objects"] = r.visible;
     j["missed_visible_objects"] = r.missed;
@@ -64,7 +65,8 @@ double median(std::vector<double> v) {
 nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConfig& config,
                           bool per_frame) {
   double ms = 0, objects = 0, triangles = 0, pixels = 0, tiles = 0, boxes = 0, read_ms = 0,
-         reads = 0, queries = 0;
+         reads = 0, queries = 0, flushes = 0, occluders = 0;
+  bool with_occluders = false;
   std::int64_t visible = 0, missed = 0, artifacts = 0, missed_artifacts = 0;
   bool verified = false;
   std::vector<double> times;
@@ -79,6 +81,8 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
     read_ms += r.stats.read_seconds * 1e3;
     reads += double(r.stats.reads);
     queries += double(r.stats.queries);
+    flushes += double(r.stats.flushes);
+    if (r.occluders >= 0) with_occluders = true, occluders += double(r.occluders);
     if (r.visible >= 0) {
       verified = true;
       visible += r.visible;
@@ -106,9 +110,11 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
                       {"avg_read_pixels", pixels / n},
                       {"avg_reads", reads / n},
                       {"avg_queries", queries / n},
+                      {"avg_flushes", flushes / n},
                       {"avg_read_ms", read_ms / n},
                       {"read_share", ms > 0 ? read_ms / ms : 0.0},
                       {"avg_tiles_per_box", boxes > 0 ? tiles / boxes : 0.0}};
+  if (with_occluders) j["avg_occluders"] = occluders / n;
   const GridApproximation& a = config.culler.approximation;
   j["conservative"] = a.exact();
   if (!a.exact()) {

@@ -12,7 +12,7 @@ namespace {
 
 int runWalk(const WalkOptions& o) {
   gl::Context context(contextDesc(o));
-  LoadedScene scene = loadScene(o);
+  LoadedScene scene = loadScene(o, true, needsDdo(o.method));
   const RunConfig config = runConfig(o, scene.prepared);
   FrameRunner runner(scene.prepared, *scene.renderer, config);
   Progress progress("walk " + scene.prepared.name + " " + config.method.name(), config.frames);
@@ -71,7 +71,8 @@ void addWalkCommand(CLI::App& app) {
   auto options = std::make_shared<WalkOptions>();
   CLI::App* walk = app.add_subcommand("walk", "render a walkthrough with one culling method");
   addSceneOptions(*walk, *options);
-  walk->add_option("--method", options->method, "log-state, log-zfar, bog, hzb, pq, vfc or oracle");
+  walk->add_option("--method", options->method,
+                   "log-state, log-zfar, bog, hzb, pq, vfc, ddo, ddo+log or oracle");
   walk->add_option("--size", options->size, "viewport WIDTHxHEIGHT");
   addViewOptions(*walk, *options);
   walk->add_flag("--verify", options->verify, "check every frame against the object-ID oracle");

@@ -6,12 +6,17 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "logrid/bvh.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
 #include "scene/scene.hpp"
+
+namespace logrid::ddo {
+class Octree;
+}
 
 namespace logrid::samples {
 
@@ -26,6 +31,8 @@ struct PreparedScene {
   bvh::FlatHierarchy hierarchy;
   gl::RenderMesh mesh;
   std::vector<Aabb> object_boxes;  // local, indexed by ObjectId
+  // The DDO octree over the mesh, when a method needs it (scene/ddo_scene.hpp).
+  std::shared_ptr<const ddo::Octree> ddo;
 
   std::uint64_t triangles = 0;
   std::uint64_t source_objects = 0;  // objects before splitting (0 for split scenes)

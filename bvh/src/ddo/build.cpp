@@ -147,6 +147,9 @@ Octree buildOctree(const SceneMesh& mesh, const BuildArgs& args, const ProgressC
     r.regions_degenerate += counters[i].regions_degenerate;
     r.pieces_followed += counters[i].pieces_followed;
     r.pieces_abandoned += counters[i].pieces_abandoned;
+    r.pieces_open += counters[i].open_pieces;
+    r.pieces_closed_even += counters[i].closed_even;
+    r.piece_triangles += counters[i].piece_triangles;
   }
   r.temporary_bytes = std::max<std::uint64_t>(
       topology.buildBytes(), topology.memoryBytes() + index.memoryBytes() +

@@ -80,6 +80,9 @@ ViewspaceFrustum::ViewspaceFrustum(const FaceFrame& f, const SlopeCell& s) {
   n[5][a] = s.hi2 * f.dir;
   c[5] = hi2 - s.hi2 * f.dir * f.plane;
 
+  for (int i = 0; i < 6; ++i) {
+    length[i] = std::sqrt(n[i][0] * n[i][0] + n[i][1] * n[i][1] + n[i][2] * n[i][2]);
+  }
   for (int k = 0; k < 3; ++k) lo[k] = HUGE_VAL, hi[k] = -HUGE_VAL;
   for (int i = 0; i < 8; ++i) {
     const double h = (i & 1) ? f.height : 0.0;
@@ -95,17 +98,23 @@ ViewspaceFrustum::ViewspaceFrustum(const FaceFrame& f, const SlopeCell& s) {
 
 bool ViewspaceFrustum::meetsSegment(const double* a, const double* b, double tolerance) const {
   // Liang-Barsky clipping of a + t (b - a), t in [0, 1], by each half-space, each
-  // loosened by `tolerance` along its normal.
+  // loosened by `tolerance` along its normal; decided early when an end lies inside.
+  double ga[6], gb[6];
+  bool a_in = true, b_in = true;
+  for (int i = 0; i < 6; ++i) {
+    const double slack = tolerance * length[i];
+    ga[i] = n[i][0] * a[0] + n[i][1] * a[1] + n[i][2] * a[2] + c[i] + slack;
+    gb[i] = n[i][0] * b[0] + n[i][1] * b[1] + n[i][2] * b[2] + c[i] + slack;
+    if (ga[i] < 0 && gb[i] < 0) return false;
+    a_in = a_in && ga[i] >= 0;
+    b_in = b_in && gb[i] >= 0;
+  }
+  if (a_in || b_in) return true;
   double t0 = 0.0, t1 = 1.0;
   for (int i = 0; i < 6; ++i) {
-    const double slack =
-        tolerance * std::sqrt(n[i][0] * n[i][0] + n[i][1] * n[i][1] + n[i][2] * n[i][2]);
-    const double ga = n[i][0] * a[0] + n[i][1] * a[1] + n[i][2] * a[2] + c[i] + slack;
-    const double gb = n[i][0] * b[0] + n[i][1] * b[1] + n[i][2] * b[2] + c[i] + slack;
-    if (ga < 0 && gb < 0) return false;
-    if (ga >= 0 && gb >= 0) continue;
-    const double t = ga / (ga - gb);
-    if (ga < 0) {
+    if (ga[i] >= 0 && gb[i] >= 0) continue;
+    const double t = ga[i] / (ga[i] - gb[i]);
+    if (ga[i] < 0) {
       t0 = std::max(t0, t);
     } else {
       t1 = std::min(t1, t);

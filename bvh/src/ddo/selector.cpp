@@ -97,7 +97,19 @@ struct Selector::Frame {
   double key_sign = 1, depth_scale = 0.5, depth_offset = 0.5;
   std::vector<Face> faces;
 
+  double near_plane[4] = {0, 0, 1, 1};  // clip-space half-space in front of the near plane
+
   Frame(const Camera& c, const ProjectionSettings& s) : camera(c), projector(c, s) {}
+
+  bool inFrontOfNear(const double* p) const {
+    const double* m = camera.view_projection.m;
+    double clip[4];
+    for (int r = 0; r < 4; ++r)
+      clip[r] = m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r];
+    const double d = near_plane[0] * clip[0] + near_plane[1] * clip[1] + near_plane[2] * clip[2] +
+                     near_plane[3] * clip[3];
+    return clip[3] > 0 && d > 1e-9 * (std::fabs(clip[2]) + std::fabs(clip[3]));
+  }
 
   // Local point to window coordinates and key; false if not in front of the eye.
   bool toWindow(const double* p, double* win, double& key) const {
@@ -137,6 +149,10 @@ void Selector::select(const Camera& camera, const std::function<void(ObjectId)>&
   const bool zero_to_one = camera.depth.clip_range == ClipDepthRange::ZeroToOne;
   frame.depth_scale = zero_to_one ? 1.0 : 0.5;
   frame.depth_offset = zero_to_one ? 0.0 : 0.5;
+  // Near plane: z >= -w (standard, -1..1), z >= 0 (standard, 0..1), z <= w (reversed).
+  const double ge_low[4] = {0, 0, 1, zero_to_one ? 0.0 : 1.0}, le_one[4] = {0, 0, -1, 1};
+  std::copy_n(camera.depth.convention == DepthConvention::Reversed ? le_one : ge_low, 4,
+              frame.near_plane);
 
   // The eye: the point the clip-space x, y and w rows all vanish at (a 4D cross product
   // of those rows). At infinity for an orthographic camera: then a direction.
@@ -259,17 +275,48 @@ void Selector::selectFaces(std::uint32_t n, Frame& frame) {
     if (region < 0) continue;
     ++stats.faces_valid;
 
-    // The region's frustum wholly in front of the near plane (and in view).
-    const ViewspaceFrustum frustum(fr, layout.cell(std::uint32_t(region)));
-    const Aabb fbox{{float(frustum.lo[0]), float(frustum.lo[1]), float(frustum.lo[2])},
-                    {float(frustum.hi[0]), float(frustum.hi[1]), float(frustum.hi[2])}};
-    Aabb grown = fbox;  // rounded outwards
-    grown.min = {std::nextafter(fbox.min.x, -HUGE_VALF), std::nextafter(fbox.min.y, -HUGE_VALF),
-                 std::nextafter(fbox.min.z, -HUGE_VALF)};
-    grown.max = {std::nextafter(fbox.max.x, HUGE_VALF), std::nextafter(fbox.max.y, HUGE_VALF),
-                 std::nextafter(fbox.max.z, HUGE_VALF)};
-    const BoxProjection region_p = frame.projector.project(grown);
-    if (region_p.cls != ProjectionClass::Inside) continue;
+    // The geometry that hides the face lies, along the rays from the eye through the
+    // enlarged face, between the face and the clipping plane: inside the convex hull of
+    // the face's corners and the points where those rays cross the clipping plane. That
+    // hull must lie in front of the near plane (nothing of it clipped or behind the eye);
+    // its box's projection margin bounds the stored depth of that geometry.
+    double cone[8][3];
+    Aabb cone_box{{HUGE_VALF, HUGE_VALF, HUGE_VALF}, {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF}};
+    bool cone_in_front = true;
+    for (int i = 0; i < 4 && cone_in_front; ++i) {
+      double* q = cone[i];
+      double* top = cone[4 + i];
+      fr.toWorld(0, (i & 1) ? fr.hi1 + m : fr.lo1 - m, (i & 2) ? fr.hi2 + m : fr.lo2 - m, q);
+      q[fr.axis] = fr.plane;
+      if (frame.ortho) {
+        const double t = fr.height / (fr.dir * frame.dir[fr.axis]);
+        for (int a = 0; a < 3; ++a) top[a] = q[a] + t * frame.dir[a];
+      } else {
+        const double t = fr.height / fr.heightOf(frame.eye);
+        for (int a = 0; a < 3; ++a) top[a] = q[a] + t * (frame.eye[a] - q[a]);
+      }
+      cone_in_front = frame.inFrontOfNear(q) && frame.inFrontOfNear(top);
+    }
+    if (!cone_in_front) continue;
+    for (const auto& p : cone) {
+      const float lo[3] = {std::nextafter(float(p[0]), -HUGE_VALF),
+                           std::nextafter(float(p[1]), -HUGE_VALF),
+                           std::nextafter(float(p[2]), -HUGE_VALF)};
+      const float hi[3] = {std::nextafter(float(p[0]), HUGE_VALF),
+                           std::nextafter(float(p[1]), HUGE_VALF),
+                           std::nextafter(float(p[2]), HUGE_VALF)};
+      cone_box.min = {std::min(cone_box.min.x, lo[0]), std::min(cone_box.min.y, lo[1]),
+                      std::min(cone_box.min.z, lo[2])};
+      cone_box.max = {std::max(cone_box.max.x, hi[0]), std::max(cone_box.max.y, hi[1]),
+                      std::max(cone_box.max.z, hi[2])};
+    }
+    const BoxProjection region_p = frame.projector.project(cone_box);
+    // Outside: the face cannot be seen. A box the projector gave up on (margin 0 while
+    // crossing the near plane) has no usable margin.
+    if (region_p.cls == ProjectionClass::Outside || region_p.cls == ProjectionClass::Invalid ||
+        (region_p.cls == ProjectionClass::CrossesNear && !(region_p.margin > 0))) {
+      continue;
+    }
 
     // The face and the enlarged face on screen.
     Face face;

@@ -22,6 +22,7 @@ void vertexOf(const SceneMesh& mesh, std::uint32_t t, int k, double* out) {
 
 void FaceTester::prepare(FaceScratch& scratch) const {
   scratch.stamp.assign(mesh_.triangleCount(), 0);
+  scratch.order.assign(mesh_.triangleCount(), 0);
   scratch.next_stamp = 1;
 }
 
@@ -82,6 +83,7 @@ bool FaceTester::validRegion(const FaceFrame& face, std::uint32_t region, FaceSc
     ++counters.pieces_followed;
     const std::uint32_t s = scratch.next_stamp++;
     scratch.stamp[seed.triangle] = s;
+    scratch.order[seed.triangle] = 0;
     scratch.queue.clear();
     scratch.queue.push_back(seed.triangle);
     bool closed = true;
@@ -91,34 +93,51 @@ bool FaceTester::validRegion(const FaceFrame& face, std::uint32_t region, FaceSc
         return false;
       }
       const std::uint32_t t = scratch.queue[q];
+      ++counters.piece_triangles;
       for (int k = 0; k < 3 && closed; ++k) {
+        // A triangle of the piece taken from the queue before this one shares the edge:
+        // it has already decided the edge (the test and the count are the same from
+        // either side).
+        const std::uint32_t h = t * 3 + std::uint32_t(k);
+        bool decided = false;
+        for (std::uint32_t h2 = topology_.next(h); h2 != h && !decided; h2 = topology_.next(h2)) {
+          const std::uint32_t t2 = h2 / 3;
+          decided = scratch.stamp[t2] == s && scratch.order[t2] < q;
+        }
+        if (decided) continue;
         double a[3], b[3];
         vertexOf(mesh_, t, k, a);
         vertexOf(mesh_, t, (k + 1) % 3, b);
         if (!frustum.meetsSegment(a, b, tolerance)) continue;
         // An edge inside P: the piece continues across it, and must be shared by an even
         // number of the slab's triangles (a free edge inside P lets rays through).
-        const std::uint32_t h = t * 3 + std::uint32_t(k);
         std::uint32_t sharing = 1;
         for (std::uint32_t h2 = topology_.next(h); h2 != h; h2 = topology_.next(h2)) {
           const std::uint32_t t2 = h2 / 3;
+          if (scratch.stamp[t2] == s) {  // already in the piece, hence inside the slab
+            ++sharing;
+            continue;
+          }
           if (topology_.degenerate(t2) || !index_.insideSlab(t2, slab)) continue;
           ++sharing;
-          if (scratch.stamp[t2] != s) {
-            scratch.stamp[t2] = s;
-            scratch.queue.push_back(t2);
-          }
+          scratch.stamp[t2] = s;
+          scratch.order[t2] = std::uint32_t(scratch.queue.size());
+          scratch.queue.push_back(t2);
         }
         if (sharing % 2 != 0) closed = false;
       }
     }
-    if (!closed) continue;
+    if (!closed) {
+      ++counters.open_pieces;
+      continue;
+    }
     std::uint32_t crossings = 0;
     for (const SegmentHit& hit : scratch.hits) crossings += scratch.stamp[hit.triangle] == s;
     if (crossings % 2 == 1) {
       ++counters.regions_valid;
       return true;
     }
+    ++counters.closed_even;
   }
   return false;
 }

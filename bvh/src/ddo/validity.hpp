@@ -18,11 +18,15 @@ struct FaceCounters {
   std::uint64_t regions_degenerate = 0;
   std::uint64_t pieces_followed = 0;
   std::uint64_t pieces_abandoned = 0;
+  std::uint64_t piece_triangles = 0;  // triangles the pieces' searches took from their queues
+  std::uint64_t closed_even = 0;      // closed pieces crossed an even number of times
+  std::uint64_t open_pieces = 0;      // pieces with a free edge inside the frustum
 };
 
 // Per-thread working memory.
 struct FaceScratch {
   std::vector<std::uint32_t> stamp;  // per triangle: the piece that last reached it
+  std::vector<std::uint32_t> order;  // per triangle: its place in that piece's queue
   std::uint32_t next_stamp = 1;
   std::vector<std::uint32_t> queue;
   std::vector<SegmentHit> hits;

@@ -106,6 +106,7 @@ FaceFrame faceFrame(const double* lo, const double* hi, double side, int face,
 struct ViewspaceFrustum {
   double n[6][3];
   double c[6];
+  double length[6];     // |n|
   double lo[3], hi[3];  // its bounding box
   double corners[8][3];
 
