@@ -176,6 +176,7 @@ nlohmann::json describeDdo(const DdoScene& d) {
             {"pieces_followed", r.pieces_followed},
             {"pieces_abandoned", r.pieces_abandoned},
             {"pieces_open", r.pieces_open},
+            {"corner_misses", r.corner_misses},
             {"pieces_closed_even", r.pieces_closed_even},
             {"piece_triangles", r.piece_triangles},
             {"temporary_bytes", r.temporary_bytes}}}};

@@ -148,6 +148,7 @@ Octree buildOctree(const SceneMesh& mesh, const BuildArgs& args, const ProgressC
     r.pieces_followed += counters[i].pieces_followed;
     r.pieces_abandoned += counters[i].pieces_abandoned;
     r.pieces_open += counters[i].open_pieces;
+    r.corner_misses += counters[i].corner_misses;
     r.pieces_closed_even += counters[i].closed_even;
     r.piece_triangles += counters[i].piece_triangles;
   }

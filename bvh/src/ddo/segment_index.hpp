@@ -35,12 +35,24 @@ class SegmentIndex {
   bool crossings(const double* a, const double* b, const Slab& slab, const MeshTopology& topology,
                  std::vector<SegmentHit>& out, std::vector<std::uint32_t>& stack) const;
 
+  // True unless the segment a-b clearly misses every non-degenerate triangle inside
+  // `slab` (a graze counts as meeting one). Stops at the first.
+  bool meetsAny(const double* a, const double* b, const Slab& slab, const MeshTopology& topology,
+                std::vector<std::uint32_t>& stack) const;
+
   bool insideSlab(std::uint32_t triangle, const Slab& slab) const;
   std::size_t memoryBytes() const;
 
  private:
+  // Runs visit(triangle, inside_slab_known) for the triangles of every leaf whose box the
+  // segment meets; visit returns false to stop.
+  template <typename Visit>
+  void walk(const double* a, const double* b, const Slab& slab, std::vector<std::uint32_t>& stack,
+            const Visit& visit) const;
+
   const SceneMesh& mesh_;
   bvh::TriangleHierarchy tree_;
+  double pad_ = 0;  // box padding against rounding, from the scene's extent
 };
 
 }  // namespace logrid::ddo::detail

@@ -74,6 +74,27 @@ bool FaceTester::validRegion(const FaceFrame& face, std::uint32_t region, FaceSc
     return false;
   }
   if (scratch.hits.empty()) return false;
+  // Every path through P from the top cap to the face crosses a valid piece: the four
+  // edges of P along its height are such paths, and a clean miss of all of them rules the
+  // region out before any piece is followed (most pieces that reach a free edge are
+  // walls that end inside P, which these edges pass by).
+  {
+    const double m = face.margin, h = face.height;
+    for (int corner = 0; corner < 4; ++corner) {
+      const bool high1 = corner & 1, high2 = corner & 2;
+      double low[3], high[3];
+      face.toWorld(0, high1 ? face.hi1 + m : face.lo1 - m, high2 ? face.hi2 + m : face.lo2 - m,
+                   low);
+      low[face.axis] = face.plane;
+      face.toWorld(h, high1 ? face.hi1 + m + h * cell.hi1 : face.lo1 - m + h * cell.lo1,
+                   high2 ? face.hi2 + m + h * cell.hi2 : face.lo2 - m + h * cell.lo2, high);
+      high[face.axis] = face.clip_plane;
+      if (!index_.meetsAny(high, low, slab, topology_, scratch.stack)) {
+        ++counters.corner_misses;
+        return false;
+      }
+    }
+  }
 
   // Each crossed triangle seeds a piece unless an earlier piece of this region reached it.
   const std::uint32_t region_first_stamp = scratch.next_stamp;

@@ -21,6 +21,7 @@ struct FaceCounters {
   std::uint64_t piece_triangles = 0;  // triangles the pieces' searches took from their queues
   std::uint64_t closed_even = 0;      // closed pieces crossed an even number of times
   std::uint64_t open_pieces = 0;      // pieces with a free edge inside the frustum
+  std::uint64_t corner_misses = 0;    // regions ruled out by an edge of P crossing nothing
 };
 
 // Per-thread working memory.

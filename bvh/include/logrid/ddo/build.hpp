@@ -76,6 +76,7 @@ struct BuildReport {
   std::uint64_t regions_degenerate = 0;  // every test segment grazed an edge: not valid
   std::uint64_t pieces_followed = 0;
   std::uint64_t pieces_abandoned = 0;    // larger than max_piece_triangles
+  std::uint64_t corner_misses = 0;       // ruled out: an edge of the frustum crosses nothing
   std::uint64_t pieces_open = 0;         // with a free edge inside the frustum
   std::uint64_t pieces_closed_even = 0;  // closed, but crossed an even number of times
   std::uint64_t piece_triangles = 0;     // triangles the searches of pieces visited
