@@ -102,6 +102,7 @@ struct Row {
   double tiles_per_box = 0;
   double read_share = 0;
   double flushes = 0;
+  double occluders = -1;  // DDO methods: occluders per frame
   std::int64_t missed = -1;
   std::int64_t missed_artifacts = 0;  // objects shown only by depth-extrapolated fragments
   bool conservative = true;
@@ -123,6 +124,7 @@ Row makeRow(const std::string& label, const ConfigResult& r, const nlohmann::jso
   double flushes = 0;
   for (const FrameRecord& f : r.records) flushes += double(f.stats.flushes);
   row.flushes = r.records.empty() ? 0 : flushes / double(r.records.size());
+  if (s.contains("avg_occluders")) row.occluders = s["avg_occluders"];
   if (s.contains("missed_visible_objects")) {
     row.missed = s["missed_visible_objects"];
     row.missed_artifacts = s["missed_depth_artifact_objects"];
@@ -163,6 +165,14 @@ void writeCell(std::ostream& md, const std::string& scene, std::uint32_t width,
        << " |\n";
   }
 
+  for (const Row& r : rows) {
+    if (r.occluders >= 0) {
+      md << "\n" << r.label << ": " << formatFixed(r.occluders, 1)
+         << (r.label == "ddo" ? " octree faces entered into the occlusion map"
+                              : " occluder quads drawn before the grid")
+         << " per frame.\n";
+    }
+  }
   const Row* log = findRow(rows, "log-state");
   if (!log) return;
   const PaperCell* paper = paperCell(scene, width);
@@ -208,6 +218,17 @@ void writeCell(std::ostream& md, const std::string& scene, std::uint32_t width,
   if (const Row* oracle = findRow(rows, "oracle")) {
     target(log->ms <= 1.15 * oracle->ms,
            "LOG within 1.15× of the oracle: " + ratio(log->ms, oracle->ms));
+  }
+  if (const Row* both = findRow(rows, "ddo+log")) {
+    target(both->flushes < log->flushes, "ddo+log makes fewer flushes than log-state: " +
+                                             formatFixed(both->flushes, 1) + " vs " +
+                                             formatFixed(log->flushes, 1));
+    target(both->objects <= log->objects, "ddo+log draws no more objects than log-state: " +
+                                              formatFixed(both->objects, 1) + " vs " +
+                                              formatFixed(log->objects, 1));
+    target(both->ms < log->ms, "ddo+log faster than log-state: " + formatFixed(both->ms) +
+                                   " vs " + formatFixed(log->ms) + " ms (" +
+                                   ratio(both->ms, log->ms) + ")");
   }
   if (paper && paper->tiles_per_box > 0) {
     target(log->tiles_per_box <= paper->tiles_per_box, "tiles tested per box at most the paper's " +
@@ -278,6 +299,18 @@ int runBench(const BenchOptions& o) {
        << " nodes built in " << formatFixed(scene.prepared.bvh_build_ms, 0) << " ms; generated in "
        << formatFixed(scene.generate_ms, 0) << " ms; peak memory "
        << formatFixed(double(scene.peak_rss_bytes) / double(1 << 20), 0) << " MiB.\n";
+    if (scene.ddo) {
+      const ddo::Octree& octree = *scene.ddo->octree;
+      md << "DDO octree: " << octree.nodes().size() << " nodes, " << octree.params().regions
+         << " regions a face, "
+         << (scene.ddo->loaded
+                 ? "loaded from " + scene.ddo->file + " in " + formatFixed(scene.ddo->load_ms, 0) +
+                       " ms"
+                 : "built in " + formatFixed(scene.ddo->report.total_ms / 1000, 1) + " s with " +
+                       std::to_string(scene.ddo->report.threads) + " threads")
+         << "; masks " << formatFixed(double(octree.maskBytes()) / double(1 << 20), 1)
+         << " MiB.\n";
+    }
 
     for (const std::string& size : sizes) {
       std::vector<RunConfig> configs;

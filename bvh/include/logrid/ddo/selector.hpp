@@ -18,9 +18,11 @@
 //     camera, the view direction comes from the face's side;
 //   * some anchor point of the enlarged face sees e with slopes in a region whose bit is
 //     set (all regions whose cells meet the range of slopes over the anchors are tried);
-//   * that region's frustum lies wholly in front of the near plane: the geometry that
-//     hides the face is then neither clipped nor behind the eye, and the rasteriser draws
-//     it over every pixel of the face;
+//   * the part of the region's frustum the eye looks through, i.e. the convex hull of
+//     the enlarged face and the points where the rays from the eye to its corners cross
+//     the clipping plane, lies wholly in front of the near plane: the geometry that hides
+//     the face is then neither clipped nor behind the eye, and the rasteriser draws it
+//     over every pixel of the face (its depth margin is that hull's box's);
 //   * the face, pushed back by its depth margin, lies in front of the far plane.
 //
 // Pixels and depth of an occluder. The face is drawn where the scene's geometry hides it,
