@@ -10,6 +10,8 @@
 #include <map>
 
 #include "logrid/error.hpp"
+#include "logrid/gl/framebuffer.hpp"
+#include "logrid/gl/occluder_renderer.hpp"
 #include "oracle_harness.hpp"
 #include "scene/ddo_scene.hpp"
 #include "scene/loader.hpp"
@@ -136,6 +138,82 @@ std::string caseName(const testing::TestParamInfo<DdoCase>& p) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, DdoWalk, testing::ValuesIn(cases()), caseName);
+
+// The ground truth of ddo+log: drawing the selected occluders into the depth buffer before
+// the whole scene changes no pixel of the picture. Where an occluder lands, the geometry
+// that makes it valid lies in front of it on screen; everything it hides is hidden anyway.
+class DdoOccluderPixels : public testing::TestWithParam<DdoCase> {};
+
+TEST_P(DdoOccluderPixels, DrawingOccludersFirstChangesNoPixel) {
+  LOGRID_REQUIRE_GL();
+  const DdoCase& c = GetParam();
+  if (c.scene == "office-file" && !samples::sceneFilesSupported()) {
+    GTEST_SKIP() << "built without assimp: no scene from a file";
+  }
+  LoadedScene& scene = ddoScene(c.scene);
+  View v;
+  v.convention = c.convention;
+  v.format = c.format;
+  const RunConfig config = makeConfig(scene.prepared, Method::Vfc, Reader::ReadPixels, v, kFrames);
+  gl::FramebufferDesc fb;
+  fb.width = v.width;
+  fb.height = v.height;
+  fb.depth = config.view.depth;
+  gl::Framebuffer framebuffer(fb);
+  gl::OccluderRenderer occluders;
+  ddo::Selector selector(*scene.prepared.ddo);
+  const float background[4] = {0.1f, 0.2f, 0.3f, 1.0f};
+  const float clear = c.convention == DepthConvention::Reversed ? 0.0f : 1.0f;
+  std::uint64_t occluder_pixels = 0;
+  for (std::size_t f = 0; f < config.frames; ++f) {
+    const Camera camera = samples::makeCamera(scene.prepared.path.frame(f, config.frames),
+                                              scene.prepared.origin, config.view);
+    auto drawAll = [&] {
+      scene.renderer->begin(gl::Pass::Shaded, camera);
+      for (ObjectId id = 0; id < scene.prepared.mesh.draws.size(); ++id) scene.renderer->draw(id);
+      scene.renderer->end();
+    };
+    framebuffer.bind();
+    framebuffer.clear(background);
+    drawAll();
+    const std::vector<std::uint8_t> plain = framebuffer.readColor();
+    const std::vector<float> plain_depth = framebuffer.readDepth();
+
+    framebuffer.clear(background);
+    ddo::SelectionStats stats;
+    selector.select(camera, {}, stats);
+    occluders.draw(selector.occluders());
+    const std::vector<float> occluder_depth = framebuffer.readDepth();
+    drawAll();
+    const std::vector<std::uint8_t> with = framebuffer.readColor();
+
+    std::size_t differing = 0, first = 0;
+    for (std::size_t i = 0; i < plain.size(); i += 4) {
+      if (std::equal(&plain[i], &plain[i] + 4, &with[i])) continue;
+      if (differing++ == 0) first = i / 4;
+    }
+    for (std::size_t i = 0; i < occluder_depth.size(); ++i) {
+      if (occluder_depth[i] == clear) continue;
+      ++occluder_pixels;
+      // The scene's depth there is nearer than the occluder's.
+      const float scene_key = depthKey(c.convention, plain_depth[i]);
+      const float occluder_key = depthKey(c.convention, occluder_depth[i]);
+      EXPECT_LT(scene_key, occluder_key)
+          << "frame " << f << " pixel " << i % v.width << ", " << i / v.width;
+      if (!(scene_key < occluder_key)) break;
+    }
+    EXPECT_EQ(differing, 0u) << c.scene << " frame " << f << ": " << differing
+                             << " pixels differ when the occluders are drawn first, the first at "
+                             << first % v.width << ", " << first / v.width;
+  }
+  std::printf("[ oracle ] %s: %llu occluder pixels over %zu frames\n", c.scene.c_str(),
+              (unsigned long long)occluder_pixels, config.frames);
+  if (c.scene != "forest") {
+    EXPECT_GT(occluder_pixels, 0u) << "no occluder reached the screen";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, DdoOccluderPixels, testing::ValuesIn(cases()), caseName);
 
 }  // namespace
 }  // namespace logrid::oracle
