@@ -1,6 +1,7 @@
 #include "logrid/bvh.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <future>
 #include <limits>
@@ -10,6 +11,11 @@
 #include "logrid/error.hpp"
 
 namespace logrid::bvh {
+
+std::uint64_t FlatHierarchy::nextRevision() {
+  static std::atomic<std::uint64_t> counter{0};
+  return ++counter;
+}
 
 std::string validateBuildArgs(const BuildArgs& args) {
   std::ostringstream out;

@@ -1,45 +1,87 @@
 #include "logrid/cpu/pixel_reader.hpp"
 
+#include <cassert>
 #include <chrono>
 
 namespace logrid::cpu {
+namespace {
 
-void PixelReader::timedFetch(const PixelRect* rects, std::size_t count) {
-  data_.resize(count);
-  strides_.resize(count);
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+void PixelReader::submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) {
+  if (count == 0) return;
   const auto start = std::chrono::steady_clock::now();
-  fetch(rects, count, data_.data(), strides_.data());
-  counters_.seconds +=
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (std::size_t i = 0; i < count; ++i) {
+    pending_.push_back(requests[i]);
+    pending_answers_.push_back(answers + i);
+  }
+  ++counters_.batches;
   counters_.reads += count;
-  for (std::size_t i = 0; i < count; ++i) counters_.pixels += std::uint64_t(rects[i].area());
+  const std::size_t bytes = nativeDepthBytes(encoding_.native);
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::uint64_t area = std::uint64_t(requests[i].rect.area());
+    counters_.pixels += area;
+    counters_.bytes += area * bytes;
+  }
+  // Reads issued after a draw wait for it, once per batch.
   if (drawn_since_read_) {
     ++counters_.flushes;
     drawn_since_read_ = false;
   }
-}
-
-void PixelReader::summarize(const PixelRect* rects, std::size_t count, AreaDepth* out) {
-  timedFetch(rects, count);
-  for (std::size_t i = 0; i < count; ++i) {
-    const PixelRect& r = rects[i];
-    out[i] = summarizeDepth(encoding_, data_[i], r.x1 - r.x0, r.y1 - r.y0, strides_[i]);
-  }
-}
-
-void PixelReader::countAtOrBeyond(const AreaQuery* queries, std::size_t count, std::uint32_t* out) {
   rects_.resize(count);
-  for (std::size_t i = 0; i < count; ++i) rects_[i] = queries[i].rect;
-  timedFetch(rects_.data(), count);
-  for (std::size_t i = 0; i < count; ++i) {
-    const PixelRect& r = rects_[i];
-    out[i] = countDepthAtOrBeyond(encoding_, data_[i], r.x1 - r.x0, r.y1 - r.y0, strides_[i],
-                                  queries[i].threshold);
+  for (std::size_t i = 0; i < count; ++i) rects_[i] = requests[i].rect;
+  issue(rects_.data(), count);
+  counters_.seconds += secondsSince(start);
+  if (!traits().asynchronous) collect();
+}
+
+void PixelReader::collect() {
+  if (pending_.empty()) return;
+  const auto start = std::chrono::steady_clock::now();
+  answerPending();
+  counters_.seconds += secondsSince(start);
+}
+
+void PixelReader::answerPending() {
+  const std::size_t n = pending_.size();
+  rects_.resize(n);
+  data_.resize(n);
+  strides_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) rects_[i] = pending_[i].rect;
+  fetch(rects_.data(), n, data_.data(), strides_.data());
+  for (std::size_t i = 0; i < n; ++i) {
+    const AreaRequest& q = pending_[i];
+    const std::int32_t w = q.rect.x1 - q.rect.x0, h = q.rect.y1 - q.rect.y0;
+    AreaAnswer& a = *pending_answers_[i];
+    if (q.ask == AreaAsk::Summary) {
+      a.depth = summarizeDepth(encoding_, data_[i], w, h, strides_[i]);
+    } else {
+      a.count = countDepthAtOrBeyond(encoding_, data_[i], w, h, strides_[i], q.threshold);
+    }
   }
+  pending_.clear();
+  pending_answers_.clear();
 }
 
 void PixelReader::readKeys(const PixelRect& rect, float* keys) {
-  timedFetch(&rect, 1);
+  assert(pending_.empty() && "PixelReader::readKeys: collect() the submitted requests first");
+  const auto start = std::chrono::steady_clock::now();
+  issue(&rect, 1);
+  data_.resize(1);
+  strides_.resize(1);
+  fetch(&rect, 1, data_.data(), strides_.data());
+  ++counters_.reads;
+  ++counters_.batches;
+  counters_.pixels += std::uint64_t(rect.area());
+  counters_.bytes += std::uint64_t(rect.area()) * nativeDepthBytes(encoding_.native);
+  if (drawn_since_read_) {
+    ++counters_.flushes;
+    drawn_since_read_ = false;
+  }
   const auto* data = static_cast<const unsigned char*>(data_[0]);
   const std::size_t bytes = nativeDepthBytes(encoding_.native);
   const std::int32_t w = rect.x1 - rect.x0, h = rect.y1 - rect.y0;
@@ -49,6 +91,7 @@ void PixelReader::readKeys(const PixelRect& rect, float* keys) {
       *keys++ = nativeToKey(encoding_, row + std::size_t(x) * bytes);
     }
   }
+  counters_.seconds += secondsSince(start);
 }
 
 }  // namespace logrid::cpu

@@ -7,34 +7,17 @@
 #include <sstream>
 
 #include "logrid/error.hpp"
+#include "testers.hpp"
 
 namespace logrid {
 
-const char* toString(Method method) {
-  switch (method) {
-    case Method::LogState: return "log-state";
-    case Method::LogZfar: return "log-zfar";
-    case Method::Bog: return "bog";
-    case Method::Hzb: return "hzb";
-    case Method::Pq: return "pq";
-    case Method::Vfc: return "vfc";
-  }
-  return "?";
-}
-
-std::optional<Method> parseMethod(const std::string& name) {
-  for (Method m :
-       {Method::LogState, Method::LogZfar, Method::Bog, Method::Hzb, Method::Pq, Method::Vfc}) {
-    if (name == toString(m)) return m;
-  }
-  return std::nullopt;
-}
-
 std::string validateCullerDesc(const CullerDesc& desc) {
   if (!parseMethod(toString(desc.method))) {
-    return "culler: method " + std::to_string(int(desc.method)) +
-           " is unknown; use log-state, log-zfar, bog, hzb, pq or vfc";
+    return "culler: method " + std::to_string(int(desc.method)) + " is unknown; use " +
+           methodNames();
   }
+  const MethodInfo& info = methodInfo(desc.method);
+  const std::string method = info.name;
   const std::string projection = validateProjectionSettings(desc.projection);
   if (!projection.empty()) return "culler: " + projection;
   if (desc.tile_size < 1) {
@@ -42,16 +25,21 @@ std::string validateCullerDesc(const CullerDesc& desc) {
     out << "culler: tile size " << desc.tile_size << " is invalid; use 1 pixel or more";
     return out.str();
   }
+  if (desc.lookahead < 1) {
+    return "culler: lookahead 0 is invalid; use 1 (one box at a time) or more "
+           "(kUnlimitedLookahead: every box the traversal reaches)";
+  }
   const GridApproximation& a = desc.approximation;
-  const std::string method = toString(desc.method);
-  if (!a.exact() && (desc.method == Method::Hzb || desc.method == Method::Vfc)) {
-    return "culler: method " + method + " takes no approximation settings";
+  if (a.visible_pixels != 0 && !info.takes_visible_pixels) {
+    return "culler: method " + method + " takes no visible-pixel threshold";
   }
-  if (desc.method == Method::Pq && (a.full_free_fraction != 0 || a.row_stride != 1)) {
-    return "culler: method pq takes only the visible-pixel threshold (it has no tiles)";
+  if (a.full_free_fraction != 0 && !info.takes_full_fraction) {
+    return "culler: method " + method + " takes no full-tile free fraction";
   }
-  if (desc.method == Method::LogState || desc.method == Method::LogZfar ||
-      desc.method == Method::Bog) {
+  if (a.row_stride != 1 && !info.takes_row_stride) {
+    return "culler: method " + method + " takes no row stride (it has no tiles)";
+  }
+  if (info.takes_row_stride || info.takes_full_fraction) {
     // The grid's own checks, with a viewport that is always valid.
     const GridVariant variant =
         desc.method == Method::LogZfar ? GridVariant::Zfar : GridVariant::OcclusionState;
@@ -64,15 +52,14 @@ std::string validateCullerDesc(const CullerDesc& desc) {
 Culler::Culler(const CullerDesc& desc) : desc_(desc) {
   const std::string problem = validateCullerDesc(desc);
   if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
+  tester_ = detail::makeTester(desc_);
 }
 
 Culler::~Culler() = default;
 Culler::Culler(Culler&&) noexcept = default;
 Culler& Culler::operator=(Culler&&) noexcept = default;
 
-bool Culler::usesTwoLists() const {
-  return desc_.method != Method::LogZfar && desc_.method != Method::Vfc;
-}
+const OcclusionGrid* Culler::grid() const { return tester_->grid(); }
 
 namespace {
 
@@ -86,100 +73,122 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+constexpr float kNothingDrawn = -std::numeric_limits<float>::infinity();
+
 }  // namespace
 
-void Culler::prepare(const Camera& camera) {
-  projector_.emplace(camera, desc_.projection);  // validates the camera
-  const bool needs_grid = desc_.method == Method::LogState || desc_.method == Method::LogZfar ||
-                          desc_.method == Method::Bog;
-  if (needs_grid) {
-    const GridDesc want{
-        camera.width, camera.height, desc_.tile_size,
-        desc_.method == Method::LogZfar ? GridVariant::Zfar : GridVariant::OcclusionState};
-    if (!grid_ || grid_->desc().width != want.width || grid_->desc().height != want.height ||
-        grid_->desc().tile_size != want.tile_size || grid_->desc().variant != want.variant) {
-      grid_.emplace(want, desc_.approximation);
-    }
-    grid_->reset(projector_->clearKey());
+void Culler::prepare(const Camera& camera, const DepthSource& depth) {
+  projector_ = std::make_unique<Projector>(camera, desc_.projection);  // validates the camera
+  const MethodInfo& info = methodInfo(desc_.method);
+  if (info.needs_depth_values && !depth.traits().reads_depth) {
+    throw Error(ErrorCode::InvalidArgument, std::string("culler: method ") + info.name +
+                                                " needs a depth source that reads depth values; '" +
+                                                depth.traits().name + "' only answers counts");
   }
-  if (desc_.method == Method::Hzb) {
-    if (!pyramid_ || pyramid_->levels() == 0 || last_width_ != camera.width ||
-        last_height_ != camera.height) {
-      pyramid_ = std::make_unique<DepthPyramid>(camera.width, camera.height);
-    }
-    pyramid_->reset(projector_->clearKey());
-  }
-  last_width_ = camera.width;
-  last_height_ = camera.height;
+  tester_->beginFrame(camera, projector_->clearKey());
+  // Counting tests of the grid are sequential (grid.hpp); so are methods whose tests
+  // read nothing worth batching.
+  const bool counting_grid = desc_.approximation.visible_pixels > 0 && desc_.method != Method::Pq;
+  lookahead_ = info.lookahead && !counting_grid ? desc_.lookahead : 1;
 }
 
 FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy, DepthSource& depth,
-                             const DrawCallback& draw) {
+                             const DrawCallback& draw, const std::vector<DrawnArea>& drawn_before) {
   const auto start = std::chrono::steady_clock::now();
-  prepare(camera);
-  const bool reads_pixels = depth.traits().reads_pixels;
-  if (!reads_pixels && (desc_.method == Method::Hzb)) {
-    throw Error(ErrorCode::InvalidArgument,
-                std::string("culler: method hzb needs a depth source that reads pixels; '") +
-                    depth.traits().name + "' only answers occlusion queries");
-  }
+  prepare(camera, depth);
   depth.beginFrame(camera);
   const ReadCounters before = depth.counters();
   stats_ = {};
   grid_counts_ = {};
-  drawn_back_ = -std::numeric_limits<float>::infinity();
+  drawn_back_ = kNothingDrawn;
   test_list_.clear();
   draw_list_.clear();
+  pending_.clear();
+  deferred_.clear();
+  visible_leaves_.clear();
+  drawn_first_.clear();
   current_source_ = &depth;
+  struct Reset {  // noteDrawn() outside this frame must throw, even after an exception
+    DepthSource*& source;
+    ~Reset() { source = nullptr; }
+  } reset{current_source_};
+
+  for (const DrawnArea& area : drawn_before) noteDrawnWith(area, depth);
+  if (desc_.temporal_coherence) drawCoherent(hierarchy, depth, draw);
 
   const NodeId root = hierarchy.root();
   if (root != kNoNode) pushTest(hierarchy, root);
 
-  const bool two_lists = usesTwoLists();
+  const DepthSourceTraits traits = depth.traits();
   for (;;) {
     // Two-list order (LOG §3, fig. 2): draw the frontmost visible node once it lies in
-    // front of the frontmost node still to be tested.
-    if (!draw_list_.empty() &&
-        (test_list_.empty() || draw_list_.front().order < test_list_.front().order)) {
-      std::pop_heap(draw_list_.begin(), draw_list_.end(), laterFirst<Entry>);
-      const Entry entry = draw_list_.back();
-      draw_list_.pop_back();
-      drawEntry(entry, hierarchy, depth, draw);
+    // front of the frontmost node still to be tested, or set aside for the next batch.
+    if (!draw_list_.empty()) {
+      float gate =
+          test_list_.empty() ? std::numeric_limits<float>::infinity() : test_list_.front().order;
+      if (!pending_.empty()) gate = std::min(gate, pending_.front().order);
+      if (draw_list_.front().order < gate) {
+        std::pop_heap(draw_list_.begin(), draw_list_.end(), laterFirst<Entry>);
+        const Entry entry = draw_list_.back();
+        draw_list_.pop_back();
+        drawEntry(entry, hierarchy, depth, draw);
+        continue;
+      }
+    }
+    if (!test_list_.empty() && pending_.size() < lookahead_) {
+      std::pop_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
+      const Entry entry = test_list_.back();
+      test_list_.pop_back();
+      ++stats_.nodes_visited;
+      Visibility v = Visibility::Visible;
+      if (!forced(entry, v)) {
+        const float threshold = thresholdFor(entry);
+        ++stats_.boxes_tested;
+        if (lookahead_ == 1) {
+          v = tester_->test(entry.projection.rect, threshold, depth, grid_counts_);
+        } else {
+          const std::optional<Visibility> planned =
+              tester_->plan(entry.projection.rect, threshold, traits, grid_counts_);
+          if (!planned) {
+            pending_.push_back(entry);
+            continue;
+          }
+          if (*planned == Visibility::Visible && !pending_.empty()) {
+            // Visible by the records, but boxes in front of it are still undecided and
+            // what they hold back from drawing may hide it: test it again after them.
+            deferred_.push_back(entry);
+            continue;
+          }
+          v = *planned;
+        }
+        if (v == Visibility::Occluded) ++stats_.boxes_occluded;
+      }
+      finish(entry, v, hierarchy, depth, draw);
+      continue;
+    }
+    if (!pending_.empty()) {
+      resolvePending(hierarchy, depth, draw);
       continue;
     }
     if (test_list_.empty()) break;
-    std::pop_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
-    const Entry entry = test_list_.back();
-    test_list_.pop_back();
-    ++stats_.nodes_visited;
-
-    const Visibility v = testEntry(entry, depth);
-    if (observer_) observer_->onTested(entry.node, entry.projection, v);
-    if (v != Visibility::Visible) continue;
-
-    if (hierarchy.objectCount(entry.node) > 0) {
-      if (two_lists) {
-        Entry drawn = entry;
-        drawn.order = entry.projection.far_key + entry.projection.margin;
-        draw_list_.push_back(drawn);
-        std::push_heap(draw_list_.begin(), draw_list_.end(), laterFirst<Entry>);
-      } else {
-        drawEntry(entry, hierarchy, depth, draw);
-      }
-    }
-    const std::uint32_t children = hierarchy.childCount(entry.node);
-    for (std::uint32_t c = 0; c < children; ++c)
-      pushTest(hierarchy, hierarchy.child(entry.node, c));
   }
-  current_source_ = nullptr;
   depth.endFrame();
 
+  // Next frame's coherent set: the leaves this frame found visible.
+  if (desc_.temporal_coherence) {
+    coherent_.swap(visible_leaves_);
+    coherent_hierarchy_ = &hierarchy;
+    coherent_revision_ = hierarchy.revision();
+  }
+
   const ReadCounters& after = depth.counters();
-  stats_.tiles_tested = grid_counts_.tiles_tested + stats_.tiles_tested;
+  stats_.tiles_tested = grid_counts_.tiles_tested;
   stats_.tiles_read = grid_counts_.tiles_read;
   stats_.reads = after.reads - before.reads;
   stats_.pixels_read = after.pixels - before.pixels;
+  stats_.bytes_read = after.bytes - before.bytes;
   stats_.queries = after.queries - before.queries;
+  stats_.batches = after.batches - before.batches;
   stats_.flushes = after.flushes - before.flushes;
   stats_.read_seconds = after.seconds - before.seconds;
   stats_.seconds = secondsSince(start);
@@ -197,78 +206,172 @@ void Culler::pushTest(const Hierarchy& hierarchy, NodeId node) {
   std::push_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
 }
 
-Visibility Culler::testEntry(const Entry& entry, DepthSource& depth) {
-  const BoxProjection& p = entry.projection;
-  switch (p.cls) {
-    case ProjectionClass::Outside: return Visibility::ViewCulled;
-    case ProjectionClass::Invalid: ++stats_.invalid_boxes; return Visibility::Visible;
-    case ProjectionClass::CrossesNear: ++stats_.boxes_near; return Visibility::Visible;
+bool Culler::forced(const Entry& entry, Visibility& result) {
+  switch (entry.projection.cls) {
+    case ProjectionClass::Outside: result = Visibility::ViewCulled; return true;
+    case ProjectionClass::Invalid:
+      ++stats_.invalid_boxes;
+      result = Visibility::Visible;
+      return true;
+    case ProjectionClass::CrossesNear:
+      ++stats_.boxes_near;
+      result = Visibility::Visible;
+      return true;
     case ProjectionClass::Inside: break;
   }
-  if (desc_.method == Method::Vfc) return Visibility::Visible;
+  if (!methodInfo(desc_.method).tests_occlusion) {
+    result = Visibility::Visible;
+    return true;
+  }
+  return false;
+}
 
+float Culler::thresholdFor(const Entry& entry) {
   // The occlusion-state semantics (any drawn pixel occludes) hold only if everything
   // drawn so far lies in front of this box. The two-list order guarantees it up to the
-  // rounding of margins between parent and child boxes; where it does not, be visible.
-  const bool state_semantics =
-      desc_.method == Method::LogState || desc_.method == Method::Bog || desc_.method == Method::Pq;
-  if (state_semantics && !(drawn_back_ < entry.order)) {
+  // rounding of margins between parent and child boxes and for what the application
+  // announced with a depth; where it does not, test by depth, which holds in any order.
+  if (methodInfo(desc_.method).state_semantics) {
+    if (drawn_back_ < entry.order) return projector_->clearKey();
     ++stats_.order_fallbacks;
-    return Visibility::Visible;
   }
-  const float threshold = state_semantics ? projector_->clearKey() : p.occlusionThreshold();
+  return entry.projection.occlusionThreshold();
+}
 
-  ++stats_.boxes_tested;
-  Visibility v = Visibility::Visible;
-  switch (desc_.method) {
-    case Method::LogState:
-    case Method::LogZfar:
-    case Method::Bog: v = grid_->test(p.rect, threshold, depth, grid_counts_); break;
-    case Method::Hzb: v = pyramid_->test(p.rect, threshold, stats_.tiles_tested); break;
-    case Method::Pq: {
-      const AreaQuery query{p.rect, threshold};
-      std::uint32_t count = 0;
-      depth.countAtOrBeyond(&query, 1, &count);
-      ++grid_counts_.tiles_tested;
-      v = count > desc_.approximation.visible_pixels ? Visibility::Visible : Visibility::Occluded;
-      break;
+void Culler::finish(const Entry& entry, Visibility v, const Hierarchy& hierarchy,
+                    DepthSource& depth, const DrawCallback& draw) {
+  if (observer_) observer_->onTested(entry.node, entry.projection, v);
+  if (v != Visibility::Visible) return;
+  if (hierarchy.objectCount(entry.node) > 0) {
+    if (desc_.temporal_coherence) visible_leaves_.push_back(entry.node);
+    if (methodInfo(desc_.method).two_list_order) {
+      Entry drawn = entry;
+      drawn.order = entry.projection.far_key + entry.projection.margin;
+      draw_list_.push_back(drawn);
+      std::push_heap(draw_list_.begin(), draw_list_.end(), laterFirst<Entry>);
+    } else {
+      drawEntry(entry, hierarchy, depth, draw);
     }
-    case Method::Vfc: break;
   }
-  if (v == Visibility::Occluded) ++stats_.boxes_occluded;
-  return v;
+  const std::uint32_t children = hierarchy.childCount(entry.node);
+  for (std::uint32_t c = 0; c < children; ++c) pushTest(hierarchy, hierarchy.child(entry.node, c));
+}
+
+void Culler::resolvePending(const Hierarchy& hierarchy, DepthSource& depth,
+                            const DrawCallback& draw) {
+  // One batch for every box set aside: the renderer is waited for once.
+  tester_->submitBatch(depth);
+  depth.collect();
+  tester_->applyBatch();
+  // finish() may draw and push children, but never sets boxes aside: resolve them all.
+  std::vector<Entry> batch;
+  batch.swap(pending_);
+  for (std::size_t i = 0; i < batch.size(); ++i) {
+    const Visibility v = tester_->resolve(i, grid_counts_);
+    if (v == Visibility::Occluded) ++stats_.boxes_occluded;
+    finish(batch[i], v, hierarchy, depth, draw);
+  }
+  tester_->clearBatch();
+  batch.clear();
+  batch.swap(pending_);  // keep the capacity
+  for (const Entry& e : deferred_) {
+    test_list_.push_back(e);
+    std::push_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
+  }
+  deferred_.clear();
 }
 
 void Culler::drawEntry(const Entry& entry, const Hierarchy& hierarchy, DepthSource& depth,
                        const DrawCallback& draw) {
+  if (!drawn_first_.empty() &&
+      std::binary_search(drawn_first_.begin(), drawn_first_.end(), entry.node)) {
+    return;  // drawn before the traversal (temporal coherence)
+  }
   const std::uint32_t n = hierarchy.objectCount(entry.node);
   for (std::uint32_t i = 0; i < n; ++i) draw(hierarchy.object(entry.node, i));
   stats_.objects_drawn += n;
   ++stats_.leaves_drawn;
-  drawn_back_ = std::max(drawn_back_, entry.projection.far_key + entry.projection.margin);
-  depth.noteDraw();
-  noteDrawnWith(entry.projection.rect, depth);
+  noteDrawnWith({entry.projection.rect, entry.projection.far_key + entry.projection.margin}, depth);
   if (observer_) observer_->onDrawn(entry.node, entry.projection);
 }
 
-void Culler::noteDrawn(const PixelRect& rect) {
-  if (!current_source_) {
-    throw Error(ErrorCode::InvalidArgument,
-                "Culler::noteDrawn: call it only from inside cullFrame()'s draw callback");
+void Culler::drawCoherent(const Hierarchy& hierarchy, DepthSource& depth,
+                          const DrawCallback& draw) {
+  if (coherent_hierarchy_ != &hierarchy || coherent_revision_ != hierarchy.revision()) {
+    coherent_.clear();
   }
-  noteDrawnWith(rect, *current_source_);
+  for (NodeId node : coherent_) {
+    const BoxProjection p = projector_->project(hierarchy.bounds(node));
+    if (p.cls == ProjectionClass::Outside) continue;
+    const std::uint32_t n = hierarchy.objectCount(node);
+    for (std::uint32_t i = 0; i < n; ++i) draw(hierarchy.object(node, i));
+    stats_.objects_drawn += n;
+    ++stats_.leaves_drawn;
+    ++stats_.coherent_leaves;
+    drawn_first_.push_back(node);
+    // Drawn out of order: later occlusion-state tests of boxes in front of it go by depth.
+    noteDrawnWith({p.rect, p.far_key + p.margin}, depth);
+    if (observer_) observer_->onDrawn(node, p);
+  }
+  std::sort(drawn_first_.begin(), drawn_first_.end());
+  if (!drawn_first_.empty()) tester_->refreshOutdated(depth, grid_counts_);
 }
 
-void Culler::noteDrawnWith(const PixelRect& rect, DepthSource& depth) {
-  if (rect.empty()) return;
-  switch (desc_.method) {
-    case Method::LogState:
-    case Method::LogZfar: grid_->markOutdated(rect); break;
-    case Method::Bog: grid_->refreshNow(rect, depth); break;
-    case Method::Hzb: pyramid_->update(rect, depth); break;
-    case Method::Pq:
-    case Method::Vfc: break;
+void Culler::noteDrawnWith(const DrawnArea& area, DepthSource& depth) {
+  // NaN is "unknown" as well.
+  drawn_back_ = area.far_key >= drawn_back_  ? area.far_key
+                : area.far_key < drawn_back_ ? drawn_back_
+                                             : std::numeric_limits<float>::infinity();
+  const PixelRect r{std::max(area.rect.x0, 0), std::max(area.rect.y0, 0),
+                    std::min(area.rect.x1, std::int32_t(projector_->camera().width)),
+                    std::min(area.rect.y1, std::int32_t(projector_->camera().height))};
+  if (r.empty()) return;
+  depth.noteDraw();
+  tester_->noteDrawn(r, depth);
+}
+
+DepthSource& Culler::currentSource(const char* who) const {
+  if (!current_source_) {
+    throw Error(
+        ErrorCode::InvalidArgument,
+        std::string("Culler::") + who + ": call it only from inside cullFrame()'s draw callback");
   }
+  return *current_source_;
+}
+
+void Culler::noteDrawn(const DrawnArea& area) { noteDrawnWith(area, currentSource("noteDrawn")); }
+
+void Culler::noteDrawn(const Aabb& box) {
+  DepthSource& depth = currentSource("noteDrawn");
+  const BoxProjection p = projector_->project(box);
+  if (p.cls == ProjectionClass::Outside) return;  // draws no pixel
+  noteDrawnWith({p.rect, p.cls == ProjectionClass::Inside ? p.far_key + p.margin
+                                                          : std::numeric_limits<float>::infinity()},
+                depth);
+}
+
+void Culler::noteDepthCleared() {
+  currentSource("noteDepthCleared");
+  noteDepthCleared(windowDepth(projector_->camera().depth.convention, projector_->clearKey()));
+}
+
+void Culler::noteDepthCleared(float window_depth) {
+  currentSource("noteDepthCleared");
+  if (!(window_depth >= 0.0f && window_depth <= 1.0f)) {
+    throw Error(ErrorCode::InvalidArgument, "Culler::noteDepthCleared: window depth " +
+                                                std::to_string(window_depth) +
+                                                " is outside [0, 1], which glClearDepth clamps to");
+  }
+  const float key = depthKey(projector_->camera().depth.convention, window_depth);
+  tester_->noteCleared(key);
+  // What was drawn before is gone. A clear to a nearer value is itself "drawn" at that
+  // depth: occlusion-state tests of boxes in front of it must go by depth.
+  drawn_back_ = key < projector_->clearKey() ? key : kNothingDrawn;
+}
+
+BoxProjection Culler::project(const Aabb& box) const {
+  currentSource("project");
+  return projector_->project(box);
 }
 
 }  // namespace logrid

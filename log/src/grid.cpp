@@ -61,12 +61,21 @@ OcclusionGrid::OcclusionGrid(const GridDesc& desc, const GridApproximation& appr
   near_.assign(n, 1.0f);
   far_.assign(n, 1.0f);
   outdated_.assign(n, 0);
+  stamp_.assign(n, 0);
+  planned_.assign(n, 0);
   pending_.reserve(n);
-  rects_.reserve(n);
+  requests_.reserve(n);
   owners_.reserve(n);
-  areas_.reserve(n);
-  queries_.reserve(n);
-  counts_.reserve(n);
+  answers_.reserve(n);
+}
+
+void GridBatch::clear() {
+  submitted_ = false;
+  requests_.clear();
+  answers_.clear();
+  reads_.clear();
+  tests_.clear();
+  test_reads_.clear();
 }
 
 PixelRect OcclusionGrid::tileRect(std::uint32_t tx, std::uint32_t ty) const {
@@ -87,9 +96,16 @@ TileRecord OcclusionGrid::tile(std::uint32_t tx, std::uint32_t ty) const {
 
 void OcclusionGrid::reset(float clear_key) {
   clear_key_ = clear_key;
-  std::fill(near_.begin(), near_.end(), clear_key);
-  std::fill(far_.begin(), far_.end(), clear_key);
+  fill(clear_key);
+}
+
+void OcclusionGrid::fill(float key) {
+  std::fill(near_.begin(), near_.end(), key);
+  std::fill(far_.begin(), far_.end(), key);
   std::fill(outdated_.begin(), outdated_.end(), std::uint8_t{0});
+  for (std::uint32_t t : planned_tiles_) planned_[t] = 0;
+  planned_tiles_.clear();
+  ++epoch_;
 }
 
 namespace {
@@ -128,6 +144,24 @@ PixelRect intersect(const PixelRect& a, const PixelRect& b) {
 
 float below(float key) { return std::nextafter(key, -std::numeric_limits<float>::infinity()); }
 
+// The summary of a read that spans several requests (rows of a sampled tile).
+AreaDepth mergeSummaries(const AreaRequest* requests, const AreaAnswer* answers, std::size_t first,
+                         std::size_t end, std::uint32_t& sampled) {
+  // Seeded from the first row so that a NaN from the source stays NaN (and visible).
+  AreaDepth merged = answers[first].depth;
+  sampled = std::uint32_t(requests[first].rect.area());
+  for (std::size_t r = first + 1; r < end; ++r) {
+    merged.min_key = std::min(merged.min_key, answers[r].depth.min_key);
+    merged.max_key = std::max(merged.max_key, answers[r].depth.max_key);
+    merged.free_pixels += answers[r].depth.free_pixels;
+    sampled += std::uint32_t(requests[r].rect.area());
+  }
+  return merged;
+}
+
+// A tile index with its internal/border class packed into the top bit.
+constexpr std::uint32_t kInternalBit = 0x80000000u;
+
 }  // namespace
 
 void OcclusionGrid::markOutdated(const PixelRect& rect) {
@@ -135,9 +169,11 @@ void OcclusionGrid::markOutdated(const PixelRect& rect) {
       intersect(rect, {0, 0, std::int32_t(desc_.width), std::int32_t(desc_.height)});
   if (r.empty()) return;
   const TileSpan s = tileSpan(r, desc_.tile_size, desc_.width, desc_.height);
+  ++draw_stamp_;
   for (std::uint32_t ty = s.y0; ty <= s.y1; ++ty) {
-    std::uint8_t* row = outdated_.data() + std::size_t(ty) * tiles_x_;
-    std::fill(row + s.x0, row + s.x1 + 1, std::uint8_t{1});
+    const std::size_t row = std::size_t(ty) * tiles_x_;
+    std::fill(outdated_.data() + row + s.x0, outdated_.data() + row + s.x1 + 1, std::uint8_t{1});
+    std::fill(stamp_.data() + row + s.x0, stamp_.data() + row + s.x1 + 1, draw_stamp_);
   }
 }
 
@@ -160,42 +196,46 @@ void OcclusionGrid::applySummary(std::size_t i, const AreaDepth& area, std::uint
   // Approximation only: few enough free pixels count as full. (The exact grid never
   // reads free_pixels here, so a source may leave it 0 unless the fraction is used.)
   if (approx_.full_free_fraction > 0 && desc_.variant == GridVariant::OcclusionState &&
-      far_[i] >= clear_key_ && !countShows(area.free_pixels, sampled)) {
+      far_[i] >= clear_key_ && !countShows(area.free_pixels, sampled, clear_key_)) {
     far_[i] = below(clear_key_);
   }
 }
 
 void OcclusionGrid::applyCount(std::size_t i, std::uint32_t count, std::uint32_t sampled,
                                float threshold) {
-  if (desc_.variant == GridVariant::OcclusionState) {
+  // Every far key a tile has held is an upper bound of its pixels (keys only shrink), so
+  // a count tightens the bound and never loosens it: another read of the same batch may
+  // already have tightened it further.
+  if (threshold >= clear_key_) {
     // Counted at the clear key, so `count` is the number of free pixels: an exact state.
-    assert(threshold == clear_key_ && "OcclusionGrid: state tests count at the clear key");
-    far_[i] = countShows(count, sampled) ? clear_key_ : below(clear_key_);
+    far_[i] =
+        std::min(far_[i], countShows(count, sampled, threshold) ? clear_key_ : below(clear_key_));
     near_[i] = count == sampled ? clear_key_ : -std::numeric_limits<float>::infinity();
     outdated_[i] = 0;
   } else if (count == 0) {
     // Only a bound: every pixel is in front of the threshold.
-    far_[i] = below(threshold);
+    far_[i] = std::min(far_[i], below(threshold));
     near_[i] = -std::numeric_limits<float>::infinity();
     outdated_[i] = 0;
   }
 }
 
-bool OcclusionGrid::countShows(std::uint32_t count, std::uint32_t sampled) const {
-  // Exact: any pixel shows. Approximate: more than the allowed fraction of them.
-  return count > 0 && double(count) > double(approx_.full_free_fraction) * sampled;
+bool OcclusionGrid::countShows(std::uint32_t count, std::uint32_t sampled, float threshold) const {
+  // Exact: any pixel shows. Approximate: more than the allowed fraction of the free
+  // pixels (the fraction applies to occlusion-state tests, at the clear key, only).
+  const double fraction = threshold >= clear_key_ ? double(approx_.full_free_fraction) : 0.0;
+  return count > 0 && double(count) > fraction * sampled;
 }
 
-void OcclusionGrid::appendSampledRows(const PixelRect& area, std::uint32_t owner) {
+void OcclusionGrid::appendRead(const PixelRect& area, AreaAsk ask, float threshold,
+                               std::vector<AreaRequest>& requests) const {
   const std::int32_t stride = std::int32_t(approx_.row_stride);
   if (stride == 1) {
-    rects_.push_back(area);
-    owners_.push_back(owner);
+    requests.push_back({area, ask, threshold});
     return;
   }
   for (std::int32_t y = area.y0; y < area.y1; y += stride) {
-    rects_.push_back({area.x0, y, area.x1, y + 1});
-    owners_.push_back(owner);
+    requests.push_back({{area.x0, y, area.x1, y + 1}, ask, threshold});
   }
 }
 
@@ -204,7 +244,7 @@ Visibility OcclusionGrid::test(const PixelRect& rect, float threshold, DepthSour
   assert(!rect.empty() && rect.x0 >= 0 && rect.y0 >= 0 && rect.x1 <= std::int32_t(desc_.width) &&
          rect.y1 <= std::int32_t(desc_.height) &&
          "OcclusionGrid::test: rect must be non-empty and inside the viewport");
-  exact_records_ = source.traits().reads_pixels;
+  exact_records_ = source.traits().reads_depth;
   if (approx_.visible_pixels > 0) return testCounting(rect, threshold, source, counts);
   const TileSpan s = tileSpan(rect, desc_.tile_size, desc_.width, desc_.height);
 
@@ -260,15 +300,15 @@ Visibility OcclusionGrid::readPending(const PixelRect& rect, float threshold, bo
                                       DepthSource& source, GridTestCounts& counts) {
   const DepthSourceTraits traits = source.traits();
   // A synchronous source answers one tile at a time so the test can stop at the first
-  // visible one (§3); a batching source gets every read at once.
-  const std::size_t step = traits.batched ? pending_.size() : 1;
+  // visible one (§3); an asynchronous source gets every read of the step at once.
+  const std::size_t step = traits.asynchronous ? pending_.size() : 1;
   for (std::size_t first = 0; first < pending_.size(); first += step) {
     const std::size_t n = std::min(step, pending_.size() - first);
     const std::uint32_t* tiles = pending_.data() + first;
     counts.tiles_tested += n;
     counts.tiles_read += n;
     const bool visible =
-        internal && traits.reads_pixels
+        internal && traits.reads_depth
             ? summarizeTiles(tiles, n, threshold, source)
             : countTiles(tiles, n, internal ? nullptr : &rect, threshold, source).shows;
     if (visible) return Visibility::Visible;
@@ -276,25 +316,30 @@ Visibility OcclusionGrid::readPending(const PixelRect& rect, float threshold, bo
   return Visibility::Occluded;
 }
 
+void OcclusionGrid::readTiles(const std::uint32_t* tiles, std::size_t n, const PixelRect* clip,
+                              AreaAsk ask, float threshold, DepthSource& source) {
+  requests_.clear();
+  owners_.clear();
+  for (std::size_t k = 0; k < n; ++k) {
+    const PixelRect tile = tileRectOf(tiles[k]);
+    appendRead(clip ? intersect(tile, *clip) : tile, ask, threshold, requests_);
+    owners_.resize(requests_.size(), std::uint32_t(k));
+  }
+  answers_.resize(requests_.size());
+  source.submit(requests_.data(), requests_.size(), answers_.data());
+  source.collect();
+}
+
 bool OcclusionGrid::summarizeTiles(const std::uint32_t* tiles, std::size_t n, float threshold,
                                    DepthSource& source) {
-  rects_.clear();
-  owners_.clear();
-  for (std::size_t k = 0; k < n; ++k) appendSampledRows(tileRectOf(tiles[k]), std::uint32_t(k));
-  areas_.resize(rects_.size());
-  source.summarize(rects_.data(), rects_.size(), areas_.data());
+  readTiles(tiles, n, nullptr, AreaAsk::Summary, threshold, source);
   bool shows = false;
   std::size_t r = 0;
   for (std::size_t k = 0; k < n; ++k) {
-    // Seeded from the first row so that a NaN from the source stays NaN (and visible).
-    AreaDepth merged = areas_[r];
-    std::uint32_t sampled = std::uint32_t(rects_[r].area());
-    for (++r; r < rects_.size() && owners_[r] == k; ++r) {
-      merged.min_key = std::min(merged.min_key, areas_[r].min_key);
-      merged.max_key = std::max(merged.max_key, areas_[r].max_key);
-      merged.free_pixels += areas_[r].free_pixels;
-      sampled += std::uint32_t(rects_[r].area());
-    }
+    const std::size_t first = r;
+    while (r < requests_.size() && owners_[r] == k) ++r;
+    std::uint32_t sampled = 0;
+    const AreaDepth merged = mergeSummaries(requests_.data(), answers_.data(), first, r, sampled);
     applySummary(tiles[k], merged, sampled);
     shows |= !(far_[tiles[k]] < threshold);  // NaN shows
   }
@@ -304,26 +349,17 @@ bool OcclusionGrid::summarizeTiles(const std::uint32_t* tiles, std::size_t n, fl
 OcclusionGrid::CountResult OcclusionGrid::countTiles(const std::uint32_t* tiles, std::size_t n,
                                                      const PixelRect* clip, float threshold,
                                                      DepthSource& source) {
-  rects_.clear();
-  owners_.clear();
-  for (std::size_t k = 0; k < n; ++k) {
-    const PixelRect tile = tileRectOf(tiles[k]);
-    appendSampledRows(clip ? intersect(tile, *clip) : tile, std::uint32_t(k));
-  }
-  queries_.clear();
-  for (const PixelRect& r : rects_) queries_.push_back({r, threshold});
-  counts_.resize(queries_.size());
-  source.countAtOrBeyond(queries_.data(), queries_.size(), counts_.data());
+  readTiles(tiles, n, clip, AreaAsk::Count, threshold, source);
   CountResult result;
   std::size_t r = 0;
   for (std::size_t k = 0; k < n; ++k) {
     std::uint32_t count = 0, sampled = 0;
-    for (; r < rects_.size() && owners_[r] == k; ++r) {
-      count += counts_[r];
-      sampled += std::uint32_t(rects_[r].area());
+    for (; r < requests_.size() && owners_[r] == k; ++r) {
+      count += answers_[r].count;
+      sampled += std::uint32_t(requests_[r].rect.area());
     }
     if (!clip) applyCount(tiles[k], count, sampled, threshold);
-    result.shows |= countShows(count, sampled);
+    result.shows |= countShows(count, sampled, threshold);
     result.pixels += std::uint64_t(count) * approx_.row_stride;
   }
   return result;
@@ -343,7 +379,7 @@ void OcclusionGrid::refreshNow(const PixelRect& rect, DepthSource& source) {
     }
   }
   if (pending_.empty()) return;
-  if (source.traits().reads_pixels) {
+  if (source.traits().reads_depth) {
     summarizeTiles(pending_.data(), pending_.size(), clear_key_, source);
   } else {
     // Free-pixel counts: exact states; for zfar a bound only when nothing is free.
@@ -373,7 +409,7 @@ Visibility OcclusionGrid::testCounting(const PixelRect& rect, float threshold, D
       pending_.push_back(static_cast<std::uint32_t>(i));
     }
   }
-  const std::size_t step = source.traits().batched ? pending_.size() : 1;
+  const std::size_t step = source.traits().asynchronous ? pending_.size() : 1;
   for (std::size_t first = 0; first < pending_.size(); first += step) {
     const std::size_t n = std::min(step, pending_.size() - first);
     counts.tiles_tested += n;
@@ -382,6 +418,175 @@ Visibility OcclusionGrid::testCounting(const PixelRect& rect, float threshold, D
     if (seen > allowed) return Visibility::Visible;
   }
   return Visibility::Occluded;
+}
+
+// ---------------------------------------------------------------------------
+// Batched tests
+// ---------------------------------------------------------------------------
+
+std::optional<Visibility> OcclusionGrid::plan(const PixelRect& rect, float threshold,
+                                              const DepthSourceTraits& source, GridBatch& batch,
+                                              GridTestCounts& counts) {
+  assert(!rect.empty() && rect.x0 >= 0 && rect.y0 >= 0 && rect.x1 <= std::int32_t(desc_.width) &&
+         rect.y1 <= std::int32_t(desc_.height) &&
+         "OcclusionGrid::plan: rect must be non-empty and inside the viewport");
+  assert(approx_.visible_pixels == 0 && "OcclusionGrid::plan: counting tests are not batched");
+  assert(!batch.submitted_ && "OcclusionGrid::plan: the batch was already submitted");
+  exact_records_ = source.reads_depth;
+  if (batch.empty()) {
+    batch.reads_depth_ = source.reads_depth;
+    batch.epoch_ = epoch_;
+  }
+  const TileSpan s = tileSpan(rect, desc_.tile_size, desc_.width, desc_.height);
+
+  // Steps 1 and 2, as in test().
+  for (int internal_pass = 1; internal_pass >= 0; --internal_pass) {
+    for (std::uint32_t ty = s.y0; ty <= s.y1; ++ty) {
+      for (std::uint32_t tx = s.x0; tx <= s.x1; ++tx) {
+        const bool internal = s.internal(tx, ty);
+        if (internal != bool(internal_pass)) continue;
+        const std::size_t i = std::size_t(ty) * tiles_x_ + tx;
+        if (outdated_[i]) continue;
+        const Decision d = decideFromRecord(i, internal, threshold);
+        if (d == Decision::Undecided) continue;
+        ++counts.tiles_tested;
+        if (d == Decision::Visible) return Visibility::Visible;
+      }
+    }
+  }
+  // What steps 3 and 4 would read.
+  undecided_.clear();
+  for (int internal_pass = 1; internal_pass >= 0; --internal_pass) {
+    for (std::uint32_t ty = s.y0; ty <= s.y1; ++ty) {
+      for (std::uint32_t tx = s.x0; tx <= s.x1; ++tx) {
+        const bool internal = s.internal(tx, ty);
+        if (internal != bool(internal_pass)) continue;
+        const std::size_t i = std::size_t(ty) * tiles_x_ + tx;
+        if (!outdated_[i] && decideFromRecord(i, internal, threshold) != Decision::Undecided) {
+          continue;
+        }
+        if (far_[i] < threshold) {
+          ++counts.tiles_tested;
+          continue;
+        }
+        undecided_.push_back(std::uint32_t(i) | (internal ? kInternalBit : 0u));
+      }
+    }
+  }
+  if (undecided_.empty()) return Visibility::Occluded;
+
+  GridBatch::Test test{std::uint32_t(batch.test_reads_.size()), 0, threshold};
+  const AreaAsk whole_ask = batch.reads_depth_ ? AreaAsk::Summary : AreaAsk::Count;
+  for (std::uint32_t packed : undecided_) {
+    const std::uint32_t tile = packed & ~kInternalBit;
+    const bool whole = (packed & kInternalBit) != 0;
+    ++counts.tiles_tested;
+    if (whole && planned_[tile] != 0) {
+      // Another test of the batch already reads this whole tile; a count is shared only
+      // at the same threshold.
+      const std::uint32_t shared = planned_[tile] - 1;
+      if (whole_ask == AreaAsk::Summary || batch.reads_[shared].threshold == threshold) {
+        batch.test_reads_.push_back(shared);
+        ++test.reads;
+        continue;
+      }
+    }
+    const PixelRect area = whole ? tileRectOf(tile) : intersect(tileRectOf(tile), rect);
+    GridBatch::Read read{tile, whole, threshold, std::uint32_t(batch.requests_.size()), 0};
+    appendRead(area, whole ? whole_ask : AreaAsk::Count, threshold, batch.requests_);
+    read.count = std::uint32_t(batch.requests_.size()) - read.first;
+    const std::uint32_t index = std::uint32_t(batch.reads_.size());
+    batch.reads_.push_back(read);
+    batch.test_reads_.push_back(index);
+    ++test.reads;
+    ++counts.tiles_read;
+    if (whole) {
+      if (planned_[tile] == 0) planned_tiles_.push_back(tile);
+      planned_[tile] = index + 1;
+    }
+  }
+  batch.tests_.push_back(test);
+  return std::nullopt;
+}
+
+void OcclusionGrid::submit(GridBatch& batch, DepthSource& source) {
+  assert(!batch.submitted_ && "OcclusionGrid::submit: the batch was already submitted");
+  for (std::uint32_t t : planned_tiles_) planned_[t] = 0;
+  planned_tiles_.clear();
+  batch.answers_.assign(batch.requests_.size(), AreaAnswer{});
+  batch.submitted_stamp_ = draw_stamp_;
+  batch.submitted_ = true;
+  if (!batch.requests_.empty()) {
+    source.submit(batch.requests_.data(), batch.requests_.size(), batch.answers_.data());
+  }
+}
+
+void OcclusionGrid::apply(GridBatch& batch) {
+  assert(batch.submitted_ && "OcclusionGrid::apply: submit the batch first");
+  if (batch.epoch_ != epoch_) return;  // the buffer was cleared since: resolve() says visible
+  for (const GridBatch::Read& read : batch.reads_) {
+    if (!read.whole) continue;
+    const std::size_t first = read.first, end = read.first + read.count;
+    if (batch.requests_[first].ask == AreaAsk::Summary) {
+      std::uint32_t sampled = 0;
+      applySummary(
+          read.tile,
+          mergeSummaries(batch.requests_.data(), batch.answers_.data(), first, end, sampled),
+          sampled);
+    } else {
+      std::uint32_t count = 0, sampled = 0;
+      for (std::size_t r = first; r < end; ++r) {
+        count += batch.answers_[r].count;
+        sampled += std::uint32_t(batch.requests_[r].rect.area());
+      }
+      applyCount(read.tile, count, sampled, read.threshold);
+    }
+    // Drawn over after the read was issued: the far bound holds, the rest does not.
+    if (stamp_[read.tile] > batch.submitted_stamp_) outdated_[read.tile] = 1;
+  }
+}
+
+Visibility OcclusionGrid::resolve(const GridBatch& batch, std::size_t index,
+                                  GridTestCounts& counts) const {
+  (void)counts;
+  if (!batch.submitted_ || batch.epoch_ != epoch_) return Visibility::Visible;
+  const GridBatch::Test& test = batch.tests_[index];
+  for (std::uint32_t k = 0; k < test.reads; ++k) {
+    const GridBatch::Read& read = batch.reads_[batch.test_reads_[test.first_read + k]];
+    bool shows;
+    if (read.whole) {
+      shows = !(far_[read.tile] < test.threshold);  // the record apply() refreshed; NaN shows
+    } else {
+      std::uint32_t count = 0, sampled = 0;
+      for (std::size_t r = read.first; r < std::size_t(read.first) + read.count; ++r) {
+        count += batch.answers_[r].count;
+        sampled += std::uint32_t(batch.requests_[r].rect.area());
+      }
+      shows = countShows(count, sampled, test.threshold);
+    }
+    if (shows) return Visibility::Visible;
+  }
+  return Visibility::Occluded;
+}
+
+void OcclusionGrid::refreshOutdated(DepthSource& source, GridTestCounts& counts) {
+  refresh_.clear();
+  refresh_.reads_depth_ = source.traits().reads_depth;
+  refresh_.epoch_ = epoch_;
+  const AreaAsk ask = refresh_.reads_depth_ ? AreaAsk::Summary : AreaAsk::Count;
+  for (std::size_t i = 0; i < outdated_.size(); ++i) {
+    if (!outdated_[i]) continue;
+    GridBatch::Read read{std::uint32_t(i), true, clear_key_,
+                         std::uint32_t(refresh_.requests_.size()), 0};
+    appendRead(tileRectOf(i), ask, clear_key_, refresh_.requests_);
+    read.count = std::uint32_t(refresh_.requests_.size()) - read.first;
+    refresh_.reads_.push_back(read);
+  }
+  if (refresh_.reads_.empty()) return;
+  counts.tiles_read += refresh_.reads_.size();
+  submit(refresh_, source);
+  source.collect();
+  apply(refresh_);
 }
 
 }  // namespace logrid

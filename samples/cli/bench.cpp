@@ -113,7 +113,7 @@ Row makeRow(const std::string& label, const ConfigResult& r, const nlohmann::jso
   Row row;
   row.label = label;
   row.method = r.config.method.name();
-  row.reader = r.config.method.method ? toString(r.config.reader) : "–";
+  row.reader = r.config.method.method ? r.config.reader : "–";
   row.ms = r.avg_ms();
   row.spread = r.spread();
   row.objects = s["avg_drawn_objects"];

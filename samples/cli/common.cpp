@@ -9,6 +9,7 @@
 #include <sstream>
 #include <thread>
 
+#include "cli/readers.hpp"
 #include "cli/report.hpp"
 #include "logrid/error.hpp"
 #include "scene/generators.hpp"
@@ -44,7 +45,12 @@ void addWalkthroughOptions(CLI::App& app, WalkOptions& o) {
 
 void addViewOptions(CLI::App& app, WalkOptions& o) {
   app.add_option("--tile", o.tile, "tile size in pixels");
-  app.add_option("--reader", o.reader, "depth source: readpixels, pbo, query or software");
+  app.add_option("--reader", o.reader, "depth source: " + readerNames());
+  app.add_option("--lookahead", o.lookahead,
+                 "boxes whose undecided tiles are read in one batch (1: the paper's order; "
+                 "'all': every box the traversal reaches)");
+  app.add_flag("--coherence,!--no-coherence", o.coherence,
+               "draw last frame's visible leaves first, then refresh the grid in one batch");
   app.add_option("--depth-format", o.depth_format, "depth buffer: 16, 24 or 32f");
   app.add_option("--depth-convention", o.depth_convention, "standard or reversed");
   app.add_option("--near", o.near_plane, "near plane (default: the scene's)");
@@ -86,6 +92,18 @@ DepthConvention parseDepthConvention(const std::string& text) {
   if (text == "reversed") return DepthConvention::Reversed;
   throw Error(ErrorCode::InvalidArgument,
               "depth convention '" + text + "' is unknown; use standard or reversed");
+}
+
+std::uint32_t parseLookahead(const std::string& text) {
+  if (text == "all") return kUnlimitedLookahead;
+  unsigned long k = 0;
+  char extra = 0;
+  std::istringstream in(text);
+  if (!(in >> k) || (in >> extra) || k < 1 || k >= kUnlimitedLookahead) {
+    throw Error(ErrorCode::InvalidArgument,
+                "lookahead '" + text + "' is invalid; use a number of boxes from 1 or 'all'");
+  }
+  return std::uint32_t(k);
 }
 
 namespace {
@@ -219,16 +237,17 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
                                                 "pq, vfc, ddo, ddo+log or oracle");
   }
   c.method = *method;
-  const auto reader = parseReader(o.reader);
-  if (!reader) {
+  if (!findReader(o.reader)) {
     throw Error(ErrorCode::InvalidArgument,
-                "reader '" + o.reader + "' is unknown; use readpixels, pbo, query or software");
+                "reader '" + o.reader + "' is unknown; use " + readerNames());
   }
-  c.reader = *reader;
+  c.reader = o.reader;
   c.culler.tile_size = o.tile;
   if (o.tile < 1)
     throw Error(ErrorCode::InvalidArgument, "tile size 0 is invalid; use 1 pixel or more");
   c.culler.approximation = o.approximation;
+  c.culler.lookahead = parseLookahead(o.lookahead);
+  c.culler.temporal_coherence = o.coherence;
   if (c.method.method) {
     CullerDesc check = c.culler;
     check.method = *c.method.method;

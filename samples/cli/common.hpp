@@ -26,6 +26,8 @@ struct WalkOptions {
   std::string size = "640x480";
   std::uint32_t tile = 32;
   std::string reader = "readpixels";
+  std::string lookahead = "1";  // a count, or "all"
+  bool coherence = false;
   std::string depth_format = "32f";
   std::string depth_convention = "standard";
   double near_plane = 0;  // 0: the scene's
@@ -62,6 +64,8 @@ void addViewOptions(CLI::App& app, WalkOptions& o);
 std::pair<std::uint32_t, std::uint32_t> parseSize(const std::string& text);
 DepthFormat parseDepthFormat(const std::string& text);
 DepthConvention parseDepthConvention(const std::string& text);
+// "1", "16", ... or "all" (kUnlimitedLookahead).
+std::uint32_t parseLookahead(const std::string& text);
 
 // A scene ready to draw: prepared, uploaded, with how long each step took.
 struct LoadedScene {

@@ -15,23 +15,6 @@
 
 namespace logrid::samples {
 
-const char* toString(Reader reader) {
-  switch (reader) {
-    case Reader::ReadPixels: return "readpixels";
-    case Reader::Pbo: return "pbo";
-    case Reader::Query: return "query";
-    case Reader::Software: return "software";
-  }
-  return "?";
-}
-
-std::optional<Reader> parseReader(const std::string& name) {
-  for (Reader r : {Reader::ReadPixels, Reader::Pbo, Reader::Query, Reader::Software}) {
-    if (name == toString(r)) return r;
-  }
-  return std::nullopt;
-}
-
 std::optional<MethodChoice> parseMethodChoice(const std::string& name) {
   if (name == "oracle") return MethodChoice{std::nullopt};
   if (name == "ddo") return MethodChoice{std::nullopt, DdoUse::Culler};
@@ -47,8 +30,7 @@ class NoDepthSource : public DepthSource {
  public:
   DepthSourceTraits traits() const override { return {"none", true, false}; }
   void beginFrame(const Camera&) override {}
-  void summarize(const PixelRect*, std::size_t, AreaDepth*) override { unused(); }
-  void countAtOrBeyond(const AreaQuery*, std::size_t, std::uint32_t*) override { unused(); }
+  void submit(const AreaRequest*, std::size_t, AreaAnswer*) override { unused(); }
   void readKeys(const PixelRect&, float*) override { unused(); }
 
  private:
@@ -96,20 +78,21 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
     desc.method = *config.method.method;
     culler_ = std::make_unique<Culler>(desc);
     if (config.overlay) culler_->setObserver(observer_.get());
-    const std::uint32_t handle = framebuffer_->handle();
-    switch (config.reader) {
-      case Reader::ReadPixels: source_ = std::make_unique<zread::ReadPixelsSource>(handle); break;
-      case Reader::Pbo: source_ = std::make_unique<zread::PboSource>(handle); break;
-      case Reader::Query: source_ = std::make_unique<zread::QuerySource>(handle); break;
-      case Reader::Software:
-        software_ =
-            std::make_unique<cpu::SoftwareDepthBuffer>(fb.width, fb.height, fb.depth.convention);
-        break;
-    }
-    if (config.reader == Reader::Query && desc.method == Method::Hzb) {
+    const ReaderInfo* reader = findReader(config.reader);
+    if (!reader) {
       throw Error(ErrorCode::InvalidArgument,
-                  "method hzb needs depth values; use --reader readpixels, pbo or software");
+                  "reader '" + config.reader + "' is unknown; use " + readerNames());
     }
+    if (!reader->reads_depth && methodInfo(desc.method).needs_depth_values) {
+      std::string readers;
+      for (const ReaderInfo& r : readerTable()) {
+        if (r.reads_depth) readers += std::string(readers.empty() ? "" : ", ") + r.name;
+      }
+      throw Error(ErrorCode::InvalidArgument,
+                  std::string("method ") + toString(desc.method) + " needs depth values, which " +
+                      reader->name + " cannot give; use --reader " + readers);
+    }
+    reader_ = reader->make({scene, framebuffer_->handle(), fb.width, fb.height, fb.depth});
   }
   if (config.method.ddo != DdoUse::None) {
     if (!scene.ddo) {
@@ -120,13 +103,7 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
     selector_ = std::make_unique<ddo::Selector>(*scene.ddo);
   }
   if (config.method.ddo == DdoUse::Occluders) {
-    // The occlusion-state grid must learn which areas the occluders filled before the
-    // traversal (and how far back they lie), or it would take them for drawn geometry in
-    // front of every box. Culler has no such entry point yet.
-    throw Error(ErrorCode::Unsupported,
-                "method ddo+log needs the culler to accept areas drawn before the traversal, "
-                "which this build lacks; use ddo or log-state");
-    if (config.reader == Reader::Software) {
+    if (config.reader == "software") {
       throw Error(ErrorCode::InvalidArgument,
                   "method ddo+log draws its occluders with GL; use --reader readpixels, pbo or "
                   "query");
@@ -197,20 +174,6 @@ OracleFrame FrameRunner::visibleSet(std::size_t frame, const Camera& camera) {
   return *frames[frame];
 }
 
-void FrameRunner::rasterizeObject(ObjectId id, cpu::SoftwareRasterizer& raster) {
-  const gl::RenderMesh& mesh = scene_.mesh;
-  const gl::RenderMesh::Draw& d = mesh.draws[id];
-  for (std::uint32_t i = d.first_index; i < d.first_index + d.index_count; i += 3) {
-    const float* v[3];
-    for (std::uint32_t k = 0; k < 3; ++k) {
-      const std::uint32_t local =
-          mesh.indices16.empty() ? mesh.indices32[i + k] : mesh.indices16[i + k];
-      v[k] = &mesh.positions[(std::size_t(d.base_vertex) + local) * 3];
-    }
-    raster.drawTriangle(v[0], v[1], v[2], id);
-  }
-}
-
 FrameRecord FrameRunner::renderFrame(std::size_t frame) {
   FrameRecord rec;
   rec.frame = frame;
@@ -240,6 +203,7 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
       drawn_[id] = 1;
       drawn_list_.push_back(id);
     }
+    if (reader_) reader_->objectDrawn(id);
   };
   if (config_.method.oracle()) {
     for (ObjectId id : oracle.visible) draw(id);
@@ -256,16 +220,20 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
     rec.stats.objects_drawn = selection.objects;
     rec.stats.seconds = selection.seconds;
     rec.occluders = std::int64_t(selection.faces_selected);
-  } else if (software_) {
-    software_->clear();
-    // Inner coverage: the software buffer must never hold depth where GL drew nothing.
-    cpu::SoftwareRasterizer raster(camera, *software_, nullptr, cpu::Coverage::Inner);
-    rec.stats = culler_->cullFrame(camera, scene_.hierarchy, *software_, [&](ObjectId id) {
-      draw(id);
-      rasterizeObject(id, raster);
-    });
   } else {
-    rec.stats = culler_->cullFrame(camera, scene_.hierarchy, *source_, draw);
+    reader_->beginFrame(camera);
+    // ddo+log: the occluders drawn above are announced, each with its pixels and its
+    // farthest depth key, so that the grid reads those tiles and the occlusion-state order
+    // knows how far back they lie.
+    occluder_areas_.clear();
+    if (selector_) {
+      for (const ddo::Occluder& o : selector_->occluders()) {
+        occluder_areas_.push_back({o.rect, o.far_key});
+      }
+    }
+    rec.stats = culler_->cullFrame(camera, scene_.hierarchy, reader_->source(), draw,
+                                   occluder_areas_);
+    if (selector_) rec.stats.seconds += selection.seconds;
   }
   renderer_.end();
   glFinish();

@@ -11,8 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "logrid/cpu/software_depth.hpp"
-#include "logrid/cpu/software_rasterizer.hpp"
+#include "cli/readers.hpp"
 #include "logrid/culler.hpp"
 #include "logrid/ddo/selector.hpp"
 #include "logrid/gl/framebuffer.hpp"
@@ -22,10 +21,6 @@
 #include "scene/view.hpp"
 
 namespace logrid::samples {
-
-enum class Reader : std::uint8_t { ReadPixels, Pbo, Query, Software };
-const char* toString(Reader reader);
-std::optional<Reader> parseReader(const std::string& name);
 
 // How a run uses the directional discretized occluders (DDO; scene/ddo_scene.hpp,
 // logrid/ddo/selector.hpp).
@@ -52,8 +47,8 @@ std::optional<MethodChoice> parseMethodChoice(const std::string& name);
 
 struct RunConfig {
   MethodChoice method{Method::LogState};
-  CullerDesc culler;  // method is taken from `method`
-  Reader reader = Reader::ReadPixels;
+  CullerDesc culler;                  // method is taken from `method`
+  std::string reader = "readpixels";  // a name of readerTable()
   ViewSettings view;
   std::size_t frames = 100;  // frames spread over the whole path
   bool verify = false;       // object-ID check after each frame
@@ -113,18 +108,17 @@ class FrameRunner {
   // The ID pass of a frame, from the shared cache when another runner did it.
   OracleFrame visibleSet(std::size_t frame, const Camera& camera);
   void writeImages(std::size_t frame, const Camera& camera);
-  void rasterizeObject(ObjectId id, cpu::SoftwareRasterizer& raster);
 
   const PreparedScene& scene_;
   gl::MeshRenderer& renderer_;
   RunConfig config_;
   std::unique_ptr<gl::Framebuffer> framebuffer_;
-  std::unique_ptr<DepthSource> source_;
-  std::unique_ptr<cpu::SoftwareDepthBuffer> software_;
+  std::unique_ptr<FrameReader> reader_;
   std::unique_ptr<Culler> culler_;
   std::unique_ptr<Culler> vfc_;                              // for the ID pass
   std::unique_ptr<ddo::Selector> selector_;                  // ddo and ddo+log
   std::unique_ptr<gl::OccluderRenderer> occluder_renderer_;  // ddo+log
+  std::vector<DrawnArea> occluder_areas_;                    // ddo+log, this frame's
   struct Observer;
   std::unique_ptr<Observer> observer_;
   std::vector<std::uint8_t> drawn_;  // per object, this frame

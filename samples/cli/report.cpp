@@ -21,8 +21,11 @@ nlohmann::json frameJson(const FrameRecord& r) {
                       {"tiles_per_box", s.tilesPerBox()},
                       {"reads", s.reads},
                       {"read_pixels", s.pixels_read},
+                      {"read_bytes", s.bytes_read},
                       {"queries", s.queries},
+                      {"batches", s.batches},
                       {"flushes", s.flushes},
+                      {"coherent_leaves", s.coherent_leaves},
                       {"read_ms", s.read_seconds * 1e3},
                       {"cull_ms", s.seconds * 1e3},
                       {"order_fallbacks", s.order_fallbacks},
@@ -65,7 +68,7 @@ double median(std::vector<double> v) {
 nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConfig& config,
                           bool per_frame) {
   double ms = 0, objects = 0, triangles = 0, pixels = 0, tiles = 0, boxes = 0, read_ms = 0,
-         reads = 0, queries = 0, flushes = 0, occluders = 0;
+         reads = 0, queries = 0, bytes = 0, batches = 0, flushes = 0, occluders = 0;
   bool with_occluders = false;
   std::int64_t visible = 0, missed = 0, artifacts = 0, missed_artifacts = 0;
   bool verified = false;
@@ -81,6 +84,8 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
     read_ms += r.stats.read_seconds * 1e3;
     reads += double(r.stats.reads);
     queries += double(r.stats.queries);
+    bytes += double(r.stats.bytes_read);
+    batches += double(r.stats.batches);
     flushes += double(r.stats.flushes);
     if (r.occluders >= 0) with_occluders = true, occluders += double(r.occluders);
     if (r.visible >= 0) {
@@ -93,11 +98,15 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
   }
   const double n = std::max<double>(1, double(records.size()));
   nlohmann::json j = {{"method", config.method.name()},
-                      {"reader", toString(config.reader)},
+                      {"reader", config.reader},
                       {"frames", records.size()},
                       {"width", config.view.width},
                       {"height", config.view.height},
                       {"tile", config.culler.tile_size},
+                      {"lookahead", config.culler.lookahead == kUnlimitedLookahead
+                                        ? nlohmann::json("all")
+                                        : nlohmann::json(config.culler.lookahead)},
+                      {"temporal_coherence", config.culler.temporal_coherence},
                       {"depth_format", toString(config.view.depth.format)},
                       {"depth_convention", toString(config.view.depth.convention)},
                       {"projection", config.view.orthographic ? "orthographic" : "perspective"},
@@ -110,6 +119,8 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
                       {"avg_read_pixels", pixels / n},
                       {"avg_reads", reads / n},
                       {"avg_queries", queries / n},
+                      {"avg_read_bytes", bytes / n},
+                      {"avg_batches", batches / n},
                       {"avg_flushes", flushes / n},
                       {"avg_read_ms", read_ms / n},
                       {"read_share", ms > 0 ? read_ms / ms : 0.0},

@@ -1,6 +1,8 @@
-// On a rendered frame, every GL depth source (glReadPixels, PBO, occlusion queries)
-// gives the same answers as a software source holding the same depth values, in every
-// depth format and convention. And the query source leaves the GL state as it found it.
+// On a rendered frame, every GL depth source (glReadPixels, PBO ring, compute-shader
+// reduction with both kernels, occlusion queries) gives the same answers as a software
+// source holding the same depth values, in every depth format and convention, whether
+// asked one request at a time or in batches. And the query source leaves the GL state
+// as it found it.
 #include <epoxy/gl.h>
 #include <gtest/gtest.h>
 
@@ -13,6 +15,7 @@
 #include "logrid/gl/mesh_renderer.hpp"
 #include "logrid/projection.hpp"
 #include "logrid/zread/gl_sources.hpp"
+#include "logrid/zread/reduction_source.hpp"
 
 namespace logrid {
 namespace {
@@ -82,8 +85,10 @@ TEST_P(SourcesTest, EverySourceAgreesWithTheSoftwareSource) {
   zread::ReadPixelsSource readpixels(fb.handle());
   zread::PboSource pbo(fb.handle());
   zread::QuerySource query(fb.handle());
-  for (DepthSource* s :
-       std::initializer_list<DepthSource*>{&reference, &readpixels, &pbo, &query}) {
+  zread::ReductionSource reduce_serial(fb.handle(), zread::ReductionSource::Kernel::PerRequest);
+  zread::ReductionSource reduce_groups(fb.handle(), zread::ReductionSource::Kernel::PerWorkgroup);
+  for (DepthSource* s : std::initializer_list<DepthSource*>{&reference, &readpixels, &pbo, &query,
+                                                            &reduce_serial, &reduce_groups}) {
     s->beginFrame(cam);
   }
 
@@ -94,11 +99,13 @@ TEST_P(SourcesTest, EverySourceAgreesWithTheSoftwareSource) {
     const std::int32_t x0 = std::int32_t(rng() % w), y0 = std::int32_t(rng() % h);
     const PixelRect r{x0, y0, x0 + 1 + std::int32_t(rng() % (w - std::uint32_t(x0))),
                       y0 + 1 + std::int32_t(rng() % (h - std::uint32_t(y0)))};
-    AreaDepth want, got_rp, got_pbo;
+    AreaDepth want, got_rp, got_pbo, got_rs, got_rg;
     reference.summarize(&r, 1, &want);
     readpixels.summarize(&r, 1, &got_rp);
     pbo.summarize(&r, 1, &got_pbo);
-    for (const AreaDepth* got : {&got_rp, &got_pbo}) {
+    reduce_serial.summarize(&r, 1, &got_rs);
+    reduce_groups.summarize(&r, 1, &got_rg);
+    for (const AreaDepth* got : {&got_rp, &got_pbo, &got_rs, &got_rg}) {
       EXPECT_EQ(got->free_pixels, want.free_pixels);
       EXPECT_LE(got->min_key, want.min_key + 1e-7f);  // rounded outwards
       EXPECT_GE(got->max_key, want.max_key - 1e-7f);
@@ -110,17 +117,20 @@ TEST_P(SourcesTest, EverySourceAgreesWithTheSoftwareSource) {
     const float at = want.min_key + (want.max_key - want.min_key) * float(rng() % 100) / 100.0f;
     const float margin = float(std::max(step, 1e-6) * 0.5);
     for (float t : {at - margin, at + margin, want.max_key, want.min_key}) {
-      const AreaQuery q{r, t};
-      std::uint32_t n_ref = 0, n_rp = 0, n_pbo = 0, n_q = 0, n_step_below = 0;
-      reference.countAtOrBeyond(&q, 1, &n_ref);
-      readpixels.countAtOrBeyond(&q, 1, &n_rp);
-      pbo.countAtOrBeyond(&q, 1, &n_pbo);
-      query.countAtOrBeyond(&q, 1, &n_q);
-      const AreaQuery lower{r, float(t - step - 2e-7)};
-      reference.countAtOrBeyond(&lower, 1, &n_step_below);
+      std::uint32_t n_ref = 0, n_rp = 0, n_pbo = 0, n_q = 0, n_rs = 0, n_rg = 0, n_step_below = 0;
+      reference.countAtOrBeyond(&r, 1, t, &n_ref);
+      readpixels.countAtOrBeyond(&r, 1, t, &n_rp);
+      pbo.countAtOrBeyond(&r, 1, t, &n_pbo);
+      query.countAtOrBeyond(&r, 1, t, &n_q);
+      reduce_serial.countAtOrBeyond(&r, 1, t, &n_rs);
+      reduce_groups.countAtOrBeyond(&r, 1, t, &n_rg);
+      reference.countAtOrBeyond(&r, 1, float(t - step - 2e-7), &n_step_below);
       // Never fewer than the pixels at or beyond t: fewer would be non-conservative.
       EXPECT_GE(n_rp, n_ref);
       EXPECT_GE(n_pbo, n_ref);
+      EXPECT_GE(n_rs, n_ref);
+      EXPECT_EQ(n_rg, n_rs);
+      EXPECT_LE(n_rs, n_step_below);
       EXPECT_GE(n_q, n_ref) << "rect " << r.x0 << "," << r.y0 << " t " << t;
       if (t == want.max_key) {
         EXPECT_GT(n_q, 0u);  // the farthest pixel is at the threshold
@@ -129,6 +139,7 @@ TEST_P(SourcesTest, EverySourceAgreesWithTheSoftwareSource) {
         // Between stored values the readers count exactly.
         EXPECT_EQ(n_rp, n_ref) << "rect " << r.x0 << "," << r.y0 << " t " << t;
         EXPECT_EQ(n_pbo, n_ref);
+        EXPECT_EQ(n_rs, n_ref);
       }
       // A query compares in the buffer's quantised domain: it may also count pixels up
       // to one quantisation step below the threshold (none for 32F), never more.
@@ -157,9 +168,9 @@ TEST_P(SourcesTest, QuerySourceRestoresTheStateItChanges) {
   glDepthMask(GL_TRUE);
   glEnable(GL_SCISSOR_TEST);
   glScissor(1, 2, 3, 4);
-  const AreaQuery q{{0, 0, 8, 8}, 0.5f};
+  const PixelRect q{0, 0, 8, 8};
   std::uint32_t n = 0;
-  query.countAtOrBeyond(&q, 1, &n);
+  query.countAtOrBeyond(&q, 1, 0.5f, &n);
   GLint func = 0, box[4];
   GLboolean mask = GL_FALSE, colors[4];
   glGetIntegerv(GL_DEPTH_FUNC, &func);
@@ -188,7 +199,9 @@ TEST(SourcesErrorTest, AMismatchedDepthFormatIsAClearError) {
     EXPECT_NE(std::string(e.what()).find("24-bit unorm"), std::string::npos) << e.what();
   }
   zread::QuerySource query(fb.handle());
-  EXPECT_THROW(query.summarize(nullptr, 0, nullptr), Error);
+  const PixelRect one{0, 0, 1, 1};
+  AreaDepth summary;
+  EXPECT_THROW(query.summarize(&one, 1, &summary), Error);
 }
 
 std::string caseName(const testing::TestParamInfo<Case>& param) {

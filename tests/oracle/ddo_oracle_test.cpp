@@ -100,7 +100,7 @@ TEST_P(DdoWalk, NoVisibleObjectIsMissed) {
   View v;
   v.convention = c.convention;
   v.format = c.format;
-  RunConfig config = makeConfig(scene.prepared, Method::LogState, Reader::ReadPixels, v, kFrames);
+  RunConfig config = makeConfig(scene.prepared, Method::LogState, "readpixels", v, kFrames);
   config.method = *samples::parseMethodChoice(c.method);
   const SceneKey key{c.scene, 0, Offset::None, 0};
   const WalkTotals t = checkedWalk(key, scene, config);
@@ -154,7 +154,7 @@ TEST_P(DdoOccluderPixels, DrawingOccludersFirstChangesNoPixel) {
   View v;
   v.convention = c.convention;
   v.format = c.format;
-  const RunConfig config = makeConfig(scene.prepared, Method::Vfc, Reader::ReadPixels, v, kFrames);
+  const RunConfig config = makeConfig(scene.prepared, Method::Vfc, "readpixels", v, kFrames);
   gl::FramebufferDesc fb;
   fb.width = v.width;
   fb.height = v.height;

@@ -32,7 +32,6 @@ namespace logrid::oracle {
 using samples::FrameRecord;
 using samples::FrameRunner;
 using samples::PreparedScene;
-using samples::Reader;
 using samples::RunConfig;
 
 // Scales small enough for a 2-core CI machine and large enough to occlude: the forest at
@@ -144,8 +143,8 @@ struct View {
   bool ortho = false;
 };
 
-inline RunConfig makeConfig(const PreparedScene& scene, Method method, Reader reader, const View& v,
-                            std::size_t frames) {
+inline RunConfig makeConfig(const PreparedScene& scene, Method method, const std::string& reader,
+                            const View& v, std::size_t frames) {
   RunConfig c;
   c.method = samples::MethodChoice{method};
   c.culler.tile_size = v.tile;
@@ -170,9 +169,9 @@ inline std::string reproducer(const SceneKey& key, const RunConfig& c) {
         << "; run this test) ";
   }
   out << "logrid walk --scene " << key.name << " --scale " << key.scale << " --frames " << c.frames
-      << " --method " << c.method.name() << " --reader " << samples::toString(c.reader)
-      << " --size " << c.view.width << "x" << c.view.height << " --tile " << c.culler.tile_size
-      << " --depth-format " << formatName(c.view.depth.format) << " --depth-convention "
+      << " --method " << c.method.name() << " --reader " << c.reader << " --size " << c.view.width
+      << "x" << c.view.height << " --tile " << c.culler.tile_size << " --depth-format "
+      << formatName(c.view.depth.format) << " --depth-convention "
       << toString(c.view.depth.convention) << " --near " << c.view.near_plane << " --far "
       << c.view.far_plane;
   if (c.view.orthographic) {

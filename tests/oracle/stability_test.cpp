@@ -19,6 +19,7 @@
 #include "logrid/error.hpp"
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/zread/gl_sources.hpp"
+#include "logrid/zread/reduction_source.hpp"
 #include "oracle_harness.hpp"
 
 namespace logrid::oracle {
@@ -49,7 +50,7 @@ WalkTotals walkAllMethods(const SceneKey& key, const View& v, std::size_t frames
   WalkTotals all;
   for (Method m : kConservative) {
     SCOPED_TRACE(toString(m));
-    const RunConfig config = makeConfig(scene.prepared, m, Reader::ReadPixels, v, frames);
+    const RunConfig config = makeConfig(scene.prepared, m, "readpixels", v, frames);
     const WalkTotals t = checkedWalk(key, scene, config);
     std::printf("[ oracle ] %-9s %s\n", toString(m), summary(t).c_str());
     all.frames += t.frames;
@@ -313,7 +314,7 @@ TEST_P(HugeViewport, NoVisibleObjectIsMissed) {
   v.height = 8192;
   v.tile = 64;
   v.convention = DepthConvention::Reversed;
-  const RunConfig config = makeConfig(scene.prepared, GetParam(), Reader::ReadPixels, v, 1);
+  const RunConfig config = makeConfig(scene.prepared, GetParam(), "readpixels", v, 1);
   try {
     FrameRunner probe(scene.prepared, *scene.renderer, config);
   } catch (const Error& e) {
@@ -590,8 +591,8 @@ struct CulledFrame {
 
 // One culled frame of a box scene with a method, a source and a tile size.
 CulledFrame culledFrame(const BoxScene& scene, gl::Framebuffer& fb, gl::MeshRenderer& renderer,
-                        const Camera& cam, Method method, Reader reader, std::uint32_t tile,
-                        const bvh::FlatHierarchy& hierarchy) {
+                        const Camera& cam, Method method, const std::string& reader,
+                        std::uint32_t tile, const bvh::FlatHierarchy& hierarchy) {
   CulledFrame out;
   CullerDesc desc;
   desc.method = method;
@@ -600,17 +601,21 @@ CulledFrame culledFrame(const BoxScene& scene, gl::Framebuffer& fb, gl::MeshRend
   std::unique_ptr<DepthSource> source;
   std::unique_ptr<cpu::SoftwareDepthBuffer> software;
   std::unique_ptr<cpu::SoftwareRasterizer> raster;
-  switch (reader) {
-    case Reader::ReadPixels: source = std::make_unique<zread::ReadPixelsSource>(fb.handle()); break;
-    case Reader::Pbo: source = std::make_unique<zread::PboSource>(fb.handle()); break;
-    case Reader::Query: source = std::make_unique<zread::QuerySource>(fb.handle()); break;
-    case Reader::Software:
-      software =
-          std::make_unique<cpu::SoftwareDepthBuffer>(cam.width, cam.height, cam.depth.convention);
-      software->clear();
-      raster =
-          std::make_unique<cpu::SoftwareRasterizer>(cam, *software, nullptr, cpu::Coverage::Inner);
-      break;
+  if (reader == "software") {
+    // Fed with the boxes themselves (samples/cli/readers.cpp feeds a scene's meshes).
+    software =
+        std::make_unique<cpu::SoftwareDepthBuffer>(cam.width, cam.height, cam.depth.convention);
+    software->clear();
+    raster =
+        std::make_unique<cpu::SoftwareRasterizer>(cam, *software, nullptr, cpu::Coverage::Inner);
+  } else if (reader == "readpixels") {
+    source = std::make_unique<zread::ReadPixelsSource>(fb.handle());
+  } else if (reader == "pbo") {
+    source = std::make_unique<zread::PboSource>(fb.handle());
+  } else if (reader == "reduce") {
+    source = std::make_unique<zread::ReductionSource>(fb.handle());
+  } else {
+    source = std::make_unique<zread::QuerySource>(fb.handle());
   }
   const float clear[4] = {0, 0, 0, 1};
   fb.bind();
@@ -662,8 +667,8 @@ TEST_P(BoxEdgeCases, EveryMethodAndSourceDrawsEveryVisibleBox) {
       ASSERT_FALSE(visible.count(id)) << "test set-up: \"" << scene.names[id] << "\" is visible";
     }
     for (Method method : kConservative) {
-      for (Reader reader : {Reader::Software, Reader::ReadPixels, Reader::Pbo, Reader::Query}) {
-        if (method == Method::Hzb && reader == Reader::Query) continue;
+      for (const std::string reader : {"software", "readpixels", "pbo", "reduce", "query"}) {
+        if (method == Method::Hzb && reader == "query") continue;
         for (std::uint32_t tile : {1u, 7u, 32u, 200u}) {  // 200: larger than the viewport
           const CulledFrame f =
               culledFrame(scene, fb, renderer, cam, method, reader, tile, hierarchy);
@@ -672,18 +677,17 @@ TEST_P(BoxEdgeCases, EveryMethodAndSourceDrawsEveryVisibleBox) {
           const std::string missed = missedText(scene, visible, f.drawn);
           EXPECT_TRUE(missed.empty())
               << c.variant << " " << toString(c.convention) << " d" << formatName(format) << " "
-              << toString(method) << " " << samples::toString(reader) << " tile " << tile << ":"
-              << missed;
+              << toString(method) << " " << reader << " tile " << tile << ":" << missed;
           EXPECT_TRUE(std::isfinite(f.stats.seconds) && std::isfinite(f.stats.read_seconds));
-          if (format == DepthFormat::D32F && reader != Reader::Software) {
+          if (format == DepthFormat::D32F && reader != "software") {
             // The true negatives: plainly hidden boxes are culled by every method. (Not
             // with the software source: its inner coverage leaves out centres within a
             // snap step of an edge, so occluders whose edges sit on pixel centres leave
             // gaps, which is the price of never holding depth where GL drew nothing.)
             for (ObjectId id : scene.must_occlude) {
               EXPECT_FALSE(f.drawn.count(id))
-                  << toString(method) << " " << samples::toString(reader) << " tile " << tile
-                  << " drew \"" << scene.names[id] << "\", which is hidden";
+                  << toString(method) << " " << reader << " tile " << tile << " drew \""
+                  << scene.names[id] << "\", which is hidden";
             }
           }
         }
@@ -727,8 +731,7 @@ TEST(BoxOracleControl, AHierarchyThatLiesAboutABoxIsCaught) {
   const std::set<ObjectId> visible = idPass(fb, renderer, cam);
   ASSERT_TRUE(visible.count(victim));
   for (Method method : {Method::LogState, Method::LogZfar, Method::Pq}) {
-    const CulledFrame f =
-        culledFrame(scene, fb, renderer, cam, method, Reader::ReadPixels, 8, hierarchy);
+    const CulledFrame f = culledFrame(scene, fb, renderer, cam, method, "readpixels", 8, hierarchy);
     EXPECT_NE(missedText(scene, visible, f.drawn).find(scene.names[victim]), std::string::npos)
         << toString(method);
   }

@@ -4,7 +4,9 @@
 //   WalkMatrix      log-state and log-zfar over both scenes, both depth conventions,
 //                   24-bit and 32F depth, two resolutions (one odd) and two tile sizes.
 //   Readers         log-state, log-zfar, bog, hzb and pq with every depth source
-//                   (software, glReadPixels, PBO, occlusion queries) at one configuration.
+//                   (samples/cli/readers.cpp) at one configuration.
+//   Lookahead       log-state and log-zfar with lookahead K in {1, 4, 16, all}, with and
+//                   without temporal coherence, over both scenes.
 //   Reduction       per scene, LOG draws clearly fewer objects than view-frustum culling
 //                   along the same frames (and never fewer than the oracle's visible set).
 #include <gtest/gtest.h>
@@ -48,8 +50,7 @@ TEST_P(WalkMatrix, NoVisibleObjectIsMissed) {
   v.tile = c.tile;
   v.convention = c.convention;
   v.format = c.format;
-  const RunConfig config =
-      makeConfig(scene.prepared, c.method, Reader::ReadPixels, v, kMatrixFrames);
+  const RunConfig config = makeConfig(scene.prepared, c.method, "readpixels", v, kMatrixFrames);
   const WalkTotals t = checkedWalk(key, scene, config);
   std::printf("[ oracle ] %s\n", summary(t).c_str());
   EXPECT_EQ(t.missed, 0u) << reproducer(key, config);
@@ -90,7 +91,7 @@ INSTANTIATE_TEST_SUITE_P(Scenes, WalkMatrix, testing::ValuesIn(matrixCases()), m
 struct ReaderCase {
   std::string scene;
   Method method;
-  Reader reader;
+  std::string reader;
 };
 
 class Readers : public testing::TestWithParam<ReaderCase> {};
@@ -118,9 +119,9 @@ std::vector<ReaderCase> readerCases() {
   std::vector<ReaderCase> out;
   for (const char* scene : {"forest", "city"}) {
     for (Method m : {Method::LogState, Method::LogZfar, Method::Bog, Method::Hzb, Method::Pq}) {
-      for (Reader r : {Reader::Software, Reader::ReadPixels, Reader::Pbo, Reader::Query}) {
-        if (m == Method::Hzb && r == Reader::Query) continue;  // refused: see below
-        out.push_back({scene, m, r});
+      for (const samples::ReaderInfo& r : samples::readerTable()) {
+        if (methodInfo(m).needs_depth_values && !r.reads_depth) continue;  // refused: see below
+        out.push_back({scene, m, r.name});
       }
     }
   }
@@ -128,8 +129,7 @@ std::vector<ReaderCase> readerCases() {
 }
 
 std::string readerName(const testing::TestParamInfo<ReaderCase>& p) {
-  return sanitize(p.param.scene + "_" + toString(p.param.method) + "_" +
-                  samples::toString(p.param.reader));
+  return sanitize(p.param.scene + "_" + toString(p.param.method) + "_" + p.param.reader);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllSources, Readers, testing::ValuesIn(readerCases()), readerName);
@@ -140,7 +140,7 @@ TEST(ReadersRefusal, HzbWithQueriesIsRefusedClearly) {
   LOGRID_REQUIRE_GL();
   const SceneKey key = sceneKey("forest");
   LoadedScene& scene = loadScene(key);
-  const RunConfig config = makeConfig(scene.prepared, Method::Hzb, Reader::Query, View{}, 1);
+  const RunConfig config = makeConfig(scene.prepared, Method::Hzb, "query", View{}, 1);
   try {
     FrameRunner runner(scene.prepared, *scene.renderer, config);
     FAIL() << "hzb with the query reader was accepted";
@@ -148,6 +148,71 @@ TEST(ReadersRefusal, HzbWithQueriesIsRefusedClearly) {
     EXPECT_NE(std::string(e.what()).find("readpixels"), std::string::npos) << e.what();
   }
 }
+
+// ---------------------------------------------------------------------------
+// Lookahead and temporal coherence: every K, with and without coherence, is exact.
+// ---------------------------------------------------------------------------
+
+struct LookaheadCase {
+  std::string scene;
+  Method method;
+  std::uint32_t lookahead;
+  bool coherence;
+  std::string reader;
+  DepthConvention convention;
+};
+
+class Lookahead : public testing::TestWithParam<LookaheadCase> {};
+
+TEST_P(Lookahead, NoVisibleObjectIsMissed) {
+  LOGRID_REQUIRE_GL();
+  const LookaheadCase& c = GetParam();
+  const SceneKey key = sceneKey(c.scene);
+  LoadedScene& scene = loadScene(key);
+  View v;
+  v.width = 200;
+  v.height = 150;
+  v.tile = 16;
+  v.convention = c.convention;
+  RunConfig config = makeConfig(scene.prepared, c.method, c.reader, v, 6);
+  config.culler.lookahead = c.lookahead;
+  config.culler.temporal_coherence = c.coherence;
+  const WalkTotals t = checkedWalk(key, scene, config);
+  std::printf("[ oracle ] %s\n", summary(t).c_str());
+  EXPECT_EQ(t.missed, 0u) << reproducer(key, config);
+  EXPECT_GT(t.visible, 0u);
+  EXPECT_GT(t.occluded, 0u) << "no box was ever found occluded; the walk tests nothing";
+}
+
+std::vector<LookaheadCase> lookaheadCases() {
+  std::vector<LookaheadCase> out;
+  // Each K with a different reader, so that every reader meets batches of many boxes.
+  const std::pair<std::uint32_t, const char*> ks[] = {
+      {1, "readpixels"}, {4, "pbo"}, {16, "reduce"}, {kUnlimitedLookahead, "readpixels"}};
+  for (const char* scene : {"forest", "city"}) {
+    for (Method m : {Method::LogState, Method::LogZfar}) {
+      for (const auto& [k, reader] : ks) {
+        for (bool tc : {false, true}) {
+          out.push_back({scene, m, k, tc, reader,
+                         tc ? DepthConvention::Reversed : DepthConvention::Standard});
+        }
+      }
+    }
+    out.push_back(
+        {scene, Method::LogState, kUnlimitedLookahead, true, "query", DepthConvention::Standard});
+  }
+  return out;
+}
+
+std::string lookaheadName(const testing::TestParamInfo<LookaheadCase>& p) {
+  const LookaheadCase& c = p.param;
+  return sanitize(
+      c.scene + "_" + toString(c.method) + "_K" +
+      (c.lookahead == kUnlimitedLookahead ? std::string("all") : std::to_string(c.lookahead)) +
+      (c.coherence ? "_tc_" : "_") + c.reader + "_" + toString(c.convention));
+}
+
+INSTANTIATE_TEST_SUITE_P(Traversal, Lookahead, testing::ValuesIn(lookaheadCases()), lookaheadName);
 
 // ---------------------------------------------------------------------------
 // The point of it all: fewer objects drawn than view-frustum culling.
@@ -174,9 +239,9 @@ TEST_P(Reduction, DrawsFewerObjectsThanFrustumCulling) {
   LoadedScene& scene = loadScene(key);
   const View v;
   const std::size_t frames = 8;
-  const WalkTotals vfc = checkedWalk(
-      key, scene, makeConfig(scene.prepared, Method::Vfc, Reader::ReadPixels, v, frames));
-  const RunConfig config = makeConfig(scene.prepared, c.method, Reader::ReadPixels, v, frames);
+  const WalkTotals vfc =
+      checkedWalk(key, scene, makeConfig(scene.prepared, Method::Vfc, "readpixels", v, frames));
+  const RunConfig config = makeConfig(scene.prepared, c.method, "readpixels", v, frames);
   const WalkTotals log = checkedWalk(key, scene, config);
   const double ratio = vfc.drawn ? double(log.drawn) / double(vfc.drawn) : 1.0;
   std::printf("[ oracle ] %s %s: drawn %llu, vfc %llu (ratio %.3f, bound %.2f), visible %llu\n",

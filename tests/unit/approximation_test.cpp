@@ -131,11 +131,12 @@ TEST_F(ApproximationTest, BadSettingsAreRefusedWithTheValue) {
   CullerDesc hzb;
   hzb.method = Method::Hzb;
   hzb.approximation.visible_pixels = 4;
-  EXPECT_NE(validateCullerDesc(hzb).find("hzb takes no approximation"), std::string::npos);
+  EXPECT_NE(validateCullerDesc(hzb).find("hzb takes no visible-pixel threshold"),
+            std::string::npos);
   CullerDesc pq;
   pq.method = Method::Pq;
   pq.approximation.row_stride = 2;
-  EXPECT_NE(validateCullerDesc(pq).find("pq takes only"), std::string::npos);
+  EXPECT_NE(validateCullerDesc(pq).find("pq takes no row stride"), std::string::npos);
   pq.approximation = {};
   pq.approximation.visible_pixels = 4;
   EXPECT_EQ(validateCullerDesc(pq), "");

@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -453,18 +452,15 @@ TEST(CameraPathJsonTest, ValueChecksBecomeBadInput) {
 }
 
 TEST(CameraPathJsonTest, RefusesTooManyKeys) {
-  const auto start = std::chrono::steady_clock::now();
   const std::string key = R"({"position":[0,0,0],"look_at":[1,0,0]},)";
   std::string text;
   text.reserve(key.size() * 1000001 + 16);
   text += "{\"keys\":[";
   for (int i = 0; i < 1000001; ++i) text += key;
-  text.back() = ']';
-  text += "}";
+  // The key limit stops reading early: the broken text after the last key is never
+  // reached, so the error is about the keys, not the syntax.
+  text += "this is not JSON";
   expectContains(jsonError(text), {"more than 1000000 keys"});
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  EXPECT_LT(seconds, 5.0) << "the key limit should stop reading early";
 }
 
 TEST(CameraPathJsonTest, RefusesTextOver64MiB) {

@@ -6,51 +6,22 @@
 #include <random>
 #include <set>
 
+#include "box_world.hpp"
 #include "logrid/bvh.hpp"
 #include "logrid/cpu/software_rasterizer.hpp"
 #include "logrid/culler.hpp"
 #include "logrid/error.hpp"
-#include "test_sources.hpp"
 
 namespace logrid {
 namespace {
 
-struct Scene {
-  std::vector<Aabb> boxes;
-  bvh::FlatHierarchy hierarchy;
-};
+using test::BoxWorld;
+using Scene = BoxWorld;
 
-// Walls near the camera hide most of a field of boxes behind them.
-Scene makeScene(std::uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> x(-40, 40), z(-120, -15), s(0.2f, 3.0f), y(-2, 4);
-  Scene scene;
-  for (int i = 0; i < 600; ++i) {
-    const Vec3 lo{x(rng), y(rng), z(rng)};
-    scene.boxes.push_back({lo, {lo.x + s(rng), lo.y + s(rng), lo.z + s(rng)}});
-  }
-  for (int i = 0; i < 6; ++i) {  // occluders
-    const float cx = -12.0f + 5.0f * float(i);
-    scene.boxes.push_back({{cx, -3, -12}, {cx + 4.2f, 6, -11}});
-  }
-  scene.boxes.push_back({{-100, -4, -200}, {100, -3, 0}});  // ground slab
-  scene.hierarchy = bvh::buildOverBoxes(scene.boxes, {1, 2, 1});
-  return scene;
-}
+Scene makeScene(std::uint32_t seed) { return test::makeBoxWorld(seed); }
 
 Camera makeCamera(std::uint32_t w, std::uint32_t h, DepthConvention convention, double yaw) {
-  Camera cam;
-  cam.width = w;
-  cam.height = h;
-  cam.depth = {convention,
-               convention == DepthConvention::Reversed ? ClipDepthRange::ZeroToOne
-                                                       : ClipDepthRange::NegativeOneToOne,
-               DepthFormat::D32F};
-  const DVec3 eye{0, 1, 0};
-  const DVec3 target{std::sin(yaw) * 10, 0.5, -std::cos(yaw) * 10};
-  cam.view_projection = multiply(perspective(1.0, double(w) / h, 0.3, 300, cam.depth),
-                                 lookAt(eye, target, {0, 1, 0}));
-  return cam;
+  return test::boxCamera(w, h, convention, yaw);
 }
 
 struct Outcome {
@@ -61,36 +32,14 @@ struct Outcome {
 
 Outcome runFrame(const Scene& scene, const Camera& cam, const CullerDesc& desc, bool count_only) {
   Outcome out;
-  // The oracle: the full scene with IDs.
-  {
-    cpu::SoftwareDepthBuffer depth(cam.width, cam.height, cam.depth.convention);
-    std::vector<std::uint32_t> ids(std::size_t(cam.width) * cam.height, cpu::kNoId);
-    cpu::SoftwareRasterizer raster(cam, depth, &ids);
-    for (std::uint32_t i = 0; i < scene.boxes.size(); ++i) {
-      std::vector<float> p;
-      std::vector<std::uint32_t> idx;
-      cpu::appendBox(scene.boxes[i], p, idx);
-      raster.draw(p, idx, i);
-    }
-    for (std::uint32_t id : ids) {
-      if (id != cpu::kNoId) out.visible.insert(id);
-    }
-  }
-  // The method under test, drawing through the same rasteriser.
+  out.visible = test::visibleBoxes(scene.boxes, cam);
   cpu::SoftwareDepthBuffer depth(cam.width, cam.height, cam.depth.convention);
-  test::CountOnlySource queries(depth);
-  cpu::SoftwareRasterizer raster(cam, depth, nullptr);
   Culler culler(desc);
-  out.stats = culler.cullFrame(
-      cam, scene.hierarchy,
-      count_only ? static_cast<DepthSource&>(queries) : static_cast<DepthSource&>(depth),
-      [&](ObjectId id) {
-        std::vector<float> p;
-        std::vector<std::uint32_t> idx;
-        cpu::appendBox(scene.boxes[id], p, idx);
-        raster.draw(p, idx, id);
-        EXPECT_TRUE(out.drawn.insert(id).second) << "drawn twice: " << id;
-      });
+  const test::CulledFrame f =
+      test::cullBoxes(culler, scene, cam, depth,
+                      count_only ? test::SourceKind::CountOnly : test::SourceKind::Software);
+  out.drawn = f.drawn;
+  out.stats = f.stats;
   return out;
 }
 

@@ -1,11 +1,16 @@
 // Property test: over random depth buffers, random draws and random boxes, the grid
 // never answers "occluded" where a brute-force scan of the box's rectangle finds a
-// pixel at or beyond the threshold. Fixed seeds; at least 100,000 tests per variant and
-// convention, with every kind of source, viewports from 1x1 to odd sizes, and tile
-// sizes from 1 pixel to larger than the viewport.
+// pixel at or beyond the threshold, and never "visible" where it finds none. Fixed
+// seeds; at least 100,000 tests per variant and convention, with every kind of source,
+// viewports from 1x1 to odd sizes, tile sizes from 1 pixel to larger than the viewport,
+// and tests asked one at a time (test()) or in batches of up to six (plan(), submit(),
+// collect(), apply(), resolve()), with draws between a batch's submit and its apply.
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <random>
+#include <utility>
+#include <vector>
 
 #include "logrid/cpu/software_depth.hpp"
 #include "logrid/grid.hpp"
@@ -46,6 +51,45 @@ bool bruteVisible(const cpu::SoftwareDepthBuffer& b, const PixelRect& r, float t
 
 enum class SourceKind { Software, CountOnly, Batched };
 
+void score(Tally& tally, Visibility v, bool truth) {
+  ++tally.tests;
+  if (v == Visibility::Occluded && truth) ++tally.missed;
+  if (v == Visibility::Visible && !truth) ++tally.false_visible;
+}
+
+// Up to six tests through the batched path. The truth of a planned test is taken when the
+// batch is submitted (answers describe the buffer then); a synchronous source may see a
+// draw between submit and apply, which must leave the drawn tiles outdated.
+template <typename Threshold, typename Draw>
+void batchedTests(std::mt19937& rng, OcclusionGrid& grid, const cpu::SoftwareDepthBuffer& buffer,
+                  DepthSource& source, bool synchronous, Tally& tally, Threshold threshold,
+                  Draw draw) {
+  const std::int32_t w = std::int32_t(buffer.width()), h = std::int32_t(buffer.height());
+  GridBatch batch;
+  GridTestCounts counts;
+  std::vector<std::pair<PixelRect, float>> planned;
+  const int n = 1 + int(rng() % 6);
+  for (int k = 0; k < n; ++k) {
+    const PixelRect r = randomRect(rng, w, h);
+    const float t = threshold();
+    const std::optional<Visibility> v = grid.plan(r, t, source.traits(), batch, counts);
+    if (v) {
+      score(tally, *v, bruteVisible(buffer, r, t));
+    } else {
+      planned.emplace_back(r, t);
+    }
+  }
+  ASSERT_EQ(batch.tests(), planned.size());
+  std::vector<bool> truth;
+  for (const auto& [r, t] : planned) truth.push_back(bruteVisible(buffer, r, t));
+  grid.submit(batch, source);
+  if (synchronous && rng() % 2 == 0) draw();
+  source.collect();
+  grid.apply(batch);
+  for (std::size_t i = 0; i < planned.size(); ++i)
+    score(tally, grid.resolve(batch, i, counts), truth[i]);
+}
+
 Tally run(GridVariant variant, DepthConvention convention, SourceKind kind, std::uint32_t seed,
           std::uint64_t min_tests) {
   std::mt19937 rng(seed);
@@ -80,6 +124,17 @@ Tally run(GridVariant variant, DepthConvention convention, SourceKind kind, std:
         } else {
           grid.markOutdated(r);
         }
+        continue;
+      }
+      if (rng() % 4 == 0) {
+        batchedTests(
+            rng, grid, buffer, source, kind == SourceKind::Software, tally,
+            [&] { return variant == GridVariant::OcclusionState ? clear : randomKey(); },
+            [&] {
+              const PixelRect d = randomRect(rng, w, h);
+              buffer.fillRect(d, windowDepth(convention, randomKey()));
+              grid.markOutdated(d);
+            });
         continue;
       }
       const PixelRect r = randomRect(rng, w, h);

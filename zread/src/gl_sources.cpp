@@ -3,64 +3,55 @@
 #include <epoxy/gl.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
-#include <cstring>
-#include <limits>
 #include <sstream>
 #include <string>
 
+#include "attachment.hpp"
 #include "logrid/error.hpp"
-#include "logrid/zread/program.hpp"
 
 namespace logrid::zread {
+
+using detail::bytesOf;
+using detail::checkDepthAttachment;
+using detail::checkReadError;
+using detail::nativeDepth;
+using detail::nativeType;
+
 namespace {
 
-// The GL type a depth format is read in without conversion.
-GLenum nativeType(DepthFormat format) {
-  switch (format) {
-    case DepthFormat::D16: return GL_UNSIGNED_SHORT;
-    case DepthFormat::D24: return GL_UNSIGNED_INT;
-    case DepthFormat::D32F: return GL_FLOAT;
+// Pack state for tightly packed rows, saved and restored around the reads so that the
+// application's own pixel-store settings survive.
+class PackState {
+ public:
+  PackState(GLuint read_framebuffer, GLuint pack_buffer) {
+    glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &framebuffer_);
+    glGetIntegerv(GL_PIXEL_PACK_BUFFER_BINDING, &buffer_);
+    for (std::size_t i = 0; i < kNames.size(); ++i) glGetIntegerv(kNames[i], &values_[i]);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, read_framebuffer);
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, pack_buffer);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    for (std::size_t i = 1; i < kNames.size(); ++i) glPixelStorei(kNames[i], 0);
   }
-  return GL_FLOAT;
-}
-
-NativeDepth nativeDepth(DepthFormat format) {
-  switch (format) {
-    case DepthFormat::D16: return NativeDepth::Unorm16;
-    case DepthFormat::D24: return NativeDepth::Unorm32;
-    case DepthFormat::D32F: return NativeDepth::Float32;
+  ~PackState() {
+    for (std::size_t i = 0; i < kNames.size(); ++i) glPixelStorei(kNames[i], values_[i]);
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, glIsBuffer(GLuint(buffer_)) ? GLuint(buffer_) : 0);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER,
+                      glIsFramebuffer(GLuint(framebuffer_)) ? GLuint(framebuffer_) : 0);
   }
-  return NativeDepth::Float32;
-}
+  PackState(const PackState&) = delete;
+  PackState& operator=(const PackState&) = delete;
 
-// Throws unless the framebuffer's depth attachment is what the camera says it is: the
-// depth margin depends on the format, so a mismatch would be silently wrong.
-void checkDepthAttachment(const char* who, GLuint framebuffer, const Camera& camera) {
-  const GLenum attachment = framebuffer ? GL_DEPTH_ATTACHMENT : GL_DEPTH;
-  GLint bits = 0, type = 0;
-  glGetNamedFramebufferAttachmentParameteriv(framebuffer, attachment,
-                                             GL_FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE, &bits);
-  glGetNamedFramebufferAttachmentParameteriv(framebuffer, attachment,
-                                             GL_FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE, &type);
-  const DepthFormat want = camera.depth.format;
-  const bool ok = (want == DepthFormat::D32F && type == GL_FLOAT && bits == 32) ||
-                  (want == DepthFormat::D24 && type == GL_UNSIGNED_NORMALIZED && bits == 24) ||
-                  (want == DepthFormat::D16 && type == GL_UNSIGNED_NORMALIZED && bits == 16);
-  if (!ok) {
-    std::ostringstream out;
-    out << who << ": the camera says depth format " << toString(want) << " but framebuffer "
-        << framebuffer << " has a " << bits << "-bit "
-        << (type == GL_FLOAT                 ? "float"
-            : type == GL_UNSIGNED_NORMALIZED ? "unorm"
-                                             : "unknown")
-        << " depth attachment; set Camera::depth.format to match the buffer";
-    throw Error(ErrorCode::InvalidArgument, out.str());
-  }
-}
-
-std::size_t bytesOf(GLenum type) { return type == GL_UNSIGNED_SHORT ? 2 : 4; }
+ private:
+  static constexpr std::array<GLenum, 7> kNames = {
+      GL_PACK_ALIGNMENT, GL_PACK_ROW_LENGTH,  GL_PACK_IMAGE_HEIGHT, GL_PACK_SKIP_PIXELS,
+      GL_PACK_SKIP_ROWS, GL_PACK_SKIP_IMAGES, GL_PACK_SWAP_BYTES};
+  GLint framebuffer_ = 0;
+  GLint buffer_ = 0;
+  std::array<GLint, 7> values_{};
+};
 
 }  // namespace
 
@@ -82,29 +73,43 @@ void ReadPixelsSource::fetch(const PixelRect* rects, std::size_t count, const vo
   std::size_t total = 0;
   for (std::size_t i = 0; i < count; ++i) total += std::size_t(rects[i].area()) * bytes;
   if (scratch_.size() < total) scratch_.resize(total);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer_);
-  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glPixelStorei(GL_PACK_ROW_LENGTH, 0);
-  std::size_t offset = 0;
-  for (std::size_t i = 0; i < count; ++i) {
-    const PixelRect& r = rects[i];
-    glReadPixels(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0, GL_DEPTH_COMPONENT, type_,
-                 scratch_.data() + offset);
-    data[i] = scratch_.data() + offset;
-    strides[i] = std::size_t(r.x1 - r.x0);
-    offset += std::size_t(r.area()) * bytes;
+  {
+    const PackState pack(framebuffer_, 0);
+    std::size_t offset = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+      const PixelRect& r = rects[i];
+      glReadPixels(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0, GL_DEPTH_COMPONENT, type_,
+                   scratch_.data() + offset);
+      data[i] = scratch_.data() + offset;
+      strides[i] = std::size_t(r.x1 - r.x0);
+      offset += std::size_t(r.area()) * bytes;
+    }
   }
+  checkReadError("ReadPixelsSource", "glReadPixels");
 }
 
 // ---------------------------------------------------------------------------
-// Pixel-buffer objects, persistently mapped
+// A ring of persistently mapped pixel-buffer objects, one per batch in flight
 // ---------------------------------------------------------------------------
+
+namespace {
+
+constexpr std::size_t kAlign = 16;
+std::size_t aligned(std::size_t bytes) { return (bytes + kAlign - 1) & ~(kAlign - 1); }
+constexpr GLuint64 kWaitNanoseconds = 10'000'000'000ull;  // 10 s: a hung renderer
+
+}  // namespace
 
 PboSource::PboSource(std::uint32_t framebuffer) : framebuffer_(framebuffer) {}
 
 PboSource::~PboSource() {
-  if (buffer_) glDeleteBuffers(1, &buffer_);
+  for (Slot& s : slots_) release(s);
+}
+
+void PboSource::release(Slot& slot) {
+  if (slot.fence) glDeleteSync(static_cast<GLsync>(slot.fence));
+  if (slot.buffer) glDeleteBuffers(1, &slot.buffer);
+  slot = {};
 }
 
 void PboSource::beginFrame(const Camera& camera) {
@@ -113,50 +118,86 @@ void PboSource::beginFrame(const Camera& camera) {
   type_ = nativeType(camera.depth.format);
 }
 
-void PboSource::reserve(std::size_t bytes) {
-  if (bytes <= capacity_) return;
-  if (buffer_) glDeleteBuffers(1, &buffer_);
-  capacity_ = std::max<std::size_t>(bytes, std::max<std::size_t>(capacity_ * 2, 1 << 16));
-  glCreateBuffers(1, &buffer_);
-  const GLbitfield flags = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
-  glNamedBufferStorage(buffer_, GLsizeiptr(capacity_), nullptr, flags);
-  mapped_ = static_cast<const unsigned char*>(
-      glMapNamedBufferRange(buffer_, 0, GLsizeiptr(capacity_), flags));
-  if (!mapped_) {
-    throw Error(ErrorCode::Runtime, "PboSource: could not map a pixel-buffer object of " +
-                                        std::to_string(capacity_) + " bytes");
+void PboSource::endFrame() {
+  // Nothing may stay in flight across frames (the culler collects every batch).
+  for (const Slot& s : slots_) {
+    if (s.fence) throw Error(ErrorCode::Runtime, "PboSource: a batch was never collected");
   }
+}
+
+PboSource::Slot& PboSource::freeSlot(std::size_t bytes) {
+  // Slots are handed out in turn; one still in flight is skipped and the ring grows.
+  std::size_t index = slots_.size();
+  for (std::size_t k = 0; k < slots_.size(); ++k) {
+    const std::size_t i = (next_slot_ + k) % slots_.size();
+    if (!slots_[i].fence) {
+      index = i;
+      break;
+    }
+  }
+  if (index == slots_.size()) slots_.emplace_back();
+  next_slot_ = (index + 1) % slots_.size();
+  Slot& slot = slots_[index];
+  if (slot.capacity < bytes) {
+    release(slot);
+    slot.capacity = std::max<std::size_t>(aligned(bytes), 1 << 16);
+    glCreateBuffers(1, &slot.buffer);
+    const GLbitfield flags = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
+    glNamedBufferStorage(slot.buffer, GLsizeiptr(slot.capacity), nullptr, flags);
+    slot.mapped = static_cast<const unsigned char*>(
+        glMapNamedBufferRange(slot.buffer, 0, GLsizeiptr(slot.capacity), flags));
+    if (!slot.mapped) {
+      const std::size_t capacity = slot.capacity;
+      release(slot);
+      throw Error(ErrorCode::Runtime, "PboSource: could not map a pixel-buffer object of " +
+                                          std::to_string(capacity) + " bytes");
+    }
+  }
+  return slot;
+}
+
+void PboSource::issue(const PixelRect* rects, std::size_t count) {
+  const std::size_t bytes = bytesOf(type_);
+  std::size_t total = 0;
+  for (std::size_t i = 0; i < count; ++i) total += aligned(std::size_t(rects[i].area()) * bytes);
+  Slot& slot = freeSlot(total);
+  const std::size_t slot_index = std::size_t(&slot - slots_.data());
+  {
+    const PackState pack(framebuffer_, slot.buffer);
+    std::size_t offset = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+      const PixelRect& r = rects[i];
+      glReadPixels(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0, GL_DEPTH_COMPONENT, type_,
+                   reinterpret_cast<void*>(offset));
+      issued_.push_back({slot_index, offset});
+      offset += aligned(std::size_t(r.area()) * bytes);
+    }
+  }
+  checkReadError("PboSource", "glReadPixels into a pixel-buffer object");
+  slot.fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+  glFlush();  // the fence must reach the renderer, or waiting on it could wait forever
 }
 
 void PboSource::fetch(const PixelRect* rects, std::size_t count, const void** data,
                       std::size_t* strides) {
-  const std::size_t bytes = bytesOf(type_);
-  std::size_t total = 0;
+  if (issued_.size() != count) {
+    throw Error(ErrorCode::Runtime, "PboSource: fetch of rectangles that were not issued");
+  }
+  for (Slot& slot : slots_) {
+    if (!slot.fence) continue;
+    const GLenum result = glClientWaitSync(static_cast<GLsync>(slot.fence), 0, kWaitNanoseconds);
+    glDeleteSync(static_cast<GLsync>(slot.fence));
+    slot.fence = nullptr;
+    if (result == GL_TIMEOUT_EXPIRED || result == GL_WAIT_FAILED) {
+      throw Error(ErrorCode::Runtime,
+                  "PboSource: waiting for depth reads failed or took over 10 s");
+    }
+  }
   for (std::size_t i = 0; i < count; ++i) {
-    total += (std::size_t(rects[i].area()) * bytes + 15) & ~std::size_t(15);
+    data[i] = slots_[issued_[i].slot].mapped + issued_[i].offset;
+    strides[i] = std::size_t(rects[i].x1 - rects[i].x0);
   }
-  reserve(total);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer_);
-  glBindBuffer(GL_PIXEL_PACK_BUFFER, buffer_);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glPixelStorei(GL_PACK_ROW_LENGTH, 0);
-  // Issue every read, then wait once.
-  std::size_t offset = 0;
-  for (std::size_t i = 0; i < count; ++i) {
-    const PixelRect& r = rects[i];
-    glReadPixels(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0, GL_DEPTH_COMPONENT, type_,
-                 reinterpret_cast<void*>(offset));
-    data[i] = mapped_ + offset;
-    strides[i] = std::size_t(r.x1 - r.x0);
-    offset += (std::size_t(r.area()) * bytes + 15) & ~std::size_t(15);
-  }
-  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
-  GLsync fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
-  const GLenum result = glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, 10'000'000'000ull);
-  glDeleteSync(fence);
-  if (result == GL_TIMEOUT_EXPIRED || result == GL_WAIT_FAILED) {
-    throw Error(ErrorCode::Runtime, "PboSource: waiting for depth reads failed or took over 10 s");
-  }
+  issued_.clear();
 }
 
 // ---------------------------------------------------------------------------
@@ -179,6 +220,10 @@ uniform float u_depth;
 void main() { gl_FragDepth = u_depth; }
 )";
 
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 }  // namespace
 
 QuerySource::QuerySource(std::uint32_t framebuffer)
@@ -196,23 +241,28 @@ QuerySource::~QuerySource() {
 void QuerySource::beginFrame(const Camera& camera) {
   checkDepthAttachment("QuerySource", framebuffer_, camera);
   depth_ = camera.depth;
+  if (!pending_.empty())
+    throw Error(ErrorCode::Runtime, "QuerySource: a batch was never collected");
 }
 
-void QuerySource::summarize(const PixelRect*, std::size_t, AreaDepth*) {
+void QuerySource::readKeys(const PixelRect&, float*) {
   throw Error(ErrorCode::Unsupported,
-              "QuerySource::summarize: occlusion queries cannot read depth values; use a "
-              "pixel-reading source (readpixels, pbo, software) for this method");
+              "QuerySource: occlusion queries cannot read depth values; use a pixel-reading "
+              "source (readpixels, pbo, reduce, software) for this method");
 }
 
-void QuerySource::readKeys(const PixelRect&, float*) { summarize(nullptr, 0, nullptr); }
-
-void QuerySource::countAtOrBeyond(const AreaQuery* queries, std::size_t count, std::uint32_t* out) {
+void QuerySource::submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) {
+  if (count == 0) return;
   const auto start = std::chrono::steady_clock::now();
-  if (queries_.size() < count) {
+  for (std::size_t i = 0; i < count; ++i) {
+    if (requests[i].ask != AreaAsk::Count) readKeys(requests[i].rect, nullptr);  // throws
+  }
+  const std::size_t first_free = pending_.size();
+  if (queries_.size() < first_free + count) {
     const std::size_t old = queries_.size();
-    queries_.resize(count);
+    queries_.resize(first_free + count);
     // One query object per target (PLATFORM.md pitfall 4): created for SAMPLES_PASSED.
-    glCreateQueries(GL_SAMPLES_PASSED, GLsizei(count - old), queries_.data() + old);
+    glCreateQueries(GL_SAMPLES_PASSED, GLsizei(queries_.size() - old), queries_.data() + old);
   }
   // Save the state this draws with, and restore it afterwards.
   GLint program = 0, vao = 0, draw_fb = 0, depth_func = 0, scissor_box[4];
@@ -237,34 +287,32 @@ void QuerySource::countAtOrBeyond(const AreaQuery* queries, std::size_t count, s
   glDepthFunc(reversed ? GL_GEQUAL : GL_LEQUAL);
   std::size_t issued = 0;
   for (std::size_t i = 0; i < count; ++i) {
-    const PixelRect& r = queries[i].rect;
+    const PixelRect& r = requests[i].rect;
+    const float t = requests[i].threshold;
     // Thresholds outside the depth range need no query: nothing lies beyond the far
     // plane, everything lies beyond the near plane.
-    if (queries[i].threshold > far_key || queries[i].threshold <= near_key) continue;
-    ++issued;
+    if (t > far_key) {
+      answers[i].count = 0;
+      continue;
+    }
+    if (t <= near_key) {
+      answers[i].count = std::uint32_t(r.area());
+      continue;
+    }
     // Round the depth so that every pixel exactly at the threshold still passes.
-    double d = reversed ? -double(queries[i].threshold) : double(queries[i].threshold);
+    const double d = reversed ? -double(t) : double(t);
     float depth = static_cast<float>(d);
     if (!reversed && depth > d) depth = std::nextafter(depth, -1.0f);
     if (reversed && depth < d) depth = std::nextafter(depth, 2.0f);
     depth = std::clamp(depth, 0.0f, 1.0f);
     glUniform1f(depth_uniform_, depth);
     glScissor(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0);
-    glBeginQuery(GL_SAMPLES_PASSED, queries_[i]);
+    const std::uint32_t q = std::uint32_t(first_free + issued);
+    glBeginQuery(GL_SAMPLES_PASSED, queries_[q]);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glEndQuery(GL_SAMPLES_PASSED);
-  }
-  for (std::size_t i = 0; i < count; ++i) {
-    const float t = queries[i].threshold;
-    if (t > far_key) {
-      out[i] = 0;
-    } else if (t <= near_key) {
-      out[i] = std::uint32_t(queries[i].rect.area());
-    } else {
-      GLuint samples = 0;
-      glGetQueryObjectuiv(queries_[i], GL_QUERY_RESULT, &samples);
-      out[i] = samples;
-    }
+    pending_.push_back({q, answers + i});
+    ++issued;
   }
 
   glDepthFunc(GLenum(depth_func));
@@ -279,12 +327,26 @@ void QuerySource::countAtOrBeyond(const AreaQuery* queries, std::size_t count, s
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, glIsFramebuffer(GLuint(draw_fb)) ? GLuint(draw_fb) : 0);
 
   counters_.queries += issued;
+  counters_.reads += count;
+  ++counters_.batches;
+  counters_.seconds += secondsSince(start);
+}
+
+void QuerySource::collect() {
+  if (pending_.empty()) return;
+  const auto start = std::chrono::steady_clock::now();
+  for (const Pending& p : pending_) {
+    GLuint samples = 0;
+    glGetQueryObjectuiv(queries_[p.query], GL_QUERY_RESULT, &samples);
+    p.answer->count = samples;
+  }
+  counters_.bytes += pending_.size() * sizeof(GLuint);
+  pending_.clear();
   if (drawn_since_query_) {
     ++counters_.flushes;
     drawn_since_query_ = false;
   }
-  counters_.seconds +=
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  counters_.seconds += secondsSince(start);
 }
 
 }  // namespace logrid::zread

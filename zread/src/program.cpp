@@ -2,10 +2,21 @@
 
 #include <epoxy/gl.h>
 
+#include <initializer_list>
+
 #include "logrid/error.hpp"
 
 namespace logrid::zread {
 namespace {
+
+const char* stageName(GLenum stage) {
+  switch (stage) {
+    case GL_VERTEX_SHADER: return "vertex";
+    case GL_FRAGMENT_SHADER: return "fragment";
+    case GL_COMPUTE_SHADER: return "compute";
+  }
+  return "?";
+}
 
 GLuint compileStage(const std::string& name, GLenum stage, const char* source) {
   const GLuint shader = glCreateShader(stage);
@@ -18,8 +29,7 @@ GLuint compileStage(const std::string& name, GLenum stage, const char* source) {
     glGetShaderInfoLog(shader, sizeof log, nullptr, log);
     glDeleteShader(shader);
     throw Error(ErrorCode::Runtime,
-                "program '" + name + "': " + (stage == GL_VERTEX_SHADER ? "vertex" : "fragment") +
-                    " shader does not compile: " + log);
+                "program '" + name + "': " + stageName(stage) + " shader does not compile: " + log);
   }
   return shader;
 }
@@ -36,19 +46,25 @@ Program::Program(const std::string& name, const char* vertex_source, const char*
     glDeleteShader(vs);
     throw;
   }
+  link({vs, fs});
+}
+
+Program::Program(const std::string& name, const char* compute_source) : name_(name) {
+  link({compileStage(name, GL_COMPUTE_SHADER, compute_source)});
+}
+
+void Program::link(std::initializer_list<std::uint32_t> shaders) {
   program_ = glCreateProgram();
-  glAttachShader(program_, vs);
-  glAttachShader(program_, fs);
+  for (GLuint s : shaders) glAttachShader(program_, s);
   glLinkProgram(program_);
-  glDeleteShader(vs);
-  glDeleteShader(fs);
+  for (GLuint s : shaders) glDeleteShader(s);
   GLint ok = 0;
   glGetProgramiv(program_, GL_LINK_STATUS, &ok);
   if (!ok) {
     char log[2048] = {};
     glGetProgramInfoLog(program_, sizeof log, nullptr, log);
     glDeleteProgram(program_);
-    throw Error(ErrorCode::Runtime, "program '" + name + "' does not link: " + log);
+    throw Error(ErrorCode::Runtime, "program '" + name_ + "' does not link: " + log);
   }
 }
 

@@ -48,6 +48,10 @@ class FlatHierarchy : public Hierarchy {
     return objects_[nodes_[node].first_object + i];
   }
 
+  // Unique to each build: every FlatHierarchy gets a new value when built or mutated
+  // (mutableNodes(), mutableObjects()), and copies keep their source's.
+  std::uint64_t revision() const override { return revision_; }
+
   const std::vector<Node>& nodes() const { return nodes_; }
   const std::vector<ObjectId>& objects() const { return objects_; }
   std::size_t memoryBytes() const;
@@ -61,12 +65,20 @@ class FlatHierarchy : public Hierarchy {
   void refit(const std::vector<Aabb>& object_boxes);
 
   // Construction (used by the builders; also for tests and adapters).
-  std::vector<Node>& mutableNodes() { return nodes_; }
-  std::vector<ObjectId>& mutableObjects() { return objects_; }
+  std::vector<Node>& mutableNodes() {
+    revision_ = nextRevision();
+    return nodes_;
+  }
+  std::vector<ObjectId>& mutableObjects() {
+    revision_ = nextRevision();
+    return objects_;
+  }
 
  private:
+  static std::uint64_t nextRevision();
   std::vector<Node> nodes_;
   std::vector<ObjectId> objects_;
+  std::uint64_t revision_ = nextRevision();
 };
 
 // One leaf per at most max_leaf_size objects; object i has box boxes[i]. Boxes must be

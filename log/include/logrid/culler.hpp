@@ -1,6 +1,6 @@
 // The culler: walks a Hierarchy front to back for one camera, tests each box against
-// the lazy occlusion grid (or a comparison method), and hands the objects of every
-// potentially visible node to the application's draw callback.
+// the lazy occlusion grid (or a comparison method, method.hpp), and hands the objects
+// of every potentially visible node to the application's draw callback.
 //
 // Typical use, once per frame:
 //
@@ -8,50 +8,61 @@
 //   logrid::FrameStats stats = culler.cullFrame(camera, hierarchy, depth_source,
 //       [&](logrid::ObjectId id) { drawObject(id); });        // draws with the depth test
 //
-// Contract for the frame: the depth buffer is cleared before cullFrame() and everything
-// drawn during it is drawn through the callback, with a depth test that keeps the nearer
-// fragment (GL_LESS/LEQUAL standard, GL_GREATER/GEQUAL reversed) and depth writes on.
-// Anything drawn without the callback must be announced with noteDrawn().
+// Contract for the frame: the depth buffer is cleared before cullFrame() (or what was
+// drawn into it before is announced in `drawn_before`), and everything drawn during it
+// is drawn through the callback, with a depth test that keeps the nearer fragment
+// (GL_LESS/LEQUAL standard, GL_GREATER/GEQUAL reversed) and depth writes on. Anything
+// else drawn during the frame is announced from inside the callback with noteDrawn(),
+// and a depth clear with noteDepthCleared().
 //
 // Traversals (LOG §3, §4):
-//   * two-list (occlusion state, and every method that shares its order): a test-list
-//     ordered by nearest key and a draw-list ordered by farthest key; a visible node's
-//     objects are drawn only once they lie in front of every box still to be tested.
-//   * approximate front to back (zfar, vfc): the test-list only; visible objects are
-//     drawn at once. Correct for zfar, which compares depths.
+//   * two-list, for methods with occlusion-state semantics (MethodInfo::state_semantics):
+//     a test-list ordered by nearest key and a draw-list ordered by farthest key; a
+//     visible node's objects are drawn only once they lie in front of every box still to
+//     be tested, so that "every pixel holds something" means "hidden". A box for which
+//     the order cannot vouch (something of unknown or greater depth was drawn: noteDrawn
+//     without a depth, temporal coherence, a mid-frame clear to a nearer value) is tested
+//     by depth instead, as the zfar variant tests every box (FrameStats::order_fallbacks).
+//   * approximate front to back, for the others: the test-list only; visible objects are
+//     drawn at once.
 // View-frustum culling is hierarchical: an outside node's children are never visited.
+//
+// Lookahead (CullerDesc::lookahead = K): with K = 1 each box is tested on its own, in
+// the paper's order (the grid reads one tile at a time and stops at the first visible
+// one). With K > 1 the boxes whose tiles the records cannot decide are set aside, up to
+// K of them, while the traversal goes on with what the records decide and draws what is
+// known visible; then one batch reads every tile they need (DepthSource::submit, one
+// collect) and they are decided. The renderer is then waited for once per batch, not
+// once per tile. Every K is exact; K = 1 gives the answers and reads of the paper's
+// order.
+//
+// Temporal coherence (CullerDesc::temporal_coherence): the leaves found visible last
+// frame are drawn first, without tests, the grid's outdated tiles are refreshed in one
+// batch, and then the hierarchy is traversed as usual; a leaf drawn first is not drawn
+// again. Conservative by construction: whatever was not drawn first is tested against
+// this frame's depth. The culler remembers leaves by NodeId, and forgets them when the
+// hierarchy object or its revision() changes.
 #pragma once
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "logrid/camera.hpp"
-#include "logrid/depth_pyramid.hpp"
 #include "logrid/depth_source.hpp"
 #include "logrid/grid.hpp"
 #include "logrid/hierarchy.hpp"
+#include "logrid/method.hpp"
 #include "logrid/projection.hpp"
 #include "logrid/stats.hpp"
 
 namespace logrid {
 
-// The culling methods compared in DESIGN.md (the oracle lives in integration/).
-enum class Method : std::uint8_t {
-  LogState,  // lazy occlusion grid, occlusion-state variant, two-list traversal
-  LogZfar,   // lazy occlusion grid, zfar variant, approximate traversal
-  Bog,       // busy occlusion grid: tiles refreshed right after each draw (LOG §5)
-  Hzb,       // hierarchical z-buffer refreshed from the drawn box's area after each draw
-  Pq,        // one pixel-level query over each tested box's whole rectangle
-  Vfc,       // view-frustum culling only
-};
-
-const char* toString(Method method);
-// Parses "log-state", "log-zfar", "bog", "hzb", "pq" or "vfc".
-std::optional<Method> parseMethod(const std::string& name);
+// CullerDesc::lookahead value: gather every box the traversal reaches before it must wait.
+inline constexpr std::uint32_t kUnlimitedLookahead = std::numeric_limits<std::uint32_t>::max();
 
 struct CullerDesc {
   Method method = Method::LogState;
@@ -68,14 +79,30 @@ struct CullerDesc {
   //   row_stride          reads sample every k-th row: objects seen only through rows
   //                       that were skipped vanish (log-*, bog).
   // Knobs combine: with visible_pixels and full_free_fraction together, tiles counted
-  // as full contribute no pixels to the visible-pixel count. HZB and VFC take none.
+  // as full contribute no pixels to the visible-pixel count. Which method takes which
+  // knob is in its MethodInfo.
   GridApproximation approximation;
+
+  // Boxes whose undecided tiles are read in one batch: 1 (the paper's order, one box at
+  // a time) up to kUnlimitedLookahead. Methods without MethodInfo::lookahead, and
+  // counting tests (approximation.visible_pixels with a grid), test one box at a time.
+  std::uint32_t lookahead = 1;
+  // Draw last frame's visible leaves first, then refresh the grid in one batch.
+  bool temporal_coherence = false;
 };
 
 // Returns an empty string if the descriptor is usable, else a message naming the field.
 std::string validateCullerDesc(const CullerDesc& desc);
 
 using DrawCallback = std::function<void(ObjectId)>;
+
+// Something drawn into the depth buffer besides the culler's own draws.
+struct DrawnArea {
+  PixelRect rect;  // pixels it may cover (clipped to the viewport)
+  // Its farthest depth key (with the margin of its rounding added); +infinity when
+  // unknown: then every later occlusion-state test is done by depth.
+  float far_key = std::numeric_limits<float>::infinity();
+};
 
 // Optional hooks for overlays and debugging; called synchronously during cullFrame().
 class CullObserver {
@@ -84,6 +111,10 @@ class CullObserver {
   virtual void onTested(NodeId, const BoxProjection&, Visibility) {}
   virtual void onDrawn(NodeId, const BoxProjection&) {}
 };
+
+namespace detail {
+class BoxTester;
+}
 
 class Culler {
  public:
@@ -95,19 +126,33 @@ class Culler {
 
   const CullerDesc& desc() const { return desc_; }
 
-  // Culls and draws one frame. Throws logrid::Error for an invalid camera (validateCamera)
-  // or a depth source that cannot serve it; boxes with NaN or inverted bounds are drawn
-  // and counted in FrameStats::invalid_boxes.
+  // Culls and draws one frame. `drawn_before`: what the application drew into the depth
+  // buffer after clearing it and before this call (e.g. occluders drawn first); the
+  // grid starts with those tiles outdated. Throws logrid::Error for an invalid camera
+  // (validateCamera), a depth source that cannot serve it, or a method the source
+  // cannot answer (MethodInfo::needs_depth_values); boxes with NaN or inverted bounds
+  // are drawn and counted in FrameStats::invalid_boxes.
   FrameStats cullFrame(const Camera& camera, const Hierarchy& hierarchy, DepthSource& depth,
-                       const DrawCallback& draw);
+                       const DrawCallback& draw, const std::vector<DrawnArea>& drawn_before = {});
 
-  // For use inside the draw callback: the application drew something over `rect`
-  // outside the callback's own object.
-  void noteDrawn(const PixelRect& rect);
+  // For use inside the draw callback (outside cullFrame() they throw logrid::Error):
+  // the application drew something more than the callback's own object, over `area`
+  // (e.g. a decal or a particle beside it), or over the pixels of a world-space box.
+  void noteDrawn(const DrawnArea& area);
+  void noteDrawn(const Aabb& box);
+  // ... or it cleared the depth buffer: to the convention's clear value, or to another
+  // window depth (as glClearDepth takes it).
+  void noteDepthCleared();
+  void noteDepthCleared(float window_depth);
+
+  // The projection of a world-space box for this frame's camera (inside cullFrame()).
+  BoxProjection project(const Aabb& box) const;
 
   // The grid of the last frame (nullptr for methods without one), for overlays.
-  const OcclusionGrid* grid() const { return grid_ ? &*grid_ : nullptr; }
+  const OcclusionGrid* grid() const;
   void setObserver(CullObserver* observer) { observer_ = observer; }
+  // Forget the leaves remembered for temporal coherence.
+  void forgetCoherence() { coherent_.clear(); }
 
  private:
   struct Entry {
@@ -115,27 +160,40 @@ class Culler {
     NodeId node;
     BoxProjection projection;
   };
-  bool usesTwoLists() const;
-  void prepare(const Camera& camera);
+  void prepare(const Camera& camera, const DepthSource& depth);
   void pushTest(const Hierarchy& hierarchy, NodeId node);
-  Visibility testEntry(const Entry& entry, DepthSource& depth);
+  // Decides what needs no occlusion test (view culled, invalid, crossing the near
+  // plane, no occlusion test for this method); nothing if the box must be tested.
+  bool forced(const Entry& entry, Visibility& result);
+  float thresholdFor(const Entry& entry);
+  void finish(const Entry& entry, Visibility v, const Hierarchy& hierarchy, DepthSource& depth,
+              const DrawCallback& draw);
+  void resolvePending(const Hierarchy& hierarchy, DepthSource& depth, const DrawCallback& draw);
   void drawEntry(const Entry& entry, const Hierarchy& hierarchy, DepthSource& depth,
                  const DrawCallback& draw);
-  void noteDrawnWith(const PixelRect& rect, DepthSource& depth);
+  void drawCoherent(const Hierarchy& hierarchy, DepthSource& depth, const DrawCallback& draw);
+  void noteDrawnWith(const DrawnArea& area, DepthSource& depth);
+  DepthSource& currentSource(const char* who) const;
 
   CullerDesc desc_;
-  std::optional<Projector> projector_;
-  std::optional<OcclusionGrid> grid_;
-  std::unique_ptr<DepthPyramid> pyramid_;
-  std::uint32_t last_width_ = 0;
-  std::uint32_t last_height_ = 0;
+  std::unique_ptr<detail::BoxTester> tester_;
+  std::unique_ptr<Projector> projector_;
   CullObserver* observer_ = nullptr;
   DepthSource* current_source_ = nullptr;  // set during cullFrame()
   FrameStats stats_;
   GridTestCounts grid_counts_;
-  float drawn_back_ = 0;  // farthest key + margin of anything drawn so far this frame
+  float drawn_back_ = 0;         // farthest key + margin of anything drawn so far this frame
+  std::uint32_t lookahead_ = 1;  // this frame's
   std::vector<Entry> test_list_;
   std::vector<Entry> draw_list_;
+  std::vector<Entry> pending_;   // set aside for the next batch, in test-list order
+  std::vector<Entry> deferred_;  // visible by the records behind pending_: test again
+  // Temporal coherence: last frame's visible leaves, for which hierarchy.
+  std::vector<NodeId> coherent_;
+  std::vector<NodeId> visible_leaves_;  // this frame's
+  std::vector<NodeId> drawn_first_;     // sorted: leaves drawn from coherent_
+  const Hierarchy* coherent_hierarchy_ = nullptr;
+  std::uint64_t coherent_revision_ = 0;
 };
 
 }  // namespace logrid

@@ -1,54 +1,80 @@
 // The grid's window onto the depth buffer.
 //
-// A depth source answers pixel-level queries over rectangles of the application's
-// depth buffer, always in depth keys (types.hpp). logrid's core never touches GL: the
-// sources in zread/ read through glReadPixels, pixel-buffer objects or hardware
-// occlusion queries, or from a software buffer; a Vulkan or software renderer writes
-// its own.
+// A depth source answers requests about rectangles of the application's depth buffer,
+// always in depth keys (types.hpp). logrid's core never touches GL: the sources in
+// zread/ read through glReadPixels, rings of pixel-buffer objects, a compute-shader
+// reduction or hardware occlusion queries; those in cpu/ read a buffer in memory; a
+// Vulkan or software renderer writes its own.
 //
-// Two kinds of query:
-//   summarize()        the nearest key, the farthest key and the number of free
-//                      (still cleared) pixels of each rectangle, and
-//   readKeys()         every key of a rectangle: both only from sources that read
-//                      pixels (traits().reads_pixels == true), and exact.
-//   countAtOrBeyond()  the number of pixels whose key is >= a threshold, i.e. the
-//                      pixels where geometry at the threshold depth could still show.
-//                      Every source answers it; a hardware occlusion query answers it
-//                      by drawing a rectangle at the threshold depth.
-// Calls take arrays so that a batching source (pixel-buffer objects) can issue every
-// read before waiting for any; a synchronous source answers them one by one.
+// Asking and waiting are separate (DESIGN.md, "One frame"):
+//   submit()   takes a batch of requests, from as many boxes as the caller gathered,
+//              and the array their answers go to;
+//   collect()  waits until every answer submitted since the last collect() is written.
+// A synchronous source answers inside submit() and its collect() returns at once. An
+// asynchronous source (traits().asynchronous) only issues the reads in submit(), so
+// that the renderer is waited for once per batch rather than once per rectangle.
+//
+// Two kinds of request:
+//   Summary  the nearest key, the farthest key and the number of free (still cleared)
+//            pixels of the rectangle. Only sources that see depth values answer it
+//            (traits().reads_depth); their summaries are exact.
+//   Count    the number of pixels whose key is >= a threshold, i.e. the pixels where
+//            geometry at the threshold depth could still show. Every source answers
+//            it; a hardware occlusion query answers it by drawing the rectangle at the
+//            threshold depth. A count may exceed the exact one (a query source counts
+//            pixels up to one quantisation step in front of the threshold), never fall
+//            short of it.
+// Answers describe the buffer as it was when submit() was called. Within a frame the
+// application draws only with a depth test that keeps the nearer fragment, so keys only
+// shrink: a farthest key and a count stay upper bounds however much is drawn between
+// submit() and collect(), and a nearest key or a free-pixel count may not.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "logrid/camera.hpp"
 #include "logrid/types.hpp"
 
 namespace logrid {
 
+// What a Summary request answers.
 struct AreaDepth {
   float min_key = 0;              // nearest key in the area
   float max_key = 0;              // farthest key in the area
   std::uint32_t free_pixels = 0;  // pixels still holding the clear value
 };
 
-struct AreaQuery {
-  PixelRect rect;
-  float threshold = 0;  // count the pixels whose key is >= threshold
+enum class AreaAsk : std::uint8_t {
+  Summary,  // AreaAnswer::depth (sources with traits().reads_depth only)
+  Count,    // AreaAnswer::count: pixels whose key is >= AreaRequest::threshold
+};
+
+struct AreaRequest {
+  PixelRect rect;  // non-empty, inside the viewport
+  AreaAsk ask = AreaAsk::Summary;
+  float threshold = 0;  // Count only
+};
+
+struct AreaAnswer {
+  AreaDepth depth;          // Summary
+  std::uint32_t count = 0;  // Count
 };
 
 struct DepthSourceTraits {
   const char* name = "";
-  bool reads_pixels = true;  // summarize() and readKeys() are supported and exact
-  bool batched = false;      // answers many areas per call faster than one at a time
+  bool reads_depth = true;    // answers Summary requests and readKeys(), exactly
+  bool asynchronous = false;  // submit() returns before the answers exist
 };
 
 // What a source did, accumulated since construction (the culler takes differences).
 struct ReadCounters {
-  std::uint64_t reads = 0;    // pixel reads issued (one per rectangle)
+  std::uint64_t reads = 0;    // rectangles read or counted (one per request)
   std::uint64_t pixels = 0;   // pixels transferred or scanned
+  std::uint64_t bytes = 0;    // bytes that crossed from the renderer to the caller
   std::uint64_t queries = 0;  // hardware occlusion queries issued
+  std::uint64_t batches = 0;  // submit() calls that asked for anything
   std::uint64_t flushes = 0;  // times the source had to wait for the renderer
   double seconds = 0;         // wall time spent inside the source
 };
@@ -63,20 +89,36 @@ class DepthSource {
   // buffer and before it draws anything. Throws logrid::Error if the source cannot
   // serve this camera (size or depth set-up differ from the buffer it reads).
   virtual void beginFrame(const Camera& camera) = 0;
+  // Called at the end of each culled frame; nothing is pending by then.
   virtual void endFrame() {}
-  // The culler drew something since the last query (a source may count the flush).
+  // The culler (or the application, through Culler::noteDrawn) drew something since the
+  // last request: the next read waits for it.
   virtual void noteDraw() {}
 
-  // Preconditions: each rect is non-empty and inside the viewport.
-  virtual void summarize(const PixelRect* rects, std::size_t count, AreaDepth* out) = 0;
-  virtual void countAtOrBeyond(const AreaQuery* queries, std::size_t count, std::uint32_t* out) = 0;
-  // Writes rect.area() keys, row by row from the bottom row (glReadPixels order).
+  // Asks `count` requests. answers[i] answers requests[i]; it is written no later than
+  // the next collect() and must stay valid until then. Preconditions: every rect is
+  // non-empty and inside the viewport; Summary only where traits().reads_depth.
+  virtual void submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) = 0;
+  // Waits until every answer submitted since the last collect() is written.
+  virtual void collect() {}
+
+  // Writes rect.area() keys, row by row from the bottom row (glReadPixels order), at
+  // once. Only where traits().reads_depth.
   virtual void readKeys(const PixelRect& rect, float* keys) = 0;
+
+  // Synchronous conveniences over submit() + collect(), one answer per rectangle.
+  void summarize(const PixelRect* rects, std::size_t count, AreaDepth* out);
+  void countAtOrBeyond(const PixelRect* rects, std::size_t count, float threshold,
+                       std::uint32_t* out);
 
   const ReadCounters& counters() const { return counters_; }
 
  protected:
   ReadCounters counters_;
+
+ private:
+  std::vector<AreaRequest> scratch_requests_;
+  std::vector<AreaAnswer> scratch_answers_;
 };
 
 }  // namespace logrid

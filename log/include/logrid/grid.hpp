@@ -13,24 +13,31 @@
 // fragment, so a pixel's key never grows. far_key therefore stays an upper bound after
 // later draws, and a tile that was full (or whose zfar was in front of a box) stays so
 // without being read again: an outdated tile is read only when its stale far_key can
-// no longer decide the test. Clearing the depth buffer mid-frame breaks this, so
-// call reset() after any clear.
+// no longer decide the test. Clearing the depth buffer mid-frame breaks this: call
+// fill() with the cleared value after any clear (Culler::noteDepthCleared does).
 //
 // A test asks whether any pixel of a rectangle has a key >= a threshold:
-//   occlusion-state variant:  threshold = the clear key (a pixel is free), valid only
-//                             in the two-list order of traversal.hpp, which draws only
-//                             what lies in front of every box still to be tested;
-//   zfar variant:             threshold = the box's nearest key minus its margin
-//                             (BoxProjection::occlusionThreshold()), valid in any order.
+//   occlusion-state semantics:  threshold = the clear key (a pixel is free), valid only
+//                               while everything drawn lies in front of the box (the
+//                               two-list order of culler.hpp guarantees it);
+//   depth semantics (zfar):     threshold = the box's nearest key minus its margin
+//                               (BoxProjection::occlusionThreshold()), valid in any
+//                               order. Either variant answers either kind of test.
 // The tiles under the rectangle are asked in the order of §3:
 //   1. up-to-date internal tiles (decided from the record),
 //   2. up-to-date border tiles (decided from the record when free or full),
 //   3. the remaining internal tiles: refreshed with a read of the whole tile,
 //   4. the remaining border tiles: a read of their intersection with the rectangle.
-// and the test stops at the first tile where the box may show.
+// test() asks the source one tile at a time and stops at the first tile where the box
+// may show (the paper's order, for a synchronous source). The batched form — plan() for
+// many tests, one submit() and collect(), apply(), resolve() — reads every tile that
+// steps 1 and 2 left undecided, for every test of the batch at once (the lookahead of
+// culler.hpp): more pixels, far fewer waits for the renderer. Both give the same
+// answer for a test against the same depth buffer.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,10 +55,10 @@ const char* toString(GridVariant);
 
 // Settings that trade accuracy for speed. All off by default; with any of them on the
 // grid is no longer conservative (a box with a few visible pixels may be culled).
-// culler.hpp (ApproximateSettings) documents what each gives up.
+// culler.hpp (CullerDesc::approximation) documents what each gives up.
 struct GridApproximation {
   // A test answers occluded when at most this many pixels of the box's rectangle are
-  // at or beyond the threshold (0: exact).
+  // at or beyond the threshold (0: exact). Such counting tests are never batched.
   std::uint32_t visible_pixels = 0;
   // Occlusion-state variant: a tile, or the part of a border tile under a box, counts
   // as full when at most this fraction of its (sampled) pixels are free (0: exact).
@@ -83,10 +90,47 @@ struct TileRecord {
   bool outdated = false;
 };
 
-// Per-test counts (added to, never reset, by test()).
+// Per-test counts (added to, never reset, by test(), plan() and resolve()).
 struct GridTestCounts {
   std::uint64_t tiles_tested = 0;  // tiles whose record or pixels decided something
   std::uint64_t tiles_read = 0;    // tiles (or tile intersections) read from the source
+};
+
+class OcclusionGrid;
+
+// The reads of several tests, submitted to a depth source together. Filled by
+// OcclusionGrid::plan(); submitted by OcclusionGrid::submit(); after the source's
+// collect(), OcclusionGrid::apply() updates the records and resolve() answers each test.
+class GridBatch {
+ public:
+  std::size_t tests() const { return tests_.size(); }
+  bool empty() const { return tests_.empty(); }
+  std::size_t requests() const { return requests_.size(); }
+  void clear();
+
+ private:
+  friend class OcclusionGrid;
+  struct Read {
+    std::uint32_t tile;
+    bool whole;           // a whole-tile refresh (updates the record), else an intersection
+    float threshold;      // Count reads
+    std::uint32_t first;  // first request (a read of a sampled tile spans several rows)
+    std::uint32_t count;
+  };
+  struct Test {
+    std::uint32_t first_read;  // into test_reads_
+    std::uint32_t reads;
+    float threshold;
+  };
+  bool reads_depth_ = true;  // the source answers Summary requests
+  bool submitted_ = false;
+  std::uint64_t submitted_stamp_ = 0;  // the grid's draw stamp when submitted
+  std::uint64_t epoch_ = 0;            // the grid's fill epoch when planned
+  std::vector<AreaRequest> requests_;
+  std::vector<AreaAnswer> answers_;
+  std::vector<Read> reads_;
+  std::vector<Test> tests_;
+  std::vector<std::uint32_t> test_reads_;
 };
 
 class OcclusionGrid {
@@ -102,10 +146,17 @@ class OcclusionGrid {
   TileRecord tile(std::uint32_t tx, std::uint32_t ty) const;
 
   // The depth buffer was just cleared to `clear_key`: every tile is free and up to date.
+  // Starts a frame.
   void reset(float clear_key);
+  // The depth buffer was cleared mid-frame to `key` (the clear key, or a nearer value):
+  // every tile holds exactly `key` and is up to date. Batches planned before are void.
+  void fill(float key);
 
   // Something was drawn over `rect`: its tiles become outdated. Reads nothing.
   void markOutdated(const PixelRect& rect);
+  // Every outdated tile, refreshed with one batch of whole-tile reads (submit and
+  // collect). Used after drawing a known-visible set first (temporal coherence).
+  void refreshOutdated(DepthSource& source, GridTestCounts& counts);
 
   // Busy update (the paper's BOG): reads at once every tile under `rect` that is not
   // full, and leaves them up to date.
@@ -117,16 +168,33 @@ class OcclusionGrid {
   Visibility test(const PixelRect& rect, float threshold, DepthSource& source,
                   GridTestCounts& counts);
 
+  // Batched tests. plan() decides from the records what they can (Visible or Occluded,
+  // returned at once), and otherwise adds the test to `batch` with the reads that decide
+  // it (whole outdated internal tiles, shared between tests; intersections of border
+  // tiles) and returns nothing. Not for counting tests (approximation.visible_pixels).
+  std::optional<Visibility> plan(const PixelRect& rect, float threshold,
+                                 const DepthSourceTraits& source, GridBatch& batch,
+                                 GridTestCounts& counts);
+  // Submits the batch's reads to the source (the caller then calls source.collect()).
+  void submit(GridBatch& batch, DepthSource& source);
+  // After collect(): refreshes the records of the whole tiles read. A tile drawn over
+  // after the batch was submitted keeps its new far bound but stays outdated.
+  void apply(GridBatch& batch);
+  // The answer of test `index` (in plan() order) of an applied batch.
+  Visibility resolve(const GridBatch& batch, std::size_t index, GridTestCounts& counts) const;
+
  private:
   enum class Decision : std::uint8_t { Occluded, Visible, Undecided };
   Decision decideFromRecord(std::size_t index, bool internal, float threshold) const;
   void applySummary(std::size_t index, const AreaDepth& area, std::uint32_t sampled);
   void applyCount(std::size_t index, std::uint32_t count, std::uint32_t sampled, float threshold);
+  // Appends the requests of a read of `area` (the area itself, or every row_stride-th
+  // row of it) to `requests`.
+  void appendRead(const PixelRect& area, AreaAsk ask, float threshold,
+                  std::vector<AreaRequest>& requests) const;
   PixelRect tileRectOf(std::size_t index) const;
-  // The rectangles a read of `area` covers: the area itself, or every row_stride-th row.
-  void appendSampledRows(const PixelRect& area, std::uint32_t owner);
   // Is a counted area (count of `sampled` pixels at or beyond the threshold) visible?
-  bool countShows(std::uint32_t count, std::uint32_t sampled) const;
+  bool countShows(std::uint32_t count, std::uint32_t sampled, float threshold) const;
   // The counting test used when approximation.visible_pixels > 0.
   Visibility testCounting(const PixelRect& rect, float threshold, DepthSource& source,
                           GridTestCounts& counts);
@@ -134,6 +202,10 @@ class OcclusionGrid {
   // rect) and returns Visible as soon as one shows pixels at or beyond threshold.
   Visibility readPending(const PixelRect& rect, float threshold, bool internal, DepthSource& source,
                          GridTestCounts& counts);
+  // Submits one request per tile (whole, or clipped to *clip) and collects the answers
+  // into answers_ (owners_ maps each request to its tile in `tiles`).
+  void readTiles(const std::uint32_t* tiles, std::size_t n, const PixelRect* clip, AreaAsk ask,
+                 float threshold, DepthSource& source);
   // Summarises whole tiles and refreshes their records; true if any shows pixels at or
   // beyond threshold.
   bool summarizeTiles(const std::uint32_t* tiles, std::size_t n, float threshold,
@@ -156,14 +228,22 @@ class OcclusionGrid {
   std::vector<float> near_;
   std::vector<float> far_;
   std::vector<std::uint8_t> outdated_;
+  // Draw stamps: stamp_[tile] is the value of draw_stamp_ when the tile was last drawn
+  // over, so that a batch's answers do not mark a tile drawn over since as up to date.
+  std::vector<std::uint64_t> stamp_;
+  std::uint64_t draw_stamp_ = 0;
+  std::uint64_t epoch_ = 0;  // advanced by fill(): batches of an earlier epoch are void
+  // While planning a batch: per tile, 1 + the index of its whole-tile read (0: none).
+  std::vector<std::uint32_t> planned_;
+  std::vector<std::uint32_t> planned_tiles_;
 
   // Scratch reused across tests so that a test never allocates once warmed up.
   std::vector<std::uint32_t> pending_;
-  std::vector<PixelRect> rects_;
-  std::vector<std::uint32_t> owners_;  // per entry of rects_/queries_: index into pending_
-  std::vector<AreaDepth> areas_;
-  std::vector<AreaQuery> queries_;
-  std::vector<std::uint32_t> counts_;
+  std::vector<AreaRequest> requests_;
+  std::vector<std::uint32_t> owners_;  // per entry of requests_: index into pending_
+  std::vector<AreaAnswer> answers_;
+  std::vector<std::uint32_t> undecided_;  // plan(): tiles steps 1 and 2 left open
+  GridBatch refresh_;                     // refreshOutdated()
 };
 
 }  // namespace logrid

@@ -29,6 +29,11 @@ class Hierarchy {
   // children", LOG §3).
   virtual std::uint32_t objectCount(NodeId node) const = 0;
   virtual ObjectId object(NodeId node, std::uint32_t index) const = 0;
+  // Changes whenever node ids are reassigned (a rebuild, a restructuring), so that what
+  // a culler remembers about nodes from earlier frames (temporal coherence, culler.hpp)
+  // is dropped. Boxes may change without it (refitting). A hierarchy that never
+  // reassigns its ids keeps the default.
+  virtual std::uint64_t revision() const { return 0; }
 };
 
 }  // namespace logrid

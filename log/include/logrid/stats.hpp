@@ -14,22 +14,25 @@ struct FrameStats {
   std::uint64_t boxes_view_culled = 0;  // outside the frustum or covering no pixel centre
   std::uint64_t boxes_near = 0;         // crossing the near plane: visible without a test
   std::uint64_t invalid_boxes = 0;      // NaN, infinite or inverted: visible and counted
-  std::uint64_t order_fallbacks = 0;    // boxes the two-list order could not guarantee
-                                        // (made visible instead of trusting the state)
+  std::uint64_t order_fallbacks = 0;    // occlusion-state tests the two-list order could
+                                        // not vouch for, done by depth instead
   std::uint64_t tiles_tested = 0;       // tiles (HZB: pyramid cells) examined by tests
   std::uint64_t tiles_read = 0;         // tiles whose pixels a test or refresh read
 
   // Depth source (differences of its counters over the frame).
   std::uint64_t reads = 0;        // pixel reads issued
   std::uint64_t pixels_read = 0;  // pixels read from the depth buffer
+  std::uint64_t bytes_read = 0;   // bytes that crossed from the renderer
+  std::uint64_t batches = 0;      // batches of requests submitted to the source
   std::uint64_t queries = 0;      // hardware occlusion queries issued
   std::uint64_t flushes = 0;      // times a read had to wait for the renderer
   double read_seconds = 0;        // wall time inside the depth source
 
   // Drawing.
-  std::uint64_t leaves_drawn = 0;   // nodes whose objects were drawn
-  std::uint64_t objects_drawn = 0;  // draw callbacks made
-  double seconds = 0;               // wall time of the whole cullFrame(), draws included
+  std::uint64_t leaves_drawn = 0;     // nodes whose objects were drawn
+  std::uint64_t objects_drawn = 0;    // draw callbacks made
+  std::uint64_t coherent_leaves = 0;  // leaves drawn first from last frame's visible set
+  double seconds = 0;                 // wall time of the whole cullFrame(), draws included
 
   double tilesPerBox() const {
     return boxes_tested ? double(tiles_tested) / double(boxes_tested) : 0.0;

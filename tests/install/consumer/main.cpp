@@ -19,17 +19,12 @@ class EmptyDepth : public logrid::DepthSource {
   void beginFrame(const logrid::Camera& camera) override {
     clear_ = logrid::clearKey(camera.depth);
   }
-  void summarize(const logrid::PixelRect* rects, std::size_t count,
-                 logrid::AreaDepth* out) override {
+  void submit(const logrid::AreaRequest* requests, std::size_t count,
+              logrid::AreaAnswer* answers) override {
     for (std::size_t i = 0; i < count; ++i) {
-      out[i] = {clear_, clear_, static_cast<std::uint32_t>(rects[i].area())};
-    }
-  }
-  void countAtOrBeyond(const logrid::AreaQuery* queries, std::size_t count,
-                       std::uint32_t* out) override {
-    for (std::size_t i = 0; i < count; ++i) {
-      out[i] =
-          clear_ >= queries[i].threshold ? static_cast<std::uint32_t>(queries[i].rect.area()) : 0u;
+      const auto area = static_cast<std::uint32_t>(requests[i].rect.area());
+      answers[i].depth = {clear_, clear_, area};
+      answers[i].count = clear_ >= requests[i].threshold ? area : 0u;
     }
   }
   void readKeys(const logrid::PixelRect& rect, float* keys) override {

@@ -1,20 +1,25 @@
 // Depth sources that read an OpenGL framebuffer's depth buffer. Each needs a current
 // GL 4.5 context and the framebuffer the application draws into (0: the default one).
 //
-//   ReadPixelsSource  glReadPixels, synchronous: one read per tile, the test stops at
-//                     the first visible tile. Reads the native type (32F as float, D24
-//                     as unsigned int, D16 as unsigned short), the fast path everywhere.
-//   PboSource         pixel-buffer objects: every tile a test needs is read into one
-//                     persistently mapped buffer, then one fence waits for all of them
-//                     (the "parallel pixel-level queries" LOG §6 leaves as future work).
-//                     Worth it on GPUs; on Mesa llvmpipe a read into a PBO blocks like a
-//                     direct read and costs more (PLATFORM.md §2b).
-//   QuerySource       hardware occlusion queries: counts the pixels at or beyond a depth
-//                     by drawing the rectangle (scissored) at that depth with
-//                     GL_SAMPLES_PASSED and no writes. Reads no depth at all. The depth
-//                     test compares in the buffer's format, so for D16 and D24 the count
-//                     may include pixels up to one quantisation step in front of the
-//                     threshold (never fewer than those at or beyond it): conservative.
+//   ReadPixelsSource  glReadPixels, synchronous: answers inside submit(), one read per
+//                     rectangle. Reads the native type (32F as float, D24 as unsigned
+//                     int, D16 as unsigned short), the fast path everywhere. The
+//                     simple default.
+//   PboSource         a ring of persistently mapped pixel-buffer objects with fences,
+//                     asynchronous: submit() issues every read of the batch into a
+//                     buffer and fences it, collect() waits for the fences and answers
+//                     from the mapped memory. The GPU path (the "parallel pixel-level
+//                     queries" LOG §6 leaves as future work); on Mesa llvmpipe a read
+//                     into a PBO blocks like a direct read (PLATFORM.md §2b).
+//   QuerySource       hardware occlusion queries, asynchronous: counts the pixels at or
+//                     beyond a depth by drawing the rectangle (scissored) at that depth
+//                     with GL_SAMPLES_PASSED and no writes; submit() issues the queries,
+//                     collect() reads their results. Reads no depth at all, so it
+//                     answers Count requests only. The depth test compares in the
+//                     buffer's format, so for D16 and D24 a count may include pixels up
+//                     to one quantisation step in front of the threshold (never fewer
+//                     than those at or beyond it): conservative.
+// The compute-shader tile reduction is in reduction_source.hpp.
 //
 // beginFrame() checks the framebuffer's depth attachment against Camera::depth.format
 // and throws logrid::Error if they differ.
@@ -54,18 +59,36 @@ class PboSource : public cpu::PixelReader {
   PboSource& operator=(const PboSource&) = delete;
   DepthSourceTraits traits() const override { return {"pbo", true, true}; }
   void beginFrame(const Camera& camera) override;
+  void endFrame() override;
+
+  // Buffers in the ring (grows when more batches are in flight than it holds).
+  std::size_t ringSize() const { return slots_.size(); }
 
  protected:
+  void issue(const PixelRect* rects, std::size_t count) override;
   void fetch(const PixelRect* rects, std::size_t count, const void** data,
              std::size_t* strides) override;
 
  private:
-  void reserve(std::size_t bytes);
+  struct Slot {
+    std::uint32_t buffer = 0;
+    std::size_t capacity = 0;
+    const unsigned char* mapped = nullptr;
+    void* fence = nullptr;  // GLsync of the reads issued into it, until fetched
+  };
+  Slot& freeSlot(std::size_t bytes);
+  void release(Slot& slot);
+
   std::uint32_t framebuffer_;
   std::uint32_t type_ = 0;
-  std::uint32_t buffer_ = 0;
-  std::size_t capacity_ = 0;
-  const unsigned char* mapped_ = nullptr;
+  std::vector<Slot> slots_;
+  std::size_t next_slot_ = 0;
+  // Per rectangle issued since the last fetch: where its values land.
+  struct Issued {
+    std::size_t slot;
+    std::size_t offset;
+  };
+  std::vector<Issued> issued_;
 };
 
 class QuerySource : public DepthSource {
@@ -79,10 +102,11 @@ class QuerySource : public DepthSource {
   void beginFrame(const Camera& camera) override;
   void noteDraw() override { drawn_since_query_ = true; }
 
-  // Not supported: throws logrid::Error (this source never reads pixels).
-  void summarize(const PixelRect* rects, std::size_t count, AreaDepth* out) override;
+  // Count requests only: a Summary request or readKeys() throws logrid::Error
+  // (Unsupported): this source never reads depth values.
+  void submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) override;
+  void collect() override;
   void readKeys(const PixelRect& rect, float* keys) override;
-  void countAtOrBeyond(const AreaQuery* queries, std::size_t count, std::uint32_t* out) override;
 
  private:
   std::uint32_t framebuffer_;
@@ -90,7 +114,12 @@ class QuerySource : public DepthSource {
   std::unique_ptr<Program> program_;
   std::int32_t depth_uniform_ = -1;
   std::uint32_t vao_ = 0;
-  std::vector<std::uint32_t> queries_;
+  std::vector<std::uint32_t> queries_;  // query objects, reused frame to frame
+  struct Pending {
+    std::uint32_t query;  // index into queries_
+    AreaAnswer* answer;
+  };
+  std::vector<Pending> pending_;
   bool drawn_since_query_ = false;
 };
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <initializer_list>
 #include <string>
 
 namespace logrid::zread {
@@ -10,6 +11,8 @@ namespace logrid::zread {
 class Program {
  public:
   Program(const std::string& name, const char* vertex_source, const char* fragment_source);
+  // A compute program.
+  Program(const std::string& name, const char* compute_source);
   ~Program();
   Program(const Program&) = delete;
   Program& operator=(const Program&) = delete;
@@ -20,6 +23,7 @@ class Program {
   std::int32_t uniform(const char* uniform_name) const;
 
  private:
+  void link(std::initializer_list<std::uint32_t> shaders);  // takes and deletes the shaders
   std::string name_;
   std::uint32_t program_ = 0;
 };

@@ -1,0 +1,97 @@
+#include "cli/readers.hpp"
+
+#include <optional>
+
+#include "logrid/cpu/software_depth.hpp"
+#include "logrid/cpu/software_rasterizer.hpp"
+#include "logrid/zread/gl_sources.hpp"
+#include "logrid/zread/reduction_source.hpp"
+
+namespace logrid::samples {
+namespace {
+
+// A GL source over the frame's framebuffer.
+template <typename Source>
+class GlReader final : public FrameReader {
+ public:
+  explicit GlReader(std::uint32_t framebuffer) : source_(framebuffer) {}
+  DepthSource& source() override { return source_; }
+
+ private:
+  Source source_;
+};
+
+// A software depth buffer fed with the triangles of every object drawn, rasterised
+// with inner coverage: it must never hold depth where GL drew nothing.
+class SoftwareReader final : public FrameReader {
+ public:
+  explicit SoftwareReader(const ReaderContext& c)
+      : scene_(c.scene), buffer_(c.width, c.height, c.depth.convention) {}
+  DepthSource& source() override { return buffer_; }
+  void beginFrame(const Camera& camera) override {
+    buffer_.clear();
+    raster_.emplace(camera, buffer_, nullptr, cpu::Coverage::Inner);
+  }
+  void objectDrawn(ObjectId id) override {
+    const gl::RenderMesh& mesh = scene_.mesh;
+    const gl::RenderMesh::Draw& d = mesh.draws[id];
+    for (std::uint32_t i = d.first_index; i < d.first_index + d.index_count; i += 3) {
+      const float* v[3];
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        const std::uint32_t local =
+            mesh.indices16.empty() ? mesh.indices32[i + k] : mesh.indices16[i + k];
+        v[k] = &mesh.positions[(std::size_t(d.base_vertex) + local) * 3];
+      }
+      raster_->drawTriangle(v[0], v[1], v[2], id);
+    }
+  }
+
+ private:
+  const PreparedScene& scene_;
+  cpu::SoftwareDepthBuffer buffer_;
+  std::optional<cpu::SoftwareRasterizer> raster_;
+};
+
+}  // namespace
+
+const std::vector<ReaderInfo>& readerTable() {
+  static const std::vector<ReaderInfo> table = {
+      {"readpixels", "glReadPixels, synchronous, one read per rectangle (the default)", true,
+       [](const ReaderContext& c) {
+         return std::make_unique<GlReader<zread::ReadPixelsSource>>(c.framebuffer);
+       }},
+      {"pbo", "a ring of pixel-buffer objects with fences: one wait per batch", true,
+       [](const ReaderContext& c) {
+         return std::make_unique<GlReader<zread::PboSource>>(c.framebuffer);
+       }},
+      {"reduce", "a compute shader reduces each rectangle to 16 bytes on the GPU", true,
+       [](const ReaderContext& c) {
+         return std::make_unique<GlReader<zread::ReductionSource>>(c.framebuffer);
+       }},
+      {"query", "hardware occlusion queries (GL_SAMPLES_PASSED), counts only", false,
+       [](const ReaderContext& c) {
+         return std::make_unique<GlReader<zread::QuerySource>>(c.framebuffer);
+       }},
+      {"software", "a scalar CPU depth buffer fed with the drawn triangles", true,
+       [](const ReaderContext& c) { return std::make_unique<SoftwareReader>(c); }},
+  };
+  return table;
+}
+
+const ReaderInfo* findReader(const std::string& name) {
+  for (const ReaderInfo& r : readerTable()) {
+    if (name == r.name) return &r;
+  }
+  return nullptr;
+}
+
+std::string readerNames() {
+  std::string out;
+  for (const ReaderInfo& r : readerTable()) {
+    if (!out.empty()) out += ", ";
+    out += r.name;
+  }
+  return out;
+}
+
+}  // namespace logrid::samples

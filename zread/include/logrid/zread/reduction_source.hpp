@@ -1,0 +1,81 @@
+// A depth source that reduces the depth buffer on the GPU: a compute shader (GL 4.3+)
+// reads each requested rectangle of the depth texture and writes its nearest and
+// farthest depth, its free-pixel count and its count at or beyond the threshold into a
+// buffer, so a refresh moves 16 bytes per rectangle instead of its depth values.
+// Asynchronous: submit() uploads the batch's rectangles, dispatches and fences;
+// collect() waits for the fences and reads the answers from persistently mapped memory.
+//
+// Two kernels:
+//   PerRequest    one invocation per rectangle, a serial loop over its pixels: the fast
+//                 one on llvmpipe, where barriers are expensive (PLATFORM.md §2d);
+//   PerWorkgroup  one 16x16 workgroup per rectangle with a shared-memory reduction: the
+//                 one for GPUs.
+// Kernel::Auto picks PerRequest on software renderers and PerWorkgroup elsewhere.
+//
+// Needs the framebuffer's depth attachment to be a single-sample 2D texture (a
+// renderbuffer cannot be read by a shader): beginFrame() throws logrid::Error otherwise.
+// D16 and D24 values reach the shader as normalised floats; their answers are widened
+// by one float step (nearest key down, farthest up, counts at a threshold one step
+// nearer) so that the conversion's rounding never makes them less conservative than
+// the CPU kernels' exact ones. D32F answers are exact.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "logrid/depth_source.hpp"
+#include "logrid/zread/program.hpp"
+
+namespace logrid::zread {
+
+class ReductionSource : public DepthSource {
+ public:
+  enum class Kernel : std::uint8_t { Auto, PerRequest, PerWorkgroup };
+
+  explicit ReductionSource(std::uint32_t framebuffer, Kernel kernel = Kernel::Auto);
+  ~ReductionSource() override;
+  ReductionSource(const ReductionSource&) = delete;
+  ReductionSource& operator=(const ReductionSource&) = delete;
+
+  DepthSourceTraits traits() const override { return {"reduce", true, true}; }
+  void beginFrame(const Camera& camera) override;
+  void endFrame() override;
+  void noteDraw() override { drawn_since_read_ = true; }
+
+  void submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) override;
+  void collect() override;
+  // Reads the rectangle with glReadPixels (a debugging aid, not the fast path).
+  void readKeys(const PixelRect& rect, float* keys) override;
+
+  Kernel kernel() const { return kernel_; }
+
+ private:
+  struct Slot {
+    std::uint32_t requests = 0;  // SSBO of the batch's rectangles
+    std::uint32_t answers = 0;   // SSBO of its answers, persistently mapped
+    std::size_t capacity = 0;    // rectangles either buffer holds
+    const unsigned char* mapped = nullptr;
+    void* fence = nullptr;  // GLsync, until collected
+    std::vector<AreaAnswer*> out;
+    std::vector<AreaRequest> asked;
+  };
+  Slot& freeSlot(std::size_t count);
+  void release(Slot& slot);
+  void dispatch(Slot& slot, std::size_t count);
+
+  std::uint32_t framebuffer_;
+  Kernel kernel_;
+  std::unique_ptr<Program> program_;
+  std::uint32_t sampler_ = 0;
+  std::uint32_t texture_ = 0;  // the depth attachment, found in beginFrame()
+  std::int32_t texture_level_ = 0;
+  DepthSetup depth_;
+  std::uint32_t width_ = 0;
+  std::uint32_t height_ = 0;
+  std::vector<Slot> slots_;
+  std::vector<unsigned char> upload_;
+  bool drawn_since_read_ = false;
+};
+
+}  // namespace logrid::zread

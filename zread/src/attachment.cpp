@@ -1,0 +1,61 @@
+#include "attachment.hpp"
+
+#include <sstream>
+#include <string>
+
+#include "logrid/error.hpp"
+
+namespace logrid::zread::detail {
+
+GLenum nativeType(DepthFormat format) {
+  switch (format) {
+    case DepthFormat::D16: return GL_UNSIGNED_SHORT;
+    case DepthFormat::D24: return GL_UNSIGNED_INT;
+    case DepthFormat::D32F: return GL_FLOAT;
+  }
+  return GL_FLOAT;
+}
+
+NativeDepth nativeDepth(DepthFormat format) {
+  switch (format) {
+    case DepthFormat::D16: return NativeDepth::Unorm16;
+    case DepthFormat::D24: return NativeDepth::Unorm32;
+    case DepthFormat::D32F: return NativeDepth::Float32;
+  }
+  return NativeDepth::Float32;
+}
+
+void checkDepthAttachment(const char* who, GLuint framebuffer, const Camera& camera) {
+  const GLenum attachment = framebuffer ? GL_DEPTH_ATTACHMENT : GL_DEPTH;
+  GLint bits = 0, type = 0;
+  glGetNamedFramebufferAttachmentParameteriv(framebuffer, attachment,
+                                             GL_FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE, &bits);
+  glGetNamedFramebufferAttachmentParameteriv(framebuffer, attachment,
+                                             GL_FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE, &type);
+  const DepthFormat want = camera.depth.format;
+  const bool ok = (want == DepthFormat::D32F && type == GL_FLOAT && bits == 32) ||
+                  (want == DepthFormat::D24 && type == GL_UNSIGNED_NORMALIZED && bits == 24) ||
+                  (want == DepthFormat::D16 && type == GL_UNSIGNED_NORMALIZED && bits == 16);
+  if (!ok) {
+    std::ostringstream out;
+    out << who << ": the camera says depth format " << toString(want) << " but framebuffer "
+        << framebuffer << " has a " << bits << "-bit "
+        << (type == GL_FLOAT                 ? "float"
+            : type == GL_UNSIGNED_NORMALIZED ? "unorm"
+                                             : "unknown")
+        << " depth attachment; set Camera::depth.format to match the buffer";
+    throw Error(ErrorCode::InvalidArgument, out.str());
+  }
+}
+
+void checkReadError(const char* who, const char* call) {
+  const GLenum error = glGetError();
+  if (error == GL_NO_ERROR) return;
+  std::ostringstream out;
+  out << who << ": GL error 0x" << std::hex << error << std::dec << " after " << call
+      << "; the depth values cannot be trusted (the error may also come from an earlier call "
+         "of the application: check its GL errors before cullFrame())";
+  throw Error(ErrorCode::Runtime, out.str());
+}
+
+}  // namespace logrid::zread::detail

@@ -1,0 +1,417 @@
+#include "logrid/zread/reduction_source.hpp"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include "attachment.hpp"
+#include "logrid/error.hpp"
+#include "logrid/zread/gl_sources.hpp"
+
+namespace logrid::zread {
+namespace {
+
+// The layouts of the two buffers (std430).
+struct GpuRequest {
+  std::int32_t rect[4];       // x0, y0, x1, y1
+  float threshold;            // window depth the count compares against
+  std::uint32_t count_below;  // 1: count depth <= threshold (reversed), 0: depth >= threshold
+  std::uint32_t pad[2];
+};
+struct GpuAnswer {
+  float lo;  // nearest window depth (standard) / smallest stored value
+  float hi;
+  std::uint32_t free_pixels;
+  std::uint32_t count;
+};
+static_assert(sizeof(GpuRequest) == 32 && sizeof(GpuAnswer) == 16, "std430 layouts");
+
+// Shared by both kernels: the declarations, with the binding points filled in.
+std::string header(int requests_binding, int answers_binding, const char* layout) {
+  std::ostringstream s;
+  s << "#version 450 core\n"
+    << layout << "\n"
+    << "uniform sampler2D u_depth;\n"
+       "uniform uint u_count;\n"
+       "uniform float u_clear;\n"
+       "uniform int u_level;\n"
+       "struct Request { ivec4 rect; float threshold; uint count_below; uint pad0; uint pad1; };\n"
+    << "layout(std430, binding = " << requests_binding
+    << ") readonly buffer Requests { Request requests[]; };\n"
+       "struct Answer { float lo; float hi; uint free_pixels; uint count; };\n"
+    << "layout(std430, binding = " << answers_binding
+    << ") writeonly buffer Answers { Answer answers[]; };\n"
+       "void accumulate(Request r, int x, int y, inout float lo, inout float hi,\n"
+       "                inout uint free_px, inout uint n) {\n"
+       "  float d = texelFetch(u_depth, ivec2(x, y), u_level).r;\n"
+       "  lo = min(lo, d);\n"
+       "  hi = max(hi, d);\n"
+       "  free_px += uint(d == u_clear);\n"
+       "  n += uint(r.count_below != 0u ? d <= r.threshold : d >= r.threshold);\n"
+       "}\n";
+  return s.str();
+}
+
+std::string perRequestKernel(int rb, int ab) {
+  return header(rb, ab, "layout(local_size_x = 32) in;") +
+         "void main() {\n"
+         "  uint i = gl_GlobalInvocationID.x;\n"
+         "  if (i >= u_count) return;\n"
+         "  Request r = requests[i];\n"
+         "  float lo = 3.0, hi = -3.0;\n"
+         "  uint free_px = 0u, n = 0u;\n"
+         "  for (int y = r.rect.y; y < r.rect.w; ++y)\n"
+         "    for (int x = r.rect.x; x < r.rect.z; ++x) accumulate(r, x, y, lo, hi, free_px, n);\n"
+         "  answers[i] = Answer(lo, hi, free_px, n);\n"
+         "}\n";
+}
+
+std::string perWorkgroupKernel(int rb, int ab) {
+  return header(rb, ab, "layout(local_size_x = 16, local_size_y = 16) in;") +
+         "shared float s_lo[256];\n"
+         "shared float s_hi[256];\n"
+         "shared uint s_free[256];\n"
+         "shared uint s_n[256];\n"
+         "void main() {\n"
+         "  uint i = gl_WorkGroupID.x + gl_WorkGroupID.y * 65535u;\n"
+         "  if (i >= u_count) return;\n"  // the whole workgroup returns together
+         "  Request r = requests[i];\n"
+         "  float lo = 3.0, hi = -3.0;\n"
+         "  uint free_px = 0u, n = 0u;\n"
+         "  ivec2 l = ivec2(gl_LocalInvocationID.xy);\n"
+         "  for (int y = r.rect.y + l.y; y < r.rect.w; y += 16)\n"
+         "    for (int x = r.rect.x + l.x; x < r.rect.z; x += 16)\n"
+         "      accumulate(r, x, y, lo, hi, free_px, n);\n"
+         "  uint k = gl_LocalInvocationIndex;\n"
+         "  s_lo[k] = lo; s_hi[k] = hi; s_free[k] = free_px; s_n[k] = n;\n"
+         "  barrier();\n"
+         "  for (uint s = 128u; s > 0u; s >>= 1) {\n"
+         "    if (k < s) {\n"
+         "      s_lo[k] = min(s_lo[k], s_lo[k + s]);\n"
+         "      s_hi[k] = max(s_hi[k], s_hi[k + s]);\n"
+         "      s_free[k] += s_free[k + s];\n"
+         "      s_n[k] += s_n[k + s];\n"
+         "    }\n"
+         "    barrier();\n"
+         "  }\n"
+         "  if (k == 0u) answers[i] = Answer(s_lo[0], s_hi[0], s_free[0], s_n[0]);\n"
+         "}\n";
+}
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+float down(float v) { return std::nextafter(v, -std::numeric_limits<float>::infinity()); }
+float up(float v) { return std::nextafter(v, std::numeric_limits<float>::infinity()); }
+
+constexpr GLuint64 kWaitNanoseconds = 10'000'000'000ull;  // 10 s: a hung renderer
+
+// Binding points and the texture unit used, from the top of their ranges so that an
+// application's usual low bindings are not touched (they are restored anyway).
+struct Bindings {
+  GLuint unit;
+  GLuint requests;
+  GLuint answers;
+};
+
+Bindings bindings() {
+  GLint units = 0, ssbos = 0;
+  glGetIntegerv(GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, &units);
+  glGetIntegerv(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &ssbos);
+  return {GLuint(std::max(units, 1) - 1), GLuint(std::max(ssbos, 2) - 2),
+          GLuint(std::max(ssbos, 2) - 1)};
+}
+
+// Saves and restores what a dispatch changes: program, the texture and sampler of one
+// unit, two indexed shader-storage bindings and the generic one.
+class DispatchState {
+ public:
+  explicit DispatchState(const Bindings& b) : b_(b) {
+    glGetIntegerv(GL_CURRENT_PROGRAM, &program_);
+    glGetIntegerv(GL_ACTIVE_TEXTURE, &active_);
+    glActiveTexture(GL_TEXTURE0 + b.unit);
+    glGetIntegerv(GL_TEXTURE_BINDING_2D, &texture_);
+    glGetIntegerv(GL_SAMPLER_BINDING, &sampler_);
+    glActiveTexture(GLenum(active_));
+    glGetIntegerv(GL_SHADER_STORAGE_BUFFER_BINDING, &generic_);
+    for (int k = 0; k < 2; ++k) {
+      const GLuint index = k == 0 ? b.requests : b.answers;
+      glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, index, &buffer_[k]);
+      glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_START, index, &start_[k]);
+      glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_SIZE, index, &size_[k]);
+    }
+  }
+  ~DispatchState() {
+    for (int k = 0; k < 2; ++k) {
+      const GLuint index = k == 0 ? b_.requests : b_.answers;
+      const GLuint buffer = glIsBuffer(GLuint(buffer_[k])) ? GLuint(buffer_[k]) : 0;
+      if (buffer && size_[k] > 0) {
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, index, buffer, GLintptr(start_[k]),
+                          GLsizeiptr(size_[k]));
+      } else {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, index, buffer);
+      }
+    }
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, glIsBuffer(GLuint(generic_)) ? GLuint(generic_) : 0);
+    glBindTextureUnit(b_.unit, glIsTexture(GLuint(texture_)) ? GLuint(texture_) : 0);
+    glBindSampler(b_.unit, glIsSampler(GLuint(sampler_)) ? GLuint(sampler_) : 0);
+    glUseProgram(glIsProgram(GLuint(program_)) ? GLuint(program_) : 0);
+  }
+  DispatchState(const DispatchState&) = delete;
+  DispatchState& operator=(const DispatchState&) = delete;
+
+ private:
+  Bindings b_;
+  GLint program_ = 0, active_ = 0, texture_ = 0, sampler_ = 0, generic_ = 0;
+  GLint buffer_[2] = {0, 0};
+  GLint64 start_[2] = {0, 0}, size_[2] = {0, 0};
+};
+
+}  // namespace
+
+ReductionSource::ReductionSource(std::uint32_t framebuffer, Kernel kernel)
+    : framebuffer_(framebuffer), kernel_(kernel) {
+  GLint major = 0, minor = 0;
+  glGetIntegerv(GL_MAJOR_VERSION, &major);
+  glGetIntegerv(GL_MINOR_VERSION, &minor);
+  if (major * 10 + minor < 43) {
+    throw Error(ErrorCode::Unsupported,
+                "ReductionSource: compute shaders need OpenGL 4.3, the context has " +
+                    std::to_string(major) + "." + std::to_string(minor) +
+                    "; use the readpixels or pbo source");
+  }
+  if (kernel_ == Kernel::Auto) {
+    const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    const std::string name = renderer ? renderer : "";
+    const bool software = name.find("llvmpipe") != std::string::npos ||
+                          name.find("softpipe") != std::string::npos ||
+                          name.find("SwiftShader") != std::string::npos;
+    kernel_ = software ? Kernel::PerRequest : Kernel::PerWorkgroup;
+  }
+  const Bindings b = bindings();
+  const std::string source = kernel_ == Kernel::PerRequest
+                                 ? perRequestKernel(int(b.requests), int(b.answers))
+                                 : perWorkgroupKernel(int(b.requests), int(b.answers));
+  program_ = std::make_unique<Program>("ReductionSource", source.c_str());
+  glProgramUniform1i(program_->handle(), program_->uniform("u_depth"), GLint(b.unit));
+  // texelFetch on a depth texture is defined only without depth comparison; a sampler
+  // object overrides whatever compare mode the application gave its texture.
+  glCreateSamplers(1, &sampler_);
+  glSamplerParameteri(sampler_, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+  glSamplerParameteri(sampler_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glSamplerParameteri(sampler_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+}
+
+ReductionSource::~ReductionSource() {
+  for (Slot& s : slots_) release(s);
+  if (sampler_) glDeleteSamplers(1, &sampler_);
+}
+
+void ReductionSource::release(Slot& slot) {
+  if (slot.fence) glDeleteSync(static_cast<GLsync>(slot.fence));
+  if (slot.requests) glDeleteBuffers(1, &slot.requests);
+  if (slot.answers) glDeleteBuffers(1, &slot.answers);
+  slot = {};
+}
+
+void ReductionSource::beginFrame(const Camera& camera) {
+  detail::checkDepthAttachment("ReductionSource", framebuffer_, camera);
+  GLint type = 0, name = 0, level = 0, layered = 0;
+  if (framebuffer_ != 0) {
+    const GLenum a = GL_DEPTH_ATTACHMENT;
+    glGetNamedFramebufferAttachmentParameteriv(framebuffer_, a,
+                                               GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+    glGetNamedFramebufferAttachmentParameteriv(framebuffer_, a,
+                                               GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &name);
+    glGetNamedFramebufferAttachmentParameteriv(framebuffer_, a,
+                                               GL_FRAMEBUFFER_ATTACHMENT_TEXTURE_LEVEL, &level);
+    glGetNamedFramebufferAttachmentParameteriv(framebuffer_, a, GL_FRAMEBUFFER_ATTACHMENT_LAYERED,
+                                               &layered);
+  }
+  GLint target = 0;
+  if (type == GL_TEXTURE) glGetTextureParameteriv(GLuint(name), GL_TEXTURE_TARGET, &target);
+  if (type != GL_TEXTURE || target != GL_TEXTURE_2D || layered) {
+    std::ostringstream out;
+    out << "ReductionSource: framebuffer " << framebuffer_
+        << " has no single-sample 2D depth texture attached (a compute shader cannot read "
+        << (framebuffer_ == 0                     ? "the default framebuffer's depth"
+            : type == GL_RENDERBUFFER             ? "a renderbuffer"
+            : target == GL_TEXTURE_2D_MULTISAMPLE ? "a multisample texture"
+                                                  : "this attachment")
+        << "); attach a GL_TEXTURE_2D depth texture or use the readpixels or pbo source";
+    throw Error(ErrorCode::Unsupported, out.str());
+  }
+  GLint mode = GL_DEPTH_COMPONENT;
+  glGetTextureParameteriv(GLuint(name), GL_DEPTH_STENCIL_TEXTURE_MODE, &mode);
+  if (mode != GL_DEPTH_COMPONENT) {
+    throw Error(ErrorCode::InvalidArgument,
+                "ReductionSource: the depth texture's GL_DEPTH_STENCIL_TEXTURE_MODE is "
+                "GL_STENCIL_INDEX, so a shader reads stencil, not depth; set it to "
+                "GL_DEPTH_COMPONENT before culling");
+  }
+  texture_ = GLuint(name);
+  texture_level_ = level;
+  depth_ = camera.depth;
+  width_ = camera.width;
+  height_ = camera.height;
+  for (const Slot& s : slots_) {
+    if (s.fence) throw Error(ErrorCode::Runtime, "ReductionSource: a batch was never collected");
+  }
+}
+
+void ReductionSource::endFrame() {
+  for (const Slot& s : slots_) {
+    if (s.fence) throw Error(ErrorCode::Runtime, "ReductionSource: a batch was never collected");
+  }
+}
+
+ReductionSource::Slot& ReductionSource::freeSlot(std::size_t count) {
+  Slot* slot = nullptr;
+  for (Slot& s : slots_) {
+    if (!s.fence) {
+      slot = &s;
+      break;
+    }
+  }
+  if (!slot) slot = &slots_.emplace_back();
+  if (slot->capacity < count) {
+    release(*slot);
+    slot->capacity = std::max<std::size_t>(count, 256);
+    glCreateBuffers(1, &slot->requests);
+    glNamedBufferStorage(slot->requests, GLsizeiptr(slot->capacity * sizeof(GpuRequest)), nullptr,
+                         GL_DYNAMIC_STORAGE_BIT);
+    glCreateBuffers(1, &slot->answers);
+    const GLbitfield flags = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
+    glNamedBufferStorage(slot->answers, GLsizeiptr(slot->capacity * sizeof(GpuAnswer)), nullptr,
+                         flags);
+    slot->mapped = static_cast<const unsigned char*>(glMapNamedBufferRange(
+        slot->answers, 0, GLsizeiptr(slot->capacity * sizeof(GpuAnswer)), flags));
+    if (!slot->mapped) {
+      release(*slot);
+      throw Error(ErrorCode::Runtime, "ReductionSource: could not map the answer buffer");
+    }
+  }
+  return *slot;
+}
+
+void ReductionSource::submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) {
+  if (count == 0) return;
+  const auto start = std::chrono::steady_clock::now();
+  Slot& slot = freeSlot(count);
+  const bool reversed = depth_.convention == DepthConvention::Reversed;
+  const bool exact = depth_.format == DepthFormat::D32F;
+  upload_.resize(count * sizeof(GpuRequest));
+  slot.out.clear();
+  slot.asked.assign(requests, requests + count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const AreaRequest& q = requests[i];
+    GpuRequest g{};
+    g.rect[0] = q.rect.x0, g.rect[1] = q.rect.y0, g.rect[2] = q.rect.x1, g.rect[3] = q.rect.y1;
+    // key >= t  <=>  depth >= t (standard) or depth <= -t (reversed); for unorm formats
+    // the comparison moves one float step towards counting more.
+    const float t = reversed ? -q.threshold : q.threshold;
+    g.threshold = exact ? t : (reversed ? up(t) : down(t));
+    g.count_below = reversed ? 1u : 0u;
+    std::memcpy(upload_.data() + i * sizeof(GpuRequest), &g, sizeof g);
+    slot.out.push_back(answers + i);
+    counters_.pixels += std::uint64_t(q.rect.area());
+  }
+  glNamedBufferSubData(slot.requests, 0, GLsizeiptr(upload_.size()), upload_.data());
+  dispatch(slot, count);
+  ++counters_.batches;
+  counters_.reads += count;
+  if (drawn_since_read_) {
+    ++counters_.flushes;
+    drawn_since_read_ = false;
+  }
+  counters_.seconds += secondsSince(start);
+}
+
+void ReductionSource::dispatch(Slot& slot, std::size_t count) {
+  const Bindings b = bindings();
+  {
+    const DispatchState saved(b);
+    program_->use();
+    glProgramUniform1ui(program_->handle(), program_->uniform("u_count"), GLuint(count));
+    glProgramUniform1f(program_->handle(), program_->uniform("u_clear"),
+                       depth_.convention == DepthConvention::Reversed ? 0.0f : 1.0f);
+    glProgramUniform1i(program_->handle(), program_->uniform("u_level"), texture_level_);
+    glBindTextureUnit(b.unit, texture_);
+    glBindSampler(b.unit, sampler_);
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, b.requests, slot.requests, 0,
+                      GLsizeiptr(count * sizeof(GpuRequest)));
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, b.answers, slot.answers, 0,
+                      GLsizeiptr(count * sizeof(GpuAnswer)));
+    if (kernel_ == Kernel::PerRequest) {
+      glDispatchCompute(GLuint((count + 31) / 32), 1, 1);
+    } else {
+      const std::size_t x = std::min<std::size_t>(count, 65535);
+      glDispatchCompute(GLuint(x), GLuint((count + 65534) / 65535), 1);
+    }
+    glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
+  }
+  detail::checkReadError("ReductionSource", "glDispatchCompute");
+  slot.fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+  glFlush();  // the fence must reach the renderer, or waiting on it could wait forever
+}
+
+void ReductionSource::collect() {
+  const auto start = std::chrono::steady_clock::now();
+  const bool reversed = depth_.convention == DepthConvention::Reversed;
+  const bool exact = depth_.format == DepthFormat::D32F;
+  for (Slot& slot : slots_) {
+    if (!slot.fence) continue;
+    const GLenum result = glClientWaitSync(static_cast<GLsync>(slot.fence), 0, kWaitNanoseconds);
+    glDeleteSync(static_cast<GLsync>(slot.fence));
+    slot.fence = nullptr;
+    if (result == GL_TIMEOUT_EXPIRED || result == GL_WAIT_FAILED) {
+      throw Error(ErrorCode::Runtime,
+                  "ReductionSource: waiting for the reduction failed or "
+                  "took over 10 s");
+    }
+    for (std::size_t i = 0; i < slot.out.size(); ++i) {
+      GpuAnswer g;
+      std::memcpy(&g, slot.mapped + i * sizeof(GpuAnswer), sizeof g);
+      AreaAnswer& a = *slot.out[i];
+      if (slot.asked[i].ask == AreaAsk::Summary) {
+        float lo = reversed ? -g.hi : g.lo, hi = reversed ? -g.lo : g.hi;
+        if (!exact) lo = down(lo), hi = up(hi);
+        a.depth = {lo, hi, g.free_pixels};
+      } else {
+        a.count = g.count;
+      }
+    }
+    counters_.bytes += slot.out.size() * sizeof(GpuAnswer);
+    slot.out.clear();
+  }
+  counters_.seconds += secondsSince(start);
+}
+
+void ReductionSource::readKeys(const PixelRect& rect, float* keys) {
+  ReadPixelsSource pixels(framebuffer_);
+  Camera camera;
+  camera.width = width_;
+  camera.height = height_;
+  camera.depth = depth_;
+  pixels.beginFrame(camera);
+  pixels.readKeys(rect, keys);
+  const ReadCounters& c = pixels.counters();
+  counters_.reads += c.reads;
+  counters_.pixels += c.pixels;
+  counters_.bytes += c.bytes;
+  counters_.batches += c.batches;
+  counters_.seconds += c.seconds;
+  if (drawn_since_read_) {
+    ++counters_.flushes;
+    drawn_since_read_ = false;
+  }
+}
+
+}  // namespace logrid::zread
