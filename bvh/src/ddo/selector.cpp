@@ -416,10 +416,18 @@ void Selector::finishOccluders(Frame& frame) {
     o.rect = {clampX(std::floor(xlo) - 1), clampY(std::floor(ylo) - 1), clampX(std::ceil(xhi) + 1),
               clampY(std::ceil(yhi) + 1)};
     if (o.rect.empty()) return;
-    o.near_key = float(klo);
-    float far = float(khi);
-    if (double(far) < khi) far = std::nextafter(far, HUGE_VALF);
-    o.far_key = std::min(far, frame.clear_key);
+    // The keys GL stores for the quad: its corner keys, moved by the rounding of drawing
+    // it (projection.hpp: the float NDC corners, the viewport transform, interpolation,
+    // the conversion and one quantisation step of the depth format), so that a culler
+    // told "drawn, no farther than far_key" can rely on it.
+    const double margin = quantisationStep(frame.camera.depth.format) +
+                          kRenderErrorUlps * kUnitRoundoff * (1.0 + std::max(-klo, khi));
+    float lo = float(klo - margin);
+    if (double(lo) > klo - margin) lo = std::nextafter(lo, -HUGE_VALF);
+    float hi = float(khi + margin);
+    if (double(hi) < khi + margin) hi = std::nextafter(hi, HUGE_VALF);
+    o.near_key = lo;
+    o.far_key = std::min(hi, frame.clear_key);
     o.faces = count;
     occluders_.push_back(o);
   };

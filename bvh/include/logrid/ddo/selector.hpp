@@ -60,10 +60,10 @@ struct SelectorSettings {
 // A selected occluder: a convex quad in normalized device coordinates (w = 1), its depth
 // already pushed back, ready to draw with the depth test and depth writes on.
 struct Occluder {
-  double ndc[4][3] = {};  // x, y, z of the corners, in order around the quad
-  PixelRect rect;         // every pixel it may cover (window coordinates)
-  float near_key = 0;     // smallest and largest depth key it stores
-  float far_key = 0;
+  double ndc[4][3] = {};    // x, y, z of the corners, in order around the quad
+  PixelRect rect;           // every pixel it may cover (window coordinates)
+  float near_key = 0;       // smallest and largest depth key GL may store for it (its
+  float far_key = 0;        // corners' keys with the rounding of drawing them)
   std::uint32_t faces = 1;  // octree faces it stands for
 };
 
