@@ -147,14 +147,21 @@ FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy, D
         if (lookahead_ == 1) {
           v = tester_->test(entry.projection.rect, threshold, depth, grid_counts_);
         } else {
-          const std::optional<Visibility> planned =
-              tester_->plan(entry.projection.rect, threshold, traits, grid_counts_);
+          const bool leaf = hierarchy.objectCount(entry.node) > 0;
+          std::optional<Visibility> planned =
+              tester_->plan(entry.projection.rect, threshold, traits, grid_counts_, leaf);
           if (!planned) {
-            pending_.push_back(entry);
-            continue;
-          }
-          if (*planned == Visibility::Visible && !pending_.empty()) {
-            // Visible by the records, but boxes in front of it are still undecided and
+            if (leaf) {
+              pending_.push_back(entry);
+              continue;
+            }
+            // An inner node the records cannot decide is opened rather than waited for:
+            // its children are tested instead (what a visible answer would do anyway), so
+            // a descent through the hierarchy costs no batch per level.
+            ++stats_.nodes_opened;
+            planned = Visibility::Visible;
+          } else if (*planned == Visibility::Visible && leaf && !pending_.empty()) {
+            // Visible by the records, but leaves in front of it are still undecided and
             // what they hold back from drawing may hide it: test it again after them.
             deferred_.push_back(entry);
             continue;

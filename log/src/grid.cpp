@@ -425,18 +425,14 @@ Visibility OcclusionGrid::testCounting(const PixelRect& rect, float threshold, D
 // ---------------------------------------------------------------------------
 
 std::optional<Visibility> OcclusionGrid::plan(const PixelRect& rect, float threshold,
-                                              const DepthSourceTraits& source, GridBatch& batch,
+                                              const DepthSourceTraits& source, GridBatch* to,
                                               GridTestCounts& counts) {
   assert(!rect.empty() && rect.x0 >= 0 && rect.y0 >= 0 && rect.x1 <= std::int32_t(desc_.width) &&
          rect.y1 <= std::int32_t(desc_.height) &&
          "OcclusionGrid::plan: rect must be non-empty and inside the viewport");
   assert(approx_.visible_pixels == 0 && "OcclusionGrid::plan: counting tests are not batched");
-  assert(!batch.submitted_ && "OcclusionGrid::plan: the batch was already submitted");
+  assert((!to || !to->submitted_) && "OcclusionGrid::plan: the batch was already submitted");
   exact_records_ = source.reads_depth;
-  if (batch.empty()) {
-    batch.reads_depth_ = source.reads_depth;
-    batch.epoch_ = epoch_;
-  }
   const TileSpan s = tileSpan(rect, desc_.tile_size, desc_.width, desc_.height);
 
   // Steps 1 and 2, as in test().
@@ -474,6 +470,12 @@ std::optional<Visibility> OcclusionGrid::plan(const PixelRect& rect, float thres
     }
   }
   if (undecided_.empty()) return Visibility::Occluded;
+  if (!to) return std::nullopt;
+  GridBatch& batch = *to;
+  if (batch.empty()) {
+    batch.reads_depth_ = source.reads_depth;
+    batch.epoch_ = epoch_;
+  }
 
   GridBatch::Test test{std::uint32_t(batch.test_reads_.size()), 0, threshold};
   const AreaAsk whole_ask = batch.reads_depth_ ? AreaAsk::Summary : AreaAsk::Count;

@@ -9,7 +9,7 @@
 namespace logrid::detail {
 
 std::optional<Visibility> BoxTester::plan(const PixelRect&, float, const DepthSourceTraits&,
-                                          GridTestCounts&) {
+                                          GridTestCounts&, bool) {
   assert(false && "BoxTester::plan: this method does not batch its tests");
   return Visibility::Visible;
 }
@@ -41,8 +41,9 @@ class GridTester final : public BoxTester {
     return grid_->test(rect, threshold, source, counts);
   }
   std::optional<Visibility> plan(const PixelRect& rect, float threshold,
-                                 const DepthSourceTraits& source, GridTestCounts& counts) override {
-    return grid_->plan(rect, threshold, source, batch_, counts);
+                                 const DepthSourceTraits& source, GridTestCounts& counts,
+                                 bool read) override {
+    return grid_->plan(rect, threshold, source, read ? &batch_ : nullptr, counts);
   }
   void submitBatch(DepthSource& source) override { grid_->submit(batch_, source); }
   void applyBatch() override { grid_->apply(batch_); }
@@ -111,7 +112,8 @@ class RectCountTester final : public BoxTester {
     return shows(count);
   }
   std::optional<Visibility> plan(const PixelRect& rect, float threshold, const DepthSourceTraits&,
-                                 GridTestCounts& counts) override {
+                                 GridTestCounts& counts, bool read) override {
+    if (!read) return std::nullopt;  // no records: every answer is a read
     requests_.push_back({rect, AreaAsk::Count, threshold});
     ++counts.tiles_tested;
     return std::nullopt;

@@ -24,10 +24,12 @@ class BoxTester {
                           GridTestCounts& counts) = 0;
 
   // Batched tests, for methods with MethodInfo::lookahead: plan() answers at once what
-  // needs no read, else adds the test to the batch; submitBatch(), the source's collect(),
-  // applyBatch(), then resolve() for each planned test in order, and clearBatch().
+  // needs no read, else (if `read`) adds the test to the batch; submitBatch(), the
+  // source's collect(), applyBatch(), then resolve() for each planned test in order, and
+  // clearBatch().
   virtual std::optional<Visibility> plan(const PixelRect& rect, float threshold,
-                                         const DepthSourceTraits& source, GridTestCounts& counts);
+                                         const DepthSourceTraits& source, GridTestCounts& counts,
+                                         bool read);
   virtual void submitBatch(DepthSource& source);
   virtual void applyBatch() {}
   virtual Visibility resolve(std::size_t index, GridTestCounts& counts);

@@ -2,7 +2,9 @@
 // frame by frame, per scene and viewport size: the paper's Table 1 on our frames, the
 // ratios that matter, the depth readers side by side, plots, and where the targets of
 // the benchmark issue stand. `--tradeoff` runs the speed-for-accuracy sweep instead
-// (tradeoff.cpp).
+// (tradeoff.cpp), `--traversal` the lookahead / coherence / reader sweep
+// (traversal_sweep.cpp).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -16,6 +18,7 @@
 #include "cli/plot.hpp"
 #include "cli/report.hpp"
 #include "cli/tradeoff.hpp"
+#include "cli/traversal_sweep.hpp"
 #include "logrid/error.hpp"
 
 namespace logrid::samples {
@@ -58,8 +61,8 @@ struct BenchOptions {
   std::string scenes = "forest,city";
   std::string sizes = "640x480,1280x960";
   std::string methods = "log-state,log-zfar,bog,hzb,pq,vfc,oracle";
-  std::string readers = "pbo,query";  // log-state again with these readers
-  double forest_scale = 0;            // 0: --scale
+  std::string readers = "pbo,reduce,query";  // log-state again with these readers
+  double forest_scale = 0;                   // 0: --scale
   double city_scale = 0;
   std::size_t repeat = 3;
   std::size_t warmup = 2;
@@ -68,25 +71,9 @@ struct BenchOptions {
   std::string json;
   std::string plots;
   bool tradeoff = false;
+  bool traversal = false;
+  std::string lookaheads = "1,4,16,64,all";  // --traversal
 };
-
-std::vector<std::string> splitList(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream in(text);
-  for (std::string item; std::getline(in, item, ',');) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
-
-// 1234567 -> "1,234,567"
-std::string grouped(double v) {
-  std::string digits = std::to_string(static_cast<long long>(std::llround(v)));
-  for (int i = int(digits.size()) - 3; i > 0 && digits[std::size_t(i) - 1] != '-'; i -= 3) {
-    digits.insert(std::size_t(i), ",");
-  }
-  return digits;
-}
 
 std::string ratio(double a, double b) { return b > 0 ? formatFixed(a / b, 2) + "×" : "–"; }
 
@@ -245,6 +232,24 @@ int runBench(const BenchOptions& o) {
   if (o.tradeoff)
     return runTradeoff(o.walk, splitList(o.scenes), splitList(o.sizes), o.forest_scale,
                        o.city_scale, o.repeat, o.markdown, o.json, o.plots);
+  if (o.traversal) {
+    TraversalSweepOptions t;
+    t.scenes = splitList(o.scenes);
+    t.sizes = splitList(o.sizes);
+    t.readers = {o.walk.reader};
+    for (const std::string& r : splitList(o.readers)) {
+      if (std::find(t.readers.begin(), t.readers.end(), r) == t.readers.end())
+        t.readers.push_back(r);
+    }
+    t.lookaheads = splitList(o.lookaheads);
+    t.forest_scale = o.forest_scale;
+    t.city_scale = o.city_scale;
+    t.repeat = o.repeat;
+    t.markdown = o.markdown;
+    t.json = o.json;
+    t.plots = o.plots;
+    return runTraversalSweep(o.walk, t);
+  }
   if (o.repeat < 1) throw Error(ErrorCode::InvalidArgument, "--repeat must be at least 1");
   const std::vector<std::string> scenes = splitList(o.scenes);
   const std::vector<std::string> sizes = splitList(o.sizes);
@@ -406,7 +411,8 @@ void addBenchCommand(CLI::App& app) {
   bench->add_option("--scenes", o->scenes, "comma-separated: forest, city, model files");
   bench->add_option("--sizes", o->sizes, "comma-separated viewport sizes WIDTHxHEIGHT");
   bench->add_option("--methods", o->methods,
-                    "comma-separated: log-state, log-zfar, bog, hzb, pq, vfc, oracle");
+                    "comma-separated: " + methodNames() +
+                        ", oracle; each may take :K or :all and :tc (e.g. log-state:16:tc)");
   bench->add_option("--readers", o->readers,
                     "log-state again with these depth readers (pbo, query, software; '' for none)");
   addWalkthroughOptions(*bench, o->walk);
@@ -421,6 +427,10 @@ void addBenchCommand(CLI::App& app) {
   bench->add_option("--plots", o->plots, "write PNG plots (gnuplot) into this folder");
   bench->add_flag("--tradeoff", o->tradeoff,
                   "sweep the approximate knobs instead: time vs error, Pareto plot");
+  bench->add_flag("--traversal", o->traversal,
+                  "sweep lookahead K x temporal coherence x --readers for log-state and log-zfar "
+                  "instead: flushes, batches, bytes, time against the oracle");
+  bench->add_option("--lookaheads", o->lookaheads, "with --traversal: the K values to sweep");
   bench->final_callback([o] { throw CLI::RuntimeError(runBench(*o)); });
 }
 

@@ -29,6 +29,9 @@ void addWalkthroughOptions(CLI::App& app, WalkOptions& o) {
   app.add_option("--path", o.path_file, "camera path JSON (keys: position, look_at, time)");
   app.add_option("--frames", o.frames, "frames along the path")->check(CLI::Range(1, 10000000));
   app.add_option("--leaf", o.leaf, "objects (or triangles) per hierarchy leaf; 0: the scene's");
+  app.add_option("--tree-parts", o.tree_parts,
+                 "forest: each tree one object (whole), trunk and crown apart (trunk-crown), or "
+                 "the trunk and each crown tier apart (tiers)");
   app.add_option("--platform", o.platform, "EGL platform: auto, surfaceless or device");
   app.add_option("--ddo-regions", o.ddo_regions,
                  "DDO: view-direction regions per octree face, 32 or 64");
@@ -94,6 +97,14 @@ DepthConvention parseDepthConvention(const std::string& text) {
               "depth convention '" + text + "' is unknown; use standard or reversed");
 }
 
+TreeParts parseTreeParts(const std::string& text) {
+  for (TreeParts p : {TreeParts::Whole, TreeParts::TrunkCrown, TreeParts::Tiers}) {
+    if (text == toString(p)) return p;
+  }
+  throw Error(ErrorCode::InvalidArgument,
+              "tree parts '" + text + "' is unknown; use whole, trunk-crown or tiers");
+}
+
 std::uint32_t parseLookahead(const std::string& text) {
   if (text == "all") return kUnlimitedLookahead;
   unsigned long k = 0;
@@ -143,7 +154,10 @@ WalkOptions optionsForScene(const WalkOptions& base, const std::string& scene, d
   return o;
 }
 
-bool needsDdo(const std::string& method) { return method == "ddo" || method == "ddo+log"; }
+bool needsDdo(const std::string& method) {
+  const auto choice = parseMethodChoice(method);
+  return choice && choice->ddo != DdoUse::None;
+}
 
 DdoOptions ddoOptions(const WalkOptions& o) {
   DdoOptions d;
@@ -205,7 +219,7 @@ LoadedScene loadScene(const WalkOptions& o, bool upload, bool with_ddo) {
   const auto start = std::chrono::steady_clock::now();
   Scene scene;
   if (o.scene == "forest") {
-    scene = makeForest({o.scale, o.seed});
+    scene = makeForest({o.scale, o.seed, parseTreeParts(o.tree_parts)});
   } else if (o.scene == "city") {
     scene = makeCity({o.scale, o.seed});
   } else if (o.scene == "office") {
@@ -232,9 +246,11 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
   RunConfig c;
   const auto method = parseMethodChoice(o.method);
   if (!method) {
-    throw Error(ErrorCode::InvalidArgument, "method '" + o.method +
-                                                "' is unknown; use log-state, log-zfar, bog, hzb, "
-                                                "pq, vfc, ddo, ddo+log or oracle");
+    throw Error(ErrorCode::InvalidArgument,
+                "method '" + o.method + "' is unknown; use " + methodNames() +
+                    ", ddo, ddo+log or oracle, optionally followed by :K or :all (lookahead) "
+                    "and :tc (temporal coherence), e.g. log-state:16:tc (not after ddo or "
+                    "oracle)");
   }
   c.method = *method;
   if (!findReader(o.reader)) {
@@ -246,8 +262,8 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
   if (o.tile < 1)
     throw Error(ErrorCode::InvalidArgument, "tile size 0 is invalid; use 1 pixel or more");
   c.culler.approximation = o.approximation;
-  c.culler.lookahead = parseLookahead(o.lookahead);
-  c.culler.temporal_coherence = o.coherence;
+  c.culler.lookahead = c.method.lookahead ? *c.method.lookahead : parseLookahead(o.lookahead);
+  c.culler.temporal_coherence = c.method.coherence || o.coherence;
   if (c.method.method) {
     CullerDesc check = c.culler;
     check.method = *c.method.method;

@@ -12,6 +12,7 @@
 #include "cli/frame_runner.hpp"
 #include "logrid/gl/context.hpp"
 #include "scene/ddo_scene.hpp"
+#include "scene/generators.hpp"
 #include "scene/prepare.hpp"
 
 namespace logrid::samples {
@@ -39,9 +40,10 @@ struct WalkOptions {
   std::string images;
   bool overlay = false;
   std::string platform = "auto";
-  int lp_threads = -1;              // >= 0: LP_NUM_THREADS for llvmpipe (PLATFORM.md); -1: leave it
-  std::uint32_t leaf = 0;           // 0: the scene's default
-  GridApproximation approximation;  // off by default
+  int lp_threads = -1;     // >= 0: LP_NUM_THREADS for llvmpipe (PLATFORM.md); -1: leave it
+  std::uint32_t leaf = 0;  // 0: the scene's default
+  std::string tree_parts = "whole";  // forest: whole, trunk-crown or tiers
+  GridApproximation approximation;   // off by default
   // Directional discretized occluders (methods ddo and ddo+log, scene/ddo_scene.hpp).
   std::uint32_t ddo_regions = 64;
   std::uint32_t ddo_leaf = 2048;
@@ -64,6 +66,7 @@ void addViewOptions(CLI::App& app, WalkOptions& o);
 std::pair<std::uint32_t, std::uint32_t> parseSize(const std::string& text);
 DepthFormat parseDepthFormat(const std::string& text);
 DepthConvention parseDepthConvention(const std::string& text);
+TreeParts parseTreeParts(const std::string& text);
 // "1", "16", ... or "all" (kUnlimitedLookahead).
 std::uint32_t parseLookahead(const std::string& text);
 

@@ -15,12 +15,54 @@
 
 namespace logrid::samples {
 
+std::string MethodChoice::name() const {
+  std::string out = ddo == DdoUse::Culler      ? "ddo"
+                    : ddo == DdoUse::Occluders ? "ddo+log"
+                    : method                   ? toString(*method)
+                                               : "oracle";
+  if (lookahead) {
+    out +=
+        ":" + (*lookahead == kUnlimitedLookahead ? std::string("all") : std::to_string(*lookahead));
+  }
+  if (coherence) out += ":tc";
+  return out;
+}
+
 std::optional<MethodChoice> parseMethodChoice(const std::string& name) {
-  if (name == "oracle") return MethodChoice{std::nullopt};
-  if (name == "ddo") return MethodChoice{std::nullopt, DdoUse::Culler};
-  if (name == "ddo+log") return MethodChoice{Method::LogState, DdoUse::Occluders};
-  if (const auto m = parseMethod(name)) return MethodChoice{*m};
-  return std::nullopt;
+  std::vector<std::string> parts;
+  std::size_t start = 0;
+  for (std::size_t colon; (colon = name.find(':', start)) != std::string::npos; start = colon + 1) {
+    parts.push_back(name.substr(start, colon - start));
+  }
+  parts.push_back(name.substr(start));
+  MethodChoice choice;
+  if (parts[0] == "oracle" || parts[0] == "ddo") {
+    if (parts.size() > 1) return std::nullopt;  // no logrid culler: no traversal settings
+    if (parts[0] == "ddo") choice.ddo = DdoUse::Culler;
+    return choice;
+  }
+  if (parts[0] == "ddo+log") {
+    choice.method = Method::LogState;
+    choice.ddo = DdoUse::Occluders;
+  } else {
+    const auto m = parseMethod(parts[0]);
+    if (!m) return std::nullopt;
+    choice.method = *m;
+  }
+  for (std::size_t i = 1; i < parts.size(); ++i) {
+    if (parts[i] == "tc" && !choice.coherence) {
+      choice.coherence = true;
+    } else if (!choice.lookahead && !parts[i].empty() &&
+               (parts[i] == "all" ||
+                parts[i].find_first_not_of("0123456789") == std::string::npos)) {
+      const unsigned long k = parts[i] == "all" ? kUnlimitedLookahead : std::stoul(parts[i]);
+      if (k < 1 || k > kUnlimitedLookahead) return std::nullopt;
+      choice.lookahead = std::uint32_t(k);
+    } else {
+      return std::nullopt;
+    }
+  }
+  return choice;
 }
 
 namespace {
@@ -88,9 +130,9 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
       for (const ReaderInfo& r : readerTable()) {
         if (r.reads_depth) readers += std::string(readers.empty() ? "" : ", ") + r.name;
       }
-      throw Error(ErrorCode::InvalidArgument,
-                  std::string("method ") + toString(desc.method) + " needs depth values, which " +
-                      reader->name + " cannot give; use --reader " + readers);
+      throw Error(ErrorCode::InvalidArgument, std::string("method ") + toString(desc.method) +
+                                                  " needs depth values, which " + reader->name +
+                                                  " cannot give; use --reader " + readers);
     }
     reader_ = reader->make({scene, framebuffer_->handle(), fb.width, fb.height, fb.depth});
   }

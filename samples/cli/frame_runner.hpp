@@ -30,23 +30,24 @@ enum class DdoUse : std::uint8_t {
   Occluders,  // "ddo+log": the selected occluders drawn first (depth only), then log-state
 };
 
-// A method name: one of logrid::Method's, "ddo", "ddo+log", or "oracle" (draws exactly
-// the visible set found by an ID pass that is not timed: the floor no culling method can
-// beat).
+// A method as the commands name it: one of logrid::Method's names, "ddo", "ddo+log", or
+// "oracle" (draws exactly the visible set found by an ID pass that is not timed: the floor
+// no culling method can beat), optionally followed by traversal settings that override
+// the command's --lookahead and --coherence: ":K" (a lookahead, or ":all") and ":tc"
+// (temporal coherence), e.g. "log-state:16:tc" or "ddo+log:16". ddo and the oracle run
+// no logrid culler and take no settings.
 struct MethodChoice {
   std::optional<Method> method;  // the logrid culler's method, if one runs
+  std::optional<std::uint32_t> lookahead;
+  bool coherence = false;
   DdoUse ddo = DdoUse::None;
   bool oracle() const { return !method && ddo == DdoUse::None; }
-  std::string name() const {
-    if (ddo == DdoUse::Culler) return "ddo";
-    if (ddo == DdoUse::Occluders) return "ddo+log";
-    return method ? toString(*method) : "oracle";
-  }
+  std::string name() const;
 };
 std::optional<MethodChoice> parseMethodChoice(const std::string& name);
 
 struct RunConfig {
-  MethodChoice method{Method::LogState};
+  MethodChoice method{Method::LogState, std::nullopt, false, DdoUse::None};
   CullerDesc culler;                  // method is taken from `method`
   std::string reader = "readpixels";  // a name of readerTable()
   ViewSettings view;

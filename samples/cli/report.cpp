@@ -1,9 +1,11 @@
 #include "cli/report.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "logrid/error.hpp"
 
@@ -145,6 +147,23 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
     j["per_frame"] = std::move(frames);
   }
   return j;
+}
+
+std::vector<std::string> splitList(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+std::string grouped(double v) {
+  std::string digits = std::to_string(static_cast<long long>(std::llround(v)));
+  for (int i = int(digits.size()) - 3; i > 0 && digits[std::size_t(i) - 1] != '-'; i -= 3) {
+    digits.insert(std::size_t(i), ",");
+  }
+  return digits;
 }
 
 }  // namespace logrid::samples

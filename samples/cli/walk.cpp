@@ -72,7 +72,9 @@ void addWalkCommand(CLI::App& app) {
   CLI::App* walk = app.add_subcommand("walk", "render a walkthrough with one culling method");
   addSceneOptions(*walk, *options);
   walk->add_option("--method", options->method,
-                   "log-state, log-zfar, bog, hzb, pq, vfc, ddo, ddo+log or oracle");
+                   methodNames() +
+                       ", ddo, ddo+log or oracle; :K or :all and :tc set the lookahead and "
+                       "temporal coherence (e.g. log-state:16:tc, ddo+log:16)");
   walk->add_option("--size", options->size, "viewport WIDTHxHEIGHT");
   addViewOptions(*walk, *options);
   walk->add_flag("--verify", options->verify, "check every frame against the object-ID oracle");

@@ -132,6 +132,15 @@ void ellipsoid(MeshWriter& w, double x, double y, double z, double rh, double rv
 
 }  // namespace
 
+const char* toString(TreeParts parts) {
+  switch (parts) {
+    case TreeParts::Whole: return "whole";
+    case TreeParts::TrunkCrown: return "trunk-crown";
+    case TreeParts::Tiers: return "tiers";
+  }
+  return "?";
+}
+
 Scene makeForest(const GeneratorOptions& options) {
   if (!(options.scale > 0) || !std::isfinite(options.scale) || options.scale > 1000) {
     std::ostringstream out;
@@ -187,15 +196,18 @@ Scene makeForest(const GeneratorOptions& options) {
       const double crown = conifer ? 0.2 * height : 0.28 * height;
       if (trail.distance(x, z) < crown + 1.5) continue;
       const double y = terrain.height(x, z);
+      const TreeParts parts = options.tree_parts;
       w.beginObject();
       trunk(w, x, y, z, conifer ? 0.3 * height : 0.55 * height, 0.15 + 0.02 * height,
             jitter(rng, 92, 64, 40, 12));
+      if (parts != TreeParts::Whole) w.endObject(), w.beginObject();
       if (conifer) {
         const std::uint32_t green = jitter(rng, 34, 78, 44, 14);
         constexpr int kTiers = 5;
         // Branches down to the ground, as in a dense spruce stand.
         for (int t = 0; t < kTiers; ++t) {
           const double f = double(t) / kTiers;
+          if (t > 0 && parts == TreeParts::Tiers) w.endObject(), w.beginObject();
           cone(w, x, y + height * (0.06 + 0.7 * f), z, height * 0.32, crown * (1.0 - 0.7 * f),
                green);
         }

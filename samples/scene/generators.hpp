@@ -17,9 +17,19 @@
 
 namespace logrid::samples {
 
+// How the forest's trees become objects, each with its own box: box granularity
+// decides how much of a tree's box peeks out where its geometry does not.
+enum class TreeParts : std::uint8_t {
+  Whole,       // one object per tree (LOG §5: "each tree is an object")
+  TrunkCrown,  // the trunk and the crown apart
+  Tiers,       // the trunk and each tier of a conifer's crown apart
+};
+const char* toString(TreeParts parts);
+
 struct GeneratorOptions {
   double scale = 1.0;  // > 0; 0.01 gives a quick test scene
   std::uint64_t seed = 1;
+  TreeParts tree_parts = TreeParts::Whole;  // forest only
 };
 
 // Throw logrid::Error(InvalidArgument) for a scale that is not finite and positive, or

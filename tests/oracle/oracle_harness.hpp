@@ -146,7 +146,7 @@ struct View {
 inline RunConfig makeConfig(const PreparedScene& scene, Method method, const std::string& reader,
                             const View& v, std::size_t frames) {
   RunConfig c;
-  c.method = samples::MethodChoice{method};
+  c.method.method = method;
   c.culler.tile_size = v.tile;
   c.reader = reader;
   c.view.width = v.width;

@@ -72,7 +72,7 @@ void batchedTests(std::mt19937& rng, OcclusionGrid& grid, const cpu::SoftwareDep
   for (int k = 0; k < n; ++k) {
     const PixelRect r = randomRect(rng, w, h);
     const float t = threshold();
-    const std::optional<Visibility> v = grid.plan(r, t, source.traits(), batch, counts);
+    const std::optional<Visibility> v = grid.plan(r, t, source.traits(), &batch, counts);
     if (v) {
       score(tally, *v, bruteVisible(buffer, r, t));
     } else {

@@ -53,7 +53,11 @@ TEST_P(TraversalTest, NeverMissesAVisibleBox) {
     tested += f.stats.boxes_tested;
     occluded += f.stats.boxes_occluded;
   }
-  EXPECT_GT(occluded, 0u) << "the walls hide boxes: something must be culled";
+  // pq has no records: with an unlimited lookahead and nothing drawn first, every box is
+  // read before anything is drawn, and nothing can be occluded yet.
+  if (!(c.method == Method::Pq && c.lookahead == kUnlimitedLookahead && !c.coherence)) {
+    EXPECT_GT(occluded, 0u) << "the walls hide boxes: something must be culled";
+  }
   if (c.coherence) {
     EXPECT_GT(coherent, 0u) << "later frames start from the last frame's visible leaves";
   } else {

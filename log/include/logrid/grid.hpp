@@ -171,9 +171,10 @@ class OcclusionGrid {
   // Batched tests. plan() decides from the records what they can (Visible or Occluded,
   // returned at once), and otherwise adds the test to `batch` with the reads that decide
   // it (whole outdated internal tiles, shared between tests; intersections of border
-  // tiles) and returns nothing. Not for counting tests (approximation.visible_pixels).
+  // tiles) and returns nothing; with no batch it only returns nothing. Not for counting
+  // tests (approximation.visible_pixels).
   std::optional<Visibility> plan(const PixelRect& rect, float threshold,
-                                 const DepthSourceTraits& source, GridBatch& batch,
+                                 const DepthSourceTraits& source, GridBatch* batch,
                                  GridTestCounts& counts);
   // Submits the batch's reads to the source (the caller then calls source.collect()).
   void submit(GridBatch& batch, DepthSource& source);

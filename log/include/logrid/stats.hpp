@@ -14,6 +14,8 @@ struct FrameStats {
   std::uint64_t boxes_view_culled = 0;  // outside the frustum or covering no pixel centre
   std::uint64_t boxes_near = 0;         // crossing the near plane: visible without a test
   std::uint64_t invalid_boxes = 0;      // NaN, infinite or inverted: visible and counted
+  std::uint64_t nodes_opened = 0;       // inner nodes the records could not decide, opened
+                                        // (children tested) instead of read (lookahead > 1)
   std::uint64_t order_fallbacks = 0;    // occlusion-state tests the two-list order could
                                         // not vouch for, done by depth instead
   std::uint64_t tiles_tested = 0;       // tiles (HZB: pyramid cells) examined by tests
