@@ -3,16 +3,20 @@
 # everything is present. Sourced or run by scripts/test.sh and scripts/bench.sh.
 set -euo pipefail
 
+# Exactly what the README's two commands use (each line says who needs it).
 packages=(
   # toolchain
   g++ cmake ninja-build pkg-config
-  # GL through EGL (Mesa llvmpipe works without a GPU)
-  libepoxy-dev libegl-dev libopengl-dev libglvnd-dev libegl-mesa0 libgl1-mesa-dri
-  # libraries
+  # GL through EGL: libepoxy at build time (it brings the EGL and GL headers); at run time
+  # it loads libEGL and libGL (GLVND), which need Mesa's EGL and its drivers (llvmpipe
+  # works without a GPU)
+  libepoxy-dev libegl1 libgl1 libegl-mesa0 libgl1-mesa-dri
+  # libraries: GLM (core), OpenImageIO with the tools its CMake targets name, CLI11,
+  # assimp and the zlib its target links, nlohmann-json (samples)
   libglm-dev libopenimageio-dev openimageio-tools libcli11-dev libassimp-dev zlib1g-dev
-  nlohmann-json3-dev fonts-dejavu-core
-  # tests, benchmarks, plots
-  libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
+  nlohmann-json3-dev
+  # tests (GoogleTest), micro-benchmarks (Google Benchmark), plots of `logrid bench`
+  libgtest-dev libbenchmark-dev gnuplot-nox
 )
 
 missing=()

@@ -151,8 +151,12 @@ void Framebuffer::selectIdPass(bool id_pass) const {
 }
 
 void Framebuffer::clear(const float rgba[4]) const {
-  const GLfloat depth = desc_.depth.convention == DepthConvention::Reversed ? 0.0f : 1.0f;
   glClearNamedFramebufferfv(fbo_, GL_COLOR, 0, rgba);
+  clearDepthAndIds();
+}
+
+void Framebuffer::clearDepthAndIds() const {
+  const GLfloat depth = desc_.depth.convention == DepthConvention::Reversed ? 0.0f : 1.0f;
   if (ids_) {
     const GLuint none[4] = {kNoObject, 0, 0, 0};
     // Draw buffer 1 may be GL_NONE (colour pass): enable both while clearing.

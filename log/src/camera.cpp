@@ -4,7 +4,12 @@
 #include <limits>
 #include <sstream>
 
+#include <glm/ext/matrix_clip_space.hpp>
+#include <glm/ext/matrix_transform.hpp>
+#include <glm/geometric.hpp>
+
 #include "logrid/error.hpp"
+#include "logrid/glm_camera.hpp"
 
 namespace logrid {
 
@@ -87,49 +92,28 @@ std::string validateCamera(const Camera& camera) {
   return out.str();
 }
 
-Mat4d multiply(const Mat4d& a, const Mat4d& b) {
-  Mat4d r;
-  for (int c = 0; c < 4; ++c) {
-    for (int row = 0; row < 4; ++row) {
-      double s = 0;
-      for (int k = 0; k < 4; ++k) s += a(row, k) * b(k, c);
-      r(row, c) = s;
-    }
-  }
-  return r;
-}
+// The matrix helpers are GLM's, in double precision, with logrid's checks and messages
+// around them. GLM's clip-range choice is made per call (the _NO and _ZO variants), from
+// the DepthSetup, so no GLM_FORCE_DEPTH_ZERO_TO_ONE is defined anywhere in logrid.
 
-Mat4d translation(const DVec3& t) {
-  Mat4d r;
-  r(0, 3) = t.x;
-  r(1, 3) = t.y;
-  r(2, 3) = t.z;
-  return r;
-}
+Mat4d multiply(const Mat4d& a, const Mat4d& b) { return toMat4d(toGlm(a) * toGlm(b)); }
+
+Mat4d translation(const DVec3& t) { return toMat4d(glm::translate(glm::dmat4(1.0), toGlm(t))); }
 
 Mat4d lookAt(const DVec3& eye, const DVec3& target, const DVec3& up) {
-  auto sub = [](DVec3 a, DVec3 b) { return DVec3{a.x - b.x, a.y - b.y, a.z - b.z}; };
-  auto cross = [](DVec3 a, DVec3 b) {
-    return DVec3{a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+  // glm::lookAtRH normalises target - eye and cross(direction, up); it returns NaNs where
+  // either has no length, so that is checked first.
+  const glm::dvec3 e = toGlm(eye), t = toGlm(target), u = toGlm(up);
+  const auto usable = [](const glm::dvec3& v) {
+    const double length = glm::length(v);
+    return length > 0 && std::isfinite(length);
   };
-  auto dot = [](DVec3 a, DVec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; };
-  auto normalize = [&](DVec3 a) {
-    const double len = std::sqrt(dot(a, a));
-    if (!(len > 0) || !std::isfinite(len)) {
-      throw Error(ErrorCode::InvalidArgument,
-                  "lookAt: eye, target and up must be finite, eye != target, and up not "
-                  "parallel to the view direction");
-    }
-    return DVec3{a.x / len, a.y / len, a.z / len};
-  };
-  const DVec3 f = normalize(sub(target, eye));
-  const DVec3 s = normalize(cross(f, up));
-  const DVec3 u = cross(s, f);
-  Mat4d r;
-  r(0, 0) = s.x, r(0, 1) = s.y, r(0, 2) = s.z, r(0, 3) = -dot(s, eye);
-  r(1, 0) = u.x, r(1, 1) = u.y, r(1, 2) = u.z, r(1, 3) = -dot(u, eye);
-  r(2, 0) = -f.x, r(2, 1) = -f.y, r(2, 2) = -f.z, r(2, 3) = dot(f, eye);
-  return r;
+  if (!usable(t - e) || !usable(glm::cross(glm::normalize(t - e), u)) || !usable(u)) {
+    throw Error(ErrorCode::InvalidArgument,
+                "lookAt: eye, target and up must be finite, eye != target, and up not "
+                "parallel to the view direction");
+  }
+  return toMat4d(glm::lookAtRH(e, t, u));
 }
 
 namespace {
@@ -166,19 +150,24 @@ Mat4d perspective(double fovy, double aspect, double near, double far, const Dep
         << " are invalid; need 0 < fovy < pi and aspect > 0";
     throw Error(ErrorCode::InvalidArgument, out.str());
   }
-  // z_ndc = (a z_eye + b) / -z_eye with z_ndc(-near) = zn and z_ndc(-far) = zf.
-  const auto [zn, zf] = ndcDepthRange(depth);
-  const double a = std::isinf(far) ? -zf : (zn * near - zf * far) / (far - near);
-  const double b = zn * near + a * near;
-  const double f = 1.0 / std::tan(fovy / 2.0);
-  Mat4d r;
-  r(0, 0) = f / aspect;
-  r(1, 1) = f;
-  r(2, 2) = a;
-  r(2, 3) = b;
-  r(3, 2) = -1.0;
-  r(3, 3) = 0.0;
-  return r;
+  const bool zero_to_one = depth.clip_range == ClipDepthRange::ZeroToOne;
+  if (std::isinf(far)) {
+    // GLM 0.9.9 has an infinite projection only for -1..1 standard depth, so the depth
+    // row is set here: z_ndc = (a z_eye + b) / -z_eye with z_ndc(-near) = zn and
+    // z_ndc -> zf as z_eye -> -inf gives a = -zf and b = (zn - zf) near. The other rows
+    // do not depend on far.
+    const auto [zn, zf] = ndcDepthRange(depth);
+    glm::dmat4 r = glm::perspectiveRH_NO(fovy, aspect, near, 2 * near);
+    r[2][2] = -zf;
+    r[3][2] = (zn - zf) * near;
+    return toMat4d(r);
+  }
+  // Reversed depth is the same projection with the planes swapped: near then maps to the
+  // far end of the clip range and far to the near end.
+  const bool reversed = depth.convention == DepthConvention::Reversed;
+  const double n = reversed ? far : near, f = reversed ? near : far;
+  return toMat4d(zero_to_one ? glm::perspectiveRH_ZO(fovy, aspect, n, f)
+                             : glm::perspectiveRH_NO(fovy, aspect, n, f));
 }
 
 Mat4d orthographic(double left, double right, double bottom, double top, double near, double far,
@@ -189,18 +178,12 @@ Mat4d orthographic(double left, double right, double bottom, double top, double 
     throw Error(ErrorCode::InvalidArgument,
                 "orthographic: need left < right and bottom < top, all finite");
   }
-  // z_ndc = a z_eye + b with z_ndc(-near) = zn and z_ndc(-far) = zf.
-  const auto [zn, zf] = ndcDepthRange(depth);
-  const double a = (zn - zf) / (far - near);
-  const double b = zn + a * near;
-  Mat4d r;
-  r(0, 0) = 2.0 / (right - left);
-  r(0, 3) = -(right + left) / (right - left);
-  r(1, 1) = 2.0 / (top - bottom);
-  r(1, 3) = -(top + bottom) / (top - bottom);
-  r(2, 2) = a;
-  r(2, 3) = b;
-  return r;
+  // As in perspective(): reversed depth swaps the planes.
+  const bool reversed = depth.convention == DepthConvention::Reversed;
+  const double n = reversed ? far : near, f = reversed ? near : far;
+  return toMat4d(depth.clip_range == ClipDepthRange::ZeroToOne
+                     ? glm::orthoRH_ZO(left, right, bottom, top, n, f)
+                     : glm::orthoRH_NO(left, right, bottom, top, n, f));
 }
 
 float clearKey(const DepthSetup& depth) {

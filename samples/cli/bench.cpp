@@ -283,7 +283,7 @@ int runBench(const BenchOptions& o) {
         "checked on every frame of the first repetition against the object-ID oracle; "
         "objects the ID pass shows only through fragments nearer than their own box allows "
         "(llvmpipe's depth extrapolation on edge-on sliver triangles, see "
-        "samples/cli/frame_runner.hpp) are counted apart as artifacts.\n";
+        "logrid/gl/object_id_oracle.hpp) are counted apart as artifacts.\n";
 
   nlohmann::json report = {{"command", commandLine()},
                            {"machine", machine},

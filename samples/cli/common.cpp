@@ -69,6 +69,15 @@ void addViewOptions(CLI::App& app, WalkOptions& o) {
                  "approximate: read every k-th pixel row of a tile (default 1: every row)");
 }
 
+std::vector<std::string> splitList(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
 std::pair<std::uint32_t, std::uint32_t> parseSize(const std::string& text) {
   unsigned long w = 0, h = 0;
   char x = 0, extra = 0;

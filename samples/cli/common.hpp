@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "cli/frame_runner.hpp"
 #include "logrid/gl/context.hpp"
@@ -61,6 +62,9 @@ void addSceneOptions(CLI::App& app, WalkOptions& o);
 // The same without --scene (for commands that take several scenes).
 void addWalkthroughOptions(CLI::App& app, WalkOptions& o);
 void addViewOptions(CLI::App& app, WalkOptions& o);
+
+// Splits a comma-separated list ("forest,city"), dropping empty items.
+std::vector<std::string> splitList(const std::string& text);
 
 // Parses "WxH"; throws logrid::Error(InvalidArgument) naming the text.
 std::pair<std::uint32_t, std::uint32_t> parseSize(const std::string& text);

@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <limits>
 
 #include "cli/images.hpp"
 #include "logrid/error.hpp"
@@ -167,48 +166,15 @@ Camera FrameRunner::cameraFor(std::size_t frame) const {
   return makeCamera(scene_.path.frame(frame, config_.frames), scene_.origin, config_.view);
 }
 
-OracleFrame FrameRunner::idPass(const Camera& camera) {
-  framebuffer_->bind();
-  framebuffer_->clear(kBackground);
-  framebuffer_->selectIdPass(true);
-  renderer_.begin(gl::Pass::ObjectIds, camera);
-  vfc_->cullFrame(camera, scene_.hierarchy, g_no_depth, [&](ObjectId id) { renderer_.draw(id); });
-  renderer_.end();
-  framebuffer_->selectIdPass(false);
-  const std::vector<std::uint32_t> ids = framebuffer_->readObjectIds();
-  const std::vector<float> depth = framebuffer_->readDepth();
-
-  // Per object: 1 if some fragment lies within its box's depth range, 2 if it only
-  // has fragments nearer than that.
-  const std::size_t objects = scene_.mesh.draws.size();
-  std::vector<std::uint8_t> state(objects, 0);
-  std::vector<float> threshold(objects, 0);
-  // Judged with the default margins, widened kArtifactMargins times, whatever the run's
-  // projection settings: a culler whose margins are too small (or whose boxes do not
-  // enclose their geometry in depth) then shows misses, not artifacts; only fragments
-  // far nearer than any interpolation of their own geometry count as artifacts.
-  constexpr float kArtifactMargins = 16.0f;
-  const Projector projector(camera);
-  const float sign = camera.depth.convention == DepthConvention::Reversed ? -1.0f : 1.0f;
-  OracleFrame out;
-  for (std::size_t i = 0; i < ids.size(); ++i) {
-    const std::uint32_t id = ids[i];
-    if (id >= objects || state[id] == 1) continue;
-    if (state[id] == 0) {
-      const BoxProjection p = projector.project(scene_.object_boxes[id]);
-      threshold[id] = p.cls == ProjectionClass::Inside ? p.near_key - kArtifactMargins * p.margin
-                                                       : -std::numeric_limits<float>::infinity();
-    }
-    state[id] = sign * depth[i] >= threshold[id] ? 1 : 2;
-  }
-  for (ObjectId id = 0; id < objects; ++id) {
-    if (state[id] == 1) out.visible.push_back(id);
-    if (state[id] == 2) out.artifacts.push_back(id);
-  }
-  return out;
+gl::OracleFrame FrameRunner::idPass(const Camera& camera) {
+  return gl::objectIdOracle(*framebuffer_, camera, scene_.object_boxes, [&] {
+    renderer_.begin(gl::Pass::ObjectIds, camera);
+    vfc_->cullFrame(camera, scene_.hierarchy, g_no_depth, [&](ObjectId id) { renderer_.draw(id); });
+    renderer_.end();
+  });
 }
 
-OracleFrame FrameRunner::visibleSet(std::size_t frame, const Camera& camera) {
+gl::OracleFrame FrameRunner::visibleSet(std::size_t frame, const Camera& camera) {
   if (!oracle_cache_) return idPass(camera);
   auto& frames = oracle_cache_->frames;
   if (frames.size() <= frame) frames.resize(frame + 1);
@@ -220,7 +186,7 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
   FrameRecord rec;
   rec.frame = frame;
   const Camera camera = cameraFor(frame);
-  OracleFrame oracle;
+  gl::OracleFrame oracle;
   if (config_.method.oracle()) oracle = visibleSet(frame, camera);  // not timed
   for (ObjectId id : drawn_list_) drawn_[id] = 0;
   drawn_list_.clear();
@@ -286,13 +252,10 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
   if (config_.verify || config_.method.oracle()) {
     if (!config_.method.oracle()) oracle = visibleSet(frame, camera);
     rec.visible = std::int64_t(oracle.visible.size());
-    rec.missed = 0;
-    for (ObjectId id : oracle.visible) {
-      if (!drawn_[id]) {
-        ++rec.missed;
-        if (rec.missed_ids.size() < 16) rec.missed_ids.push_back(id);
-      }
-    }
+    const std::vector<ObjectId> missed = oracle.missedBy(drawn_list_);
+    rec.missed = std::int64_t(missed.size());
+    rec.missed_ids.assign(missed.begin(),
+                          missed.begin() + std::min<std::ptrdiff_t>(16, rec.missed));
     rec.artifacts = std::int64_t(oracle.artifacts.size());
     rec.missed_artifacts = 0;
     for (ObjectId id : oracle.artifacts) rec.missed_artifacts += !drawn_[id];

@@ -16,6 +16,7 @@
 #include "logrid/ddo/selector.hpp"
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
+#include "logrid/gl/object_id_oracle.hpp"
 #include "logrid/gl/occluder_renderer.hpp"
 #include "scene/prepare.hpp"
 #include "scene/view.hpp"
@@ -65,27 +66,17 @@ struct FrameRecord {
   std::int64_t visible = -1;           // objects in the ID buffer (with verify or oracle)
   std::int64_t missed = -1;            // visible objects not drawn (with verify)
   std::int64_t artifacts = -1;         // objects shown only through depth-extrapolated fragments
-  std::int64_t missed_artifacts = -1;  // of those, not drawn (reported apart, see OracleFrame)
+  std::int64_t missed_artifacts = -1;  // of those, not drawn (reported apart, see
+                                       // logrid/gl/object_id_oracle.hpp)
   std::vector<ObjectId> missed_ids;    // the first few
   std::int64_t occluders = -1;         // DDO: quads drawn first (ddo+log) or faces in the map (ddo)
 };
 
-// The visible set of each frame found by the ID pass, shared by runners that render
-// the same frames with the same view (bench cells), so the pass runs once per frame.
-// What the ID pass of a frame found. A fragment whose depth lies far nearer than its
-// own object's box allows (key < near_key - 16 default margins) cannot come from
-// interpolating the object's triangles: Mesa llvmpipe produces such fragments on edge-on sliver
-// triangles (areas around 1e-4 pixel), whose depth plane it extrapolates to pixel centres that
-// fixed-point snapping let in (docs/ANALYSIS.md, "Depth-extrapolation artifacts"). No
-// method that compares box depths can see them, so objects shown only through such
-// fragments are counted apart, never silently dropped.
-struct OracleFrame {
-  std::vector<ObjectId> visible;    // at least one fragment within the box's depth range
-  std::vector<ObjectId> artifacts;  // only fragments nearer than the box allows
-};
-
+// The visible set of each frame found by the object-ID oracle (gl::objectIdOracle),
+// shared by runners that render the same frames with the same view (bench cells), so the
+// pass runs once per frame.
 struct OracleCache {
-  std::vector<std::optional<OracleFrame>> frames;
+  std::vector<std::optional<gl::OracleFrame>> frames;
 };
 
 class FrameRunner {
@@ -105,9 +96,9 @@ class FrameRunner {
   std::vector<std::uint8_t> readColor() const { return framebuffer_->readColor(); }
 
  private:
-  OracleFrame idPass(const Camera& camera);
+  gl::OracleFrame idPass(const Camera& camera);
   // The ID pass of a frame, from the shared cache when another runner did it.
-  OracleFrame visibleSet(std::size_t frame, const Camera& camera);
+  gl::OracleFrame visibleSet(std::size_t frame, const Camera& camera);
   void writeImages(std::size_t frame, const Camera& camera);
 
   const PreparedScene& scene_;

@@ -5,7 +5,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include <glm/common.hpp>
+#include <glm/ext/matrix_double4x4.hpp>
+#include <glm/ext/vector_double4.hpp>
+
 #include "logrid/error.hpp"
+#include "logrid/glm_camera.hpp"
 
 namespace logrid::samples {
 
@@ -67,31 +72,26 @@ constexpr std::uint8_t kRed[3] = {230, 40, 40}, kYellow[3] = {240, 210, 40},
                        kDark[3] = {60, 60, 60}, kLight[3] = {200, 200, 200};
 
 void wireBox(Canvas& canvas, const Camera& camera, const Aabb& box) {
-  const Mat4d& m = camera.view_projection;
-  double clip[8][4];
+  const glm::dmat4 m = toGlm(camera.view_projection);
+  glm::dvec4 clip[8];
   for (int i = 0; i < 8; ++i) {
-    const double p[3] = {(i & 1) ? box.max.x : box.min.x, (i & 2) ? box.max.y : box.min.y,
-                         (i & 4) ? box.max.z : box.min.z};
-    for (int r = 0; r < 4; ++r)
-      clip[i][r] = m(r, 0) * p[0] + m(r, 1) * p[1] + m(r, 2) * p[2] + m(r, 3);
+    clip[i] = m * glm::dvec4((i & 1) ? box.max.x : box.min.x, (i & 2) ? box.max.y : box.min.y,
+                             (i & 4) ? box.max.z : box.min.z, 1.0);
   }
   static const int edges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
                                    {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
   for (const auto& e : edges) {
-    double a[4], b[4];
-    std::copy_n(clip[e[0]], 4, a);
-    std::copy_n(clip[e[1]], 4, b);
+    glm::dvec4 a = clip[e[0]], b = clip[e[1]];
     // Clip against w > small, so lines behind the eye are not drawn.
     constexpr double kW = 1e-3;
-    if (a[3] < kW && b[3] < kW) continue;
-    if (a[3] < kW || b[3] < kW) {
-      double* in = a[3] < kW ? b : a;
-      double* out = a[3] < kW ? a : b;
-      const double t = (in[3] - kW) / (in[3] - out[3]);
-      for (int r = 0; r < 4; ++r) out[r] = in[r] + t * (out[r] - in[r]);
+    if (a.w < kW && b.w < kW) continue;
+    if (a.w < kW || b.w < kW) {
+      glm::dvec4& in = a.w < kW ? b : a;
+      glm::dvec4& out = a.w < kW ? a : b;
+      out = glm::mix(in, out, (in.w - kW) / (in.w - out.w));
     }
-    auto sx = [&](const double* c) { return (c[0] / c[3] * 0.5 + 0.5) * camera.width; };
-    auto sy = [&](const double* c) { return (c[1] / c[3] * 0.5 + 0.5) * camera.height; };
+    auto sx = [&](const glm::dvec4& c) { return (c.x / c.w * 0.5 + 0.5) * camera.width; };
+    auto sy = [&](const glm::dvec4& c) { return (c.y / c.w * 0.5 + 0.5) * camera.height; };
     canvas.line(sx(a), sy(a), sx(b), sy(b), kGreen);
   }
 }

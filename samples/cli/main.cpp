@@ -12,11 +12,7 @@ int main(int argc, char** argv) {
   CLI::App app{"logrid: conservative occlusion culling with a lazy occlusion grid"};
   logrid::samples::setCommandLine(argc, argv);
   app.require_subcommand(1);
-  logrid::samples::addWalkCommand(app);
-  logrid::samples::addBenchCommand(app);
-  logrid::samples::addTuneCommand(app);
-  logrid::samples::addDdoCommand(app);
-  logrid::samples::addExportCommand(app);
+  logrid::samples::addCommands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::RuntimeError& done) {

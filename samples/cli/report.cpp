@@ -149,15 +149,6 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
   return j;
 }
 
-std::vector<std::string> splitList(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream in(text);
-  for (std::string item; std::getline(in, item, ',');) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
-
 std::string grouped(double v) {
   std::string digits = std::to_string(static_cast<long long>(std::llround(v)));
   for (int i = int(digits.size()) - 3; i > 0 && digits[std::size_t(i) - 1] != '-'; i -= 3) {

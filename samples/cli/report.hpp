@@ -28,8 +28,6 @@ std::string formatFixed(double value, int decimals = 2);
 // The path of `target` relative to the folder of `document` (for links in markdown).
 std::string linkFrom(const std::string& document, const std::string& target);
 
-// "a,b,,c" -> {"a", "b", "c"}
-std::vector<std::string> splitList(const std::string& text);
 // 1234567 -> "1,234,567"
 std::string grouped(double value);
 

@@ -1,5 +1,6 @@
 // logrid tune: sweeps the tile size on a scene and path (procedural or a user's file),
 // every size on the same frames (interleaved), and recommends the fastest.
+#include <charconv>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -17,19 +18,36 @@ namespace {
 
 struct TuneOptions {
   WalkOptions walk;
-  std::vector<std::uint32_t> tiles{4, 8, 16, 32, 64, 128};
+  std::string tiles = "4,8,16,32,64,128";
   std::size_t repeat = 3;
   std::string json;
   std::string plot;  // PNG path stem
 };
 
+// "4,8,16" -> {4, 8, 16}; throws logrid::Error(InvalidArgument) naming a bad item.
+std::vector<std::uint32_t> parseTiles(const std::string& text) {
+  std::vector<std::uint32_t> tiles;
+  for (const std::string& item : splitList(text)) {
+    std::uint32_t tile = 0;
+    const auto [end, error] = std::from_chars(item.data(), item.data() + item.size(), tile);
+    if (error != std::errc() || end != item.data() + item.size() || tile < 1) {
+      throw Error(ErrorCode::InvalidArgument, "tune: tile size '" + item +
+                                                  "' in --tiles is invalid; use positive whole "
+                                                  "numbers separated by commas, e.g. 8,16,32");
+    }
+    tiles.push_back(tile);
+  }
+  if (tiles.empty()) throw Error(ErrorCode::InvalidArgument, "tune: --tiles needs a size");
+  return tiles;
+}
+
 int runTune(const TuneOptions& o) {
-  if (o.tiles.empty()) throw Error(ErrorCode::InvalidArgument, "tune: --tiles needs a size");
+  const std::vector<std::uint32_t> tiles = parseTiles(o.tiles);
   if (o.repeat < 1) throw Error(ErrorCode::InvalidArgument, "tune: --repeat must be at least 1");
   gl::Context context(contextDesc(o.walk));
   LoadedScene scene = loadScene(o.walk);
   std::vector<RunConfig> configs;
-  for (std::uint32_t tile : o.tiles) {
+  for (std::uint32_t tile : tiles) {
     WalkOptions t = o.walk;
     t.tile = tile;
     configs.push_back(runConfig(t, scene.prepared));
@@ -96,8 +114,8 @@ void addTuneCommand(CLI::App& app) {
   tune->add_option("--method", o->walk.method, "log-state, log-zfar or bog");
   tune->add_option("--size", o->walk.size, "viewport WIDTHxHEIGHT");
   addViewOptions(*tune, o->walk);
-  tune->add_option("--tiles", o->tiles, "tile sizes to try (default 4 8 16 32 64 128)")
-      ->delimiter(',');
+  tune->add_option("--tiles", o->tiles,
+                   "comma-separated tile sizes to try (default 4,8,16,32,64,128)");
   tune->add_option("--repeat", o->repeat, "interleaved repetitions; medians are reported");
   tune->add_flag("--verify", o->walk.verify, "check the first repetition against the oracle");
   tune->add_option("--json", o->json, "write the sweep as JSON");

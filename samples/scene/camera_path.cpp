@@ -12,6 +12,8 @@
 #include <system_error>
 #include <utility>
 
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
 #include "logrid/error.hpp"
@@ -29,19 +31,19 @@ constexpr double kMaxTime = 1e200;
 constexpr std::size_t kMaxJsonBytes = std::size_t{64} << 20;
 constexpr std::size_t kMaxKeys = 1000000;
 
-DVec3 add(DVec3 a, DVec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-DVec3 sub(DVec3 a, DVec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-DVec3 mul(DVec3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
-DVec3 div(DVec3 a, double s) { return {a.x / s, a.y / s, a.z / s}; }
-double dot(DVec3 a, DVec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-bool same(DVec3 a, DVec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
-bool isFinite(DVec3 a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
-double maxAbs(DVec3 a) { return std::max({std::abs(a.x), std::abs(a.y), std::abs(a.z)}); }
-// hypot instead of sqrt(dot) so that tiny separations do not underflow to zero.
-double length(DVec3 a) { return std::hypot(a.x, a.y, a.z); }
-double lerp(double a, double b, double u) { return a * (1 - u) + b * u; }
-// This form (rather than a + (b - a) * u) returns a and b exactly at u = 0 and u = 1.
-DVec3 lerp(DVec3 a, DVec3 b, double u) { return add(mul(a, 1 - u), mul(b, u)); }
+using glm::dvec3;
+
+// Vector arithmetic is GLM's; these are the few checks it has no single call for.
+bool isFinite(const dvec3& a) {
+  return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
+}
+double maxAbs(const dvec3& a) { return std::max({std::abs(a.x), std::abs(a.y), std::abs(a.z)}); }
+// hypot instead of glm::length (sqrt of the dot product) so that tiny separations do not
+// underflow to zero.
+double length(const dvec3& a) { return std::hypot(a.x, a.y, a.z); }
+// glm::mix computes a (1 - u) + b u, which returns a and b exactly at u = 0 and u = 1
+// (a + (b - a) u would not).
+double lerp(double a, double b, double u) { return glm::mix(a, b, u); }
 
 // Shortest text that reads back as the same double, so that messages show the values
 // the user wrote (0.1, not 0.100000000000000006).
@@ -50,23 +52,23 @@ std::string str(double v) {
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
   return std::string(buffer, result.ptr);
 }
-std::string str(DVec3 v) { return "(" + str(v.x) + ", " + str(v.y) + ", " + str(v.z) + ")"; }
+std::string str(const dvec3& v) { return "(" + str(v.x) + ", " + str(v.y) + ", " + str(v.z) + ")"; }
 
 // The first problem with the key values and up vector, or "" (times are checked
 // separately because JSON paths without times get theirs only after this check).
-std::string checkValues(const std::vector<CameraKey>& keys, DVec3 up) {
+std::string checkValues(const std::vector<CameraKey>& keys, const dvec3& up) {
   const std::string range = str(kMaxCoordinate);
   if (!isFinite(up) || maxAbs(up) > kMaxCoordinate) {
     return "up " + str(up) + " must be finite and within +-" + range + "; use e.g. (0, 1, 0)";
   }
-  if (!(dot(up, up) >= DBL_MIN)) {
+  if (!(glm::dot(up, up) >= DBL_MIN)) {
     return "up " + str(up) + " has (almost) zero length; use a direction such as (0, 1, 0)";
   }
   if (keys.empty()) return "no keys; a camera path needs at least one key";
   for (std::size_t i = 0; i < keys.size(); ++i) {
     const CameraKey& k = keys[i];
     const std::string label = "key " + std::to_string(i);
-    const std::pair<const char*, DVec3> points[] = {{"position", k.position},
+    const std::pair<const char*, dvec3> points[] = {{"position", k.position},
                                                     {"look_at", k.look_at}};
     for (const auto& [name, v] : points) {
       if (!isFinite(v)) {
@@ -78,13 +80,13 @@ std::string checkValues(const std::vector<CameraKey>& keys, DVec3 up) {
                range;
       }
     }
-    if (same(k.position, k.look_at)) {
+    if (k.position == k.look_at) {
       return label + " has position == look_at " + str(k.position) +
              "; the camera needs a direction, so move look_at away from the position";
     }
     // lookAt normalises look_at - position; its squared length must not underflow.
-    const DVec3 view = sub(k.look_at, k.position);
-    if (!(dot(view, view) >= DBL_MIN)) {
+    const dvec3 view = k.look_at - k.position;
+    if (!(glm::dot(view, view) >= DBL_MIN)) {
       return label + " has look_at " + str(k.look_at) + " only " + str(length(view)) +
              " away from position " + str(k.position) +
              "; the camera needs a direction, so move look_at further away";
@@ -118,7 +120,7 @@ void assignConstantSpeedTimes(std::vector<CameraKey>& keys) {
   std::vector<double> lengths(keys.size() > 0 ? keys.size() - 1 : 0);
   double total = 0;
   for (std::size_t i = 0; i < lengths.size(); ++i) {
-    lengths[i] = length(sub(keys[i + 1].position, keys[i].position));
+    lengths[i] = length(keys[i + 1].position - keys[i].position);
     total += lengths[i];
   }
   const double negligible = total * 1e-12;
@@ -137,15 +139,17 @@ void assignConstantSpeedTimes(std::vector<CameraKey>& keys) {
 
 // Centripetal knot spacing between two points: |b - a|^0.5, i.e. the fourth root of the
 // squared distance.
-double knotGap(DVec3 a, DVec3 b) {
-  const DVec3 d = sub(b, a);
-  return std::sqrt(std::sqrt(dot(d, d)));
+double knotGap(const dvec3& a, const dvec3& b) {
+  const dvec3 d = b - a;
+  return std::sqrt(std::sqrt(glm::dot(d, d)));
 }
 
 // (b - a) / gap, and zero when the gap is zero: that is the limit as the points merge,
 // because |b - a| / |b - a|^0.5 -> 0. This is what makes coincident neighbours (and the
 // duplicated end points) harmless instead of a division by zero.
-DVec3 chordOver(DVec3 a, DVec3 b, double gap) { return gap > 0 ? div(sub(b, a), gap) : DVec3{}; }
+dvec3 chordOver(const dvec3& a, const dvec3& b, double gap) {
+  return gap > 0 ? (b - a) / gap : dvec3(0.0);
+}
 
 // The centripetal Catmull-Rom segment from p1 (u = 0) to p2 (u = 1), with p0 and p3 as
 // neighbours. Written in Hermite form with the tangents of the Barry-Goldman pyramid
@@ -153,23 +157,23 @@ DVec3 chordOver(DVec3 a, DVec3 b, double gap) { return gap > 0 ? div(sub(b, a), 
 // pyramid's weights, such as (t1 - t) / (t1 - t0), blow up when a neighbour is close;
 // here every term is a chord over its own knot gap, bounded by |d|^0.5, so close or
 // coincident neighbours cause neither overflow nor amplified rounding.
-DVec3 catmullRom(DVec3 p0, DVec3 p1, DVec3 p2, DVec3 p3, double u) {
+dvec3 catmullRom(const dvec3& p0, const dvec3& p1, const dvec3& p2, const dvec3& p3, double u) {
   const double g0 = knotGap(p0, p1);
   const double g1 = knotGap(p1, p2);
   const double g2 = knotGap(p2, p3);
   // Coincident segment ends: there is no curve to speak of, and the tangents below would
   // divide by zero.
-  if (!(g1 > 0)) return lerp(p1, p2, u);
-  const DVec3 m1 =
-      mul(add(sub(chordOver(p0, p1, g0), chordOver(p0, p2, g0 + g1)), chordOver(p1, p2, g1)), g1);
-  const DVec3 m2 =
-      mul(add(sub(chordOver(p1, p2, g1), chordOver(p1, p3, g1 + g2)), chordOver(p2, p3, g2)), g1);
+  if (!(g1 > 0)) return glm::mix(p1, p2, u);
+  const dvec3 m1 =
+      (chordOver(p0, p1, g0) - chordOver(p0, p2, g0 + g1) + chordOver(p1, p2, g1)) * g1;
+  const dvec3 m2 =
+      (chordOver(p1, p2, g1) - chordOver(p1, p3, g1 + g2) + chordOver(p2, p3, g2)) * g1;
   const double v = 1 - u;
   const double h00 = (1 + 2 * u) * v * v;
   const double h10 = u * v * v;
   const double h01 = u * u * (3 - 2 * u);
   const double h11 = -u * u * v;
-  const DVec3 p = add(add(mul(p1, h00), mul(m1, h10)), add(mul(p2, h01), mul(m2, h11)));
+  const dvec3 p = (p1 * h00 + m1 * h10) + (p2 * h01 + m2 * h11);
   // The input limits (kMaxCoordinate) keep every term above finite.
   assert(isFinite(p));
   return p;
@@ -183,27 +187,27 @@ DVec3 catmullRom(DVec3 p0, DVec3 p1, DVec3 p2, DVec3 p3, double u) {
 // key directions nearly cancel, the nearer key's direction is used. The distance is the
 // blend of the keys' eye-to-target distances, at least enough to survive rounding at the
 // position's magnitude.
-DVec3 usableLookAt(DVec3 position, DVec3 look_at, const CameraKey& a, const CameraKey& b,
-                   double u) {
-  const DVec3 view_a = sub(a.look_at, a.position);
-  const DVec3 view_b = sub(b.look_at, b.position);
+dvec3 usableLookAt(const dvec3& position, const dvec3& look_at, const CameraKey& a,
+                   const CameraKey& b, double u) {
+  const dvec3 view_a = a.look_at - a.position;
+  const dvec3 view_b = b.look_at - b.position;
   const double gap_a = length(view_a);
   const double gap_b = length(view_b);
-  const DVec3 view = sub(look_at, position);
+  const dvec3 view = look_at - position;
   // 1e-6 of the keys' own separation: below that the direction is mostly rounding noise.
-  if (dot(view, view) >= DBL_MIN && length(view) >= 1e-6 * std::min(gap_a, gap_b)) {
+  if (glm::dot(view, view) >= DBL_MIN && length(view) >= 1e-6 * std::min(gap_a, gap_b)) {
     return look_at;
   }
-  const DVec3 dir_a = div(view_a, gap_a);
-  const DVec3 dir_b = div(view_b, gap_b);
-  DVec3 dir = lerp(dir_a, dir_b, u);
+  const dvec3 dir_a = view_a / gap_a;
+  const dvec3 dir_b = view_b / gap_b;
+  dvec3 dir = glm::mix(dir_a, dir_b, u);
   const double dir_length = length(dir);
-  dir = dir_length > 0.1 ? div(dir, dir_length) : (u < 0.5 ? dir_a : dir_b);
+  dir = dir_length > 0.1 ? dir / dir_length : (u < 0.5 ? dir_a : dir_b);
   const double distance = std::max(lerp(gap_a, gap_b, u), 1e-9 * maxAbs(position));
-  return add(position, mul(dir, distance));
+  return position + dir * distance;
 }
 
-CameraPose poseOf(const CameraKey& key, DVec3 up) { return {key.position, key.look_at, up}; }
+CameraPose poseOf(const CameraKey& key, const dvec3& up) { return {key.position, key.look_at, up}; }
 
 // ---------------------------------------------------------------------------------------
 // JSON reading. A SAX handler rather than a parsed document: memory stays proportional
@@ -245,7 +249,7 @@ class PathReader {
   const std::string& error() const { return error_; }
   std::vector<ReadKey>& keys() { return keys_; }
   bool hasUp() const { return has_up_; }
-  DVec3 up() const { return up_; }
+  dvec3 up() const { return up_; }
 
  private:
   enum class Kind { Null, Boolean, Number, String, Binary, Object, Array };
@@ -277,11 +281,11 @@ class PathReader {
   Field field_ = Field::None;  // the field whose value comes next (Root and Key states)
   State skip_return_ = State::Root;
   std::size_t skip_depth_ = 0;
-  DVec3* vector_ = nullptr;  // the [x, y, z] being filled
+  dvec3* vector_ = nullptr;  // the [x, y, z] being filled
   std::size_t vector_count_ = 0;
   bool has_keys_ = false;
   bool has_up_ = false;
-  DVec3 up_{0, 1, 0};
+  dvec3 up_{0, 1, 0};
   std::vector<ReadKey> keys_;
   std::string error_;
 };
@@ -423,7 +427,7 @@ bool PathReader::vectorElement(Kind kind, double number) {
   if (vector_count_ == 3) {
     return fail(where() + " has more than 3 numbers; it must be an array [x, y, z]");
   }
-  DVec3& v = *vector_;
+  dvec3& v = *vector_;
   (vector_count_ == 0 ? v.x : vector_count_ == 1 ? v.y : v.z) = number;
   ++vector_count_;
   return true;
@@ -485,7 +489,8 @@ bool PathReader::parse_error(std::size_t position, const std::string&, const Jso
 
 }  // namespace
 
-CameraPath::CameraPath(std::vector<CameraKey> keys, DVec3 up) : keys_(std::move(keys)), up_(up) {
+CameraPath::CameraPath(std::vector<CameraKey> keys, glm::dvec3 up)
+    : keys_(std::move(keys)), up_(up) {
   // Keys that all leave `time` at its default are untimed, as in JSON without times.
   const bool untimed =
       keys_.size() > 1 &&
@@ -548,7 +553,7 @@ CameraPath CameraPath::fromJsonText(const std::string& text, const std::string& 
   if (!ok) fail(reader.error().empty() ? "invalid JSON" : reader.error());
 
   std::vector<ReadKey>& read = reader.keys();
-  const DVec3 up = reader.hasUp() ? reader.up() : DVec3{0, 1, 0};
+  const dvec3 up = reader.hasUp() ? reader.up() : dvec3(0, 1, 0);
   for (std::size_t i = 1; i < read.size(); ++i) {
     if (read[i].has_time != read[0].has_time) {
       fail("key " + std::to_string(i) + (read[i].has_time ? " has a" : " has no") +

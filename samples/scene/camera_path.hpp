@@ -1,5 +1,6 @@
 // Camera paths: key frames (eye position, look-at point, optional time) interpolated
-// smoothly, in world coordinates (double precision).
+// smoothly, in world coordinates (double precision, GLM vectors as everywhere in the
+// samples).
 //
 // JSON format (--path FILE.json):
 //   { "keys": [ { "position": [x, y, z], "look_at": [x, y, z], "time": 0.0 }, ... ],
@@ -12,20 +13,20 @@
 #include <string>
 #include <vector>
 
-#include "logrid/types.hpp"
+#include <glm/ext/vector_double3.hpp>
 
 namespace logrid::samples {
 
 struct CameraKey {
-  DVec3 position;
-  DVec3 look_at;
+  glm::dvec3 position{0.0};
+  glm::dvec3 look_at{0.0};
   double time = 0.0;
 };
 
 struct CameraPose {
-  DVec3 position;
-  DVec3 look_at;
-  DVec3 up{0, 1, 0};
+  glm::dvec3 position{0.0};
+  glm::dvec3 look_at{0.0};
+  glm::dvec3 up{0, 1, 0};
 };
 
 class CameraPath {
@@ -34,7 +35,7 @@ class CameraPath {
   // Throws logrid::Error(InvalidArgument) for no keys, non-finite values, a key whose
   // position equals its look_at, or times that do not increase (keys whose times are all
   // 0 are first spaced at constant speed).
-  CameraPath(std::vector<CameraKey> keys, DVec3 up = {0, 1, 0});
+  CameraPath(std::vector<CameraKey> keys, glm::dvec3 up = {0, 1, 0});
 
   // Reads the JSON format above; throws logrid::Error with the file name and what is
   // wrong: Environment for a missing, unreadable or directory path; BadInput for a file
@@ -55,7 +56,7 @@ class CameraPath {
 
  private:
   std::vector<CameraKey> keys_;
-  DVec3 up_{0, 1, 0};
+  glm::dvec3 up_{0, 1, 0};
 };
 
 }  // namespace logrid::samples

@@ -165,8 +165,8 @@ Scene makeCity(const GeneratorOptions& options) {
       }
       next = (dir + 2) % 4;  // a dead end at the city's edge: turn round
     }
-    const DVec3 p{street(ix), kEye, street(iz)};
-    keys.push_back({p, {p.x + 10.0 * dx[next], kEye, p.z + 10.0 * dz[next]}, 0});
+    const glm::dvec3 p{street(ix), kEye, street(iz)};
+    keys.push_back({p, p + glm::dvec3(10.0 * dx[next], 0, 10.0 * dz[next]), 0});
     dir = next;
     ix += dx[dir];
     iz += dz[dir];

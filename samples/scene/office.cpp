@@ -188,9 +188,9 @@ Scene makeOffice(const GeneratorOptions& options) {
   for (int r = 0; r <= rooms; ++r) {
     const double x = std::min(length - 0.5, std::max(0.5, r * kRoom + 0.5));
     const double side = r % 3 == 1 ? 1.0 : r % 3 == 2 ? -1.0 : 0.0;
-    const DVec3 at{x, eye, 0.6 * side};
-    const DVec3 look =
-        side == 0 ? DVec3{x + 10, eye - 0.3, 0} : DVec3{x + 1.5, eye - 0.2, side * (kCorridor + 3)};
+    const glm::dvec3 at{x, eye, 0.6 * side};
+    const glm::dvec3 look = side == 0 ? glm::dvec3{x + 10, eye - 0.3, 0}
+                                      : glm::dvec3{x + 1.5, eye - 0.2, side * (kCorridor + 3)};
     keys.push_back({at, look, 0});
   }
   scene.path = CameraPath(std::move(keys));

@@ -22,7 +22,7 @@ namespace logrid::samples {
 
 struct PreparedScene {
   std::string name;
-  DVec3 origin;
+  glm::dvec3 origin{0.0};
   Aabb bounds;
   CameraPath path;
   double near_plane = 0.1;

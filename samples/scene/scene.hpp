@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/ext/vector_double3.hpp>
+
 #include "logrid/types.hpp"
 #include "scene/camera_path.hpp"
 
@@ -25,7 +27,7 @@ struct SceneObject {
 
 struct Scene {
   std::string name;
-  DVec3 origin;                        // world position of the local origin
+  glm::dvec3 origin{0.0};              // world position of the local origin
   std::vector<float> positions;        // xyz per vertex, local coordinates
   std::vector<std::uint32_t> indices;  // three per triangle
   // Optional RGBA8 colour per vertex; when present it replaces the objects' colours.

@@ -2,6 +2,11 @@
 
 #include <cmath>
 
+#include <glm/ext/matrix_transform.hpp>
+#include <glm/geometric.hpp>
+
+#include "logrid/glm_camera.hpp"
+
 namespace logrid::samples {
 
 DepthSetup depthSetupFor(DepthConvention convention, DepthFormat format) {
@@ -11,29 +16,27 @@ DepthSetup depthSetupFor(DepthConvention convention, DepthFormat format) {
           format};
 }
 
-Camera makeCamera(const CameraPose& pose, const DVec3& scene_origin, const ViewSettings& view) {
-  Camera camera;
-  camera.width = view.width;
-  camera.height = view.height;
-  camera.depth = view.depth;
+Camera makeCamera(const CameraPose& pose, const glm::dvec3& scene_origin,
+                  const ViewSettings& view) {
   const double aspect = double(view.width) / double(view.height);
   const double fovy = view.fov_degrees * M_PI / 180.0;
+  // The projection comes from logrid's helper, which builds every depth set-up (reversed
+  // and infinite depth included) from the same DepthSetup the camera carries; lookAt too,
+  // for its check of the pose.
   Mat4d projection;
   if (view.orthographic) {
-    const DVec3 d{pose.look_at.x - pose.position.x, pose.look_at.y - pose.position.y,
-                  pose.look_at.z - pose.position.z};
-    const double distance = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+    const double distance = glm::distance(pose.position, pose.look_at);
     const double half_h = distance * std::tan(fovy / 2), half_w = half_h * aspect;
     projection =
         orthographic(-half_w, half_w, -half_h, half_h, view.near_plane, view.far_plane, view.depth);
   } else {
     projection = perspective(fovy, aspect, view.near_plane, view.far_plane, view.depth);
   }
-  const Mat4d view_matrix = lookAt(pose.position, pose.look_at, pose.up);
-  camera.view_projection = multiply(multiply(projection, view_matrix), translation(scene_origin));
-  camera.render_origin = {pose.position.x - scene_origin.x, pose.position.y - scene_origin.y,
-                          pose.position.z - scene_origin.z};
-  return camera;
+  const glm::dmat4 world_view =
+      toGlm(lookAt(toDVec3(pose.position), toDVec3(pose.look_at), toDVec3(pose.up)));
+  // Local (scene) coordinates to world, then to eye space, all in double.
+  return cameraFromGlm(toGlm(projection), glm::translate(world_view, scene_origin), view.width,
+                       view.height, view.depth, pose.position - scene_origin);
 }
 
 }  // namespace logrid::samples

@@ -25,6 +25,6 @@ struct ViewSettings {
 // reversed.
 DepthSetup depthSetupFor(DepthConvention convention, DepthFormat format);
 
-Camera makeCamera(const CameraPose& pose, const DVec3& scene_origin, const ViewSettings& view);
+Camera makeCamera(const CameraPose& pose, const glm::dvec3& scene_origin, const ViewSettings& view);
 
 }  // namespace logrid::samples

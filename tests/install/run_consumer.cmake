@@ -69,9 +69,11 @@ endif()
 
 run_step("build" "${CMAKE_COMMAND}" --build "${build}" --config "${CONFIG}")
 
-set(core_exe "${build}/consumer_core")
-if(NOT EXISTS "${core_exe}")
-  set(core_exe "${build}/${CONFIG}/consumer_core")  # multi-configuration generators
+set(exe_dir "${build}")
+if(NOT EXISTS "${exe_dir}/consumer_core")
+  set(exe_dir "${build}/${CONFIG}")  # multi-configuration generators
 endif()
-run_step("run consumer_core" "${core_exe}")
+run_step("run consumer_core" "${exe_dir}/consumer_core")
+message(NOTICE "${step_output}")
+run_step("run consumer_glm" "${exe_dir}/consumer_glm")
 message(NOTICE "${step_output}")

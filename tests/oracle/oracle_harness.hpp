@@ -231,9 +231,10 @@ inline WalkTotals checkedWalk(const SceneKey& key, LoadedScene& scene, const Run
       out << "\n  reproduce: " << reproducer(key, config);
       return out.str();
     }();
-    // Objects the oracle sets apart as depth-extrapolation artifacts (frame_runner.hpp)
-    // must also be drawn here: the small test walks have none, so one that is not drawn
-    // is either a new artifact to look at or a culling bug the classification hid.
+    // Objects the oracle sets apart as depth-extrapolation artifacts
+    // (logrid/gl/object_id_oracle.hpp) must also be drawn here: the small test walks have
+    // none, so one that is not drawn is either a new artifact to look at or a culling bug
+    // the classification hid.
     EXPECT_EQ(r.missed_artifacts, 0)
         << config.method.name() << " frame " << f << ": " << r.missed_artifacts
         << " objects shown only by fragments far nearer than their boxes were not drawn; "

@@ -38,6 +38,74 @@ inline constexpr const char* kPlyAscii =
     "4 0 1 2 3\n"
     "3 0 1 4\n";
 
+// PLY files as real exporters wrote them, each bending the format in a way assimp 5.2
+// reads correctly. All hold the geometry of kPlyAscii.
+//
+// Blender 2.4x's exporter before August 2008 (ply_export.py 0.93): its "Created by"
+// line has no "comment" keyword, vertices carry normals, texture coordinates and
+// colours, and face lines end with a blank.
+inline constexpr const char* kPlyBlender245 =
+    "ply\n"
+    "format ascii 1.0\n"
+    "Created by Blender3D 245 - www.blender.org, source file: untitled.blend\n"
+    "element vertex 5\n"
+    "property float x\nproperty float y\nproperty float z\n"
+    "property float nx\nproperty float ny\nproperty float nz\n"
+    "property float s\nproperty float t\n"
+    "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+    "element face 2\n"
+    "property list uchar uint vertex_indices\n"
+    "end_header\n"
+    "-1.000000 0.000000 0.000000 0.000000 0.000000 1.000000 0.000000 0.000000 255 255 255\n"
+    "1.000000 0.000000 0.000000 0.000000 0.000000 1.000000 1.000000 0.000000 255 255 255\n"
+    "1.000000 2.000000 0.000000 0.000000 0.000000 1.000000 1.000000 1.000000 255 255 255\n"
+    "-1.000000 2.000000 0.000000 0.000000 0.000000 1.000000 0.000000 1.000000 255 255 255\n"
+    "0.000000 1.000000 4.000000 0.000000 -0.970143 0.242536 0.500000 0.500000 255 0 0\n"
+    "4 0 1 2 3 \n"
+    "3 0 1 4 \n";
+
+// The same exporter after August 2008 (Blender 2.49): "comment" added, the source file
+// name in UTF-8, and without colours every data line ends with a blank.
+inline constexpr const char* kPlyBlender249 =
+    "ply\n"
+    "format ascii 1.0\n"
+    "comment Created by Blender3D 249 - www.blender.org, source file: "
+    "maison_\xC3\xA9t\xC3\xA9.blend\n"
+    "element vertex 5\n"
+    "property float x\nproperty float y\nproperty float z\n"
+    "property float nx\nproperty float ny\nproperty float nz\n"
+    "element face 2\n"
+    "property list uchar uint vertex_indices\n"
+    "end_header\n"
+    "-1.000000 0.000000 0.000000 0.000000 0.000000 1.000000 \n"
+    "1.000000 0.000000 0.000000 0.000000 0.000000 1.000000 \n"
+    "1.000000 2.000000 0.000000 0.000000 0.000000 1.000000 \n"
+    "-1.000000 2.000000 0.000000 0.000000 0.000000 1.000000 \n"
+    "0.000000 1.000000 4.000000 0.000000 -0.970143 0.242536 \n"
+    "4 0 1 2 3 \n"
+    "3 0 1 4 \n";
+
+// A C program that printed its numbers with printf("%f") under a German locale, on
+// Windows: decimal commas, CR LF line ends, an obj_info line, and a closing remark after
+// the data.
+inline constexpr const char* kPlyDecimalCommaCrLf =
+    "ply\r\n"
+    "format ascii 1.0\r\n"
+    "obj_info exported by scan2ply 1.3\r\n"
+    "element vertex 5\r\n"
+    "property float x\r\nproperty float y\r\nproperty float z\r\n"
+    "element face 2\r\n"
+    "property list uchar int vertex_indices\r\n"
+    "end_header\r\n"
+    "-1,000000 0,000000 0,000000\r\n"
+    "1,000000 0,000000 0,000000\r\n"
+    "1,000000 2,000000 0,000000\r\n"
+    "-1,000000 2,000000 0,000000\r\n"
+    "0,000000 1,000000 4,000000\r\n"
+    "4 0 1 2 3\r\n"
+    "3 0 1 4\r\n"
+    "end of scan2ply output\r\n";
+
 // Two facets of a square in the y = 0 plane; bounds [0,3]x[0,0]x[0,3].
 inline constexpr const char* kStlAscii =
     "solid square\n"

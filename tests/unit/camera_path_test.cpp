@@ -16,10 +16,12 @@
 
 #include "logrid/camera.hpp"
 #include "logrid/error.hpp"
+#include "logrid/glm_camera.hpp"
 
 namespace {
 
-using logrid::DVec3;
+// The samples keep their vectors in GLM.
+using DVec3 = glm::dvec3;
 using logrid::Error;
 using logrid::ErrorCode;
 using logrid::samples::CameraKey;
@@ -47,7 +49,9 @@ void expectUsable(const CameraPose& pose, double time) {
   ASSERT_TRUE(isFinite(pose.position)) << "time " << time;
   ASSERT_TRUE(isFinite(pose.look_at)) << "time " << time;
   ASSERT_FALSE(same(pose.position, pose.look_at)) << "time " << time;
-  EXPECT_NO_THROW(logrid::lookAt(pose.position, pose.look_at, pose.up)) << "time " << time;
+  EXPECT_NO_THROW(logrid::lookAt(logrid::toDVec3(pose.position), logrid::toDVec3(pose.look_at),
+                                 logrid::toDVec3(pose.up)))
+      << "time " << time;
 }
 
 // Runs `f`, expects a logrid::Error with `code` and returns its message.

@@ -1,7 +1,7 @@
 // Scalar kernels that turn depth values in their native storage type into the answers
-// of a DepthSource. Shared by every source that reads pixels (zread/) so that all of
-// them round the same way: min keys down, max keys up, and threshold counts towards
-// "not occluded".
+// of a DepthSource. Shared by every source that reads pixels (logrid::cpu::PixelReader
+// and its subclasses in cpu/ and zread/) so that all of them round the same way: min
+// keys down, max keys up, and threshold counts towards "not occluded".
 #pragma once
 
 #include <cstddef>
@@ -21,18 +21,22 @@ enum class NativeDepth : std::uint8_t {
 
 inline std::size_t nativeDepthBytes(NativeDepth n) { return n == NativeDepth::Unorm16 ? 2 : 4; }
 
-// Describes a buffer: its native type, the depth convention, and the stored value of a
-// cleared pixel (1 for standard, 0 for reversed).
+// Describes a buffer: its native type and the depth convention. The convention also
+// fixes the stored value of a cleared pixel, which AreaDepth::free_pixels counts: 1 (the
+// largest value) for standard, 0 for reversed.
 struct DepthEncoding {
   NativeDepth native = NativeDepth::Float32;
   DepthConvention convention = DepthConvention::Standard;
 };
 
-// Summarizes `count` values at `data` (rows of `width` values, `stride` values apart).
+// Summarizes the width x height values at `data` (rows of `width` values, the start of
+// each row `stride` values after the previous one's): the nearest and farthest key,
+// rounded outwards, and the number of cleared values.
 AreaDepth summarizeDepth(const DepthEncoding& enc, const void* data, std::int32_t width,
                          std::int32_t height, std::size_t stride);
 
-// Counts the values whose key is >= threshold.
+// Counts the width x height values at `data` (laid out as above) whose key is >=
+// threshold; NaN values count.
 std::uint32_t countDepthAtOrBeyond(const DepthEncoding& enc, const void* data, std::int32_t width,
                                    std::int32_t height, std::size_t stride, float threshold);
 

@@ -47,6 +47,8 @@ class Framebuffer {
   void bind() const;
   // Clears colour to `rgba`, depth to the convention's clear value, IDs to `kNoObject`.
   void clear(const float rgba[4]) const;
+  // The same without touching colour (for an ID pass after a frame, object_id_oracle.hpp).
+  void clearDepthAndIds() const;
   // Draw only into the ID attachment (for the ID pass) or only into colour.
   void selectIdPass(bool id_pass) const;
 

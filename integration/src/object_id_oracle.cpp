@@ -1,0 +1,88 @@
+#include "logrid/gl/object_id_oracle.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+#include <sstream>
+
+#include "logrid/error.hpp"
+#include "logrid/gl/context.hpp"
+#include "logrid/projection.hpp"
+
+namespace logrid::gl {
+
+std::vector<ObjectId> OracleFrame::missedBy(const std::vector<ObjectId>& drawn) const {
+  std::vector<ObjectId> sorted = drawn;
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<ObjectId> missed;
+  for (const ObjectId id : visible) {
+    if (!std::binary_search(sorted.begin(), sorted.end(), id)) missed.push_back(id);
+  }
+  return missed;
+}
+
+OracleFrame objectIdOracle(const Framebuffer& framebuffer, const Camera& camera,
+                           const std::vector<Aabb>& object_boxes,
+                           const std::function<void()>& draw_ids) {
+  const FramebufferDesc& fb = framebuffer.desc();
+  if (!fb.object_ids) {
+    throw Error(ErrorCode::InvalidArgument,
+                "objectIdOracle: the framebuffer has no object-ID attachment; create it with "
+                "FramebufferDesc::object_ids = true");
+  }
+  if (fb.width != camera.width || fb.height != camera.height ||
+      fb.depth.convention != camera.depth.convention ||
+      fb.depth.clip_range != camera.depth.clip_range || fb.depth.format != camera.depth.format) {
+    std::ostringstream out;
+    auto describe = [&out](std::uint32_t w, std::uint32_t h, const DepthSetup& d) {
+      out << w << "x" << h << ", " << toString(d.convention) << " depth, " << toString(d.clip_range)
+          << ", format " << toString(d.format);
+    };
+    out << "objectIdOracle: the framebuffer (";
+    describe(fb.width, fb.height, fb.depth);
+    out << ") does not match the camera (";
+    describe(camera.width, camera.height, camera.depth);
+    out << "); create it for the camera's viewport and depth set-up";
+    throw Error(ErrorCode::InvalidArgument, out.str());
+  }
+  const Projector projector(camera);  // validates the camera
+
+  framebuffer.bind();
+  framebuffer.clearDepthAndIds();
+  framebuffer.selectIdPass(true);
+  draw_ids();
+  framebuffer.selectIdPass(false);
+  const std::vector<std::uint32_t> ids = framebuffer.readObjectIds();
+  const std::vector<float> depth = framebuffer.readDepth();
+  checkGlErrors("objectIdOracle");
+
+  // Per object: 1 if some fragment lies within its box's depth range, 2 if it only has
+  // fragments nearer than that. Judged with the default margins, widened
+  // kArtifactMargins times, whatever the culler's projection settings: a culler whose
+  // margins are too small (or whose boxes do not enclose their geometry in depth) then
+  // shows misses, not artifacts; only fragments far nearer than any interpolation of
+  // their own geometry count as artifacts.
+  constexpr float kArtifactMargins = 16.0f;
+  const std::size_t objects = object_boxes.size();
+  std::vector<std::uint8_t> state(objects, 0);
+  std::vector<float> threshold(objects, 0);
+  const float sign = camera.depth.convention == DepthConvention::Reversed ? -1.0f : 1.0f;
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const std::uint32_t id = ids[i];
+    if (id >= objects || state[id] == 1) continue;
+    if (state[id] == 0) {
+      const BoxProjection p = projector.project(object_boxes[id]);
+      threshold[id] = p.cls == ProjectionClass::Inside ? p.near_key - kArtifactMargins * p.margin
+                                                       : -std::numeric_limits<float>::infinity();
+    }
+    state[id] = sign * depth[i] >= threshold[id] ? 1 : 2;
+  }
+  OracleFrame out;
+  for (ObjectId id = 0; id < objects; ++id) {
+    if (state[id] == 1) out.visible.push_back(id);
+    if (state[id] == 2) out.artifacts.push_back(id);
+  }
+  return out;
+}
+
+}  // namespace logrid::gl

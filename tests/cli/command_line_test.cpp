@@ -1,0 +1,108 @@
+// The logrid command line: a repeated option is no usage error, the last one wins, on
+// every option of every subcommand (samples/cli/commands.hpp, addCommands).
+#include <gtest/gtest.h>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "cli/commands.hpp"
+#include "gl_test_context.hpp"
+
+namespace logrid::samples {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Runs `logrid ARGS...` in this process as main() does and returns the exit code of
+// the subcommand (or -1 for a usage error).
+int runLogrid(std::vector<std::string> args) {
+  CLI::App app{"logrid"};
+  addCommands(app);
+  args.insert(args.begin(), "logrid");
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  try {
+    app.parse(int(argv.size()), argv.data());
+  } catch (const CLI::RuntimeError& done) {
+    return done.get_exit_code();
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "usage error: %s\n", e.what());
+    return -1;
+  }
+  return 0;
+}
+
+nlohmann::json readJson(const fs::path& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / "logrid_command_line_test";
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+TEST(CommandLine, EveryOptionOfEverySubcommandTakesOneValueAndTheLastWins) {
+  CLI::App app{"logrid"};
+  addCommands(app);
+  const std::vector<CLI::App*> commands = app.get_subcommands([](CLI::App*) { return true; });
+  ASSERT_EQ(commands.size(), 3u);
+  std::size_t checked = 0;
+  for (CLI::App* command : commands) {
+    for (const CLI::Option* option : command->get_options()) {
+      const std::string name = command->get_name() + " " + option->get_name();
+      EXPECT_EQ(option->get_multi_option_policy(), CLI::MultiOptionPolicy::TakeLast) << name;
+      // A list option would gather the values of every repetition instead.
+      EXPECT_LE(option->get_expected_max(), 1) << name << " takes several values";
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 60u);  // walk, bench and tune have some 25 options each
+}
+
+TEST(CommandLine, WalkWithRepeatedFramesWalksTheLastCount) {
+  LOGRID_REQUIRE_GL();
+  const fs::path json = scratch("walk.json");
+  fs::remove(json);
+  ASSERT_EQ(runLogrid({"walk", "--scene", "forest", "--scale", "0.02", "--frames", "8", "--size",
+                       "64x48", "--size", "48x32", "--json", json.string(), "--frames", "2"}),
+            0);
+  const nlohmann::json report = readJson(json);
+  EXPECT_EQ(report["frames"], 2);
+  EXPECT_EQ(report["per_frame"].size(), 2u);
+  EXPECT_EQ(report["width"], 48);
+  EXPECT_EQ(report["height"], 32);
+}
+
+TEST(CommandLine, TuneWithRepeatedTilesSweepsTheLastList) {
+  LOGRID_REQUIRE_GL();
+  const fs::path json = scratch("tune.json");
+  fs::remove(json);
+  ASSERT_EQ(
+      runLogrid({"tune", "--scene", "forest", "--scale", "0.02", "--size", "64x48", "--frames", "1",
+                 "--repeat", "1", "--tiles", "8,16", "--json", json.string(), "--tiles", "32"}),
+      0);
+  const nlohmann::json report = readJson(json);
+  ASSERT_EQ(report["sizes"].size(), 1u);
+  EXPECT_EQ(report["recommended_tile"], 32);
+}
+
+TEST(CommandLine, ABadTileListIsAnErrorNamingTheItem) {
+  try {
+    runLogrid({"tune", "--scene", "forest", "--tiles", "8,x"});
+    FAIL() << "tune accepted --tiles 8,x";
+  } catch (const logrid::Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
+    EXPECT_NE(std::string(e.what()).find("'x'"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace logrid::samples
