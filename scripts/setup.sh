@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages logrid needs, only those missing. Quiet when
-# everything is present. Sourced or run by scripts/test.sh and scripts/bench.sh.
+# everything is present. Run by scripts/build.sh (for test.sh and bench.sh); scripts that
+# need more (scripts/fuzz.sh: clang) name the extra packages as arguments.
 set -euo pipefail
 
 # Exactly what the README's two commands use (each line says who needs it).
@@ -17,6 +18,8 @@ packages=(
   nlohmann-json3-dev
   # tests (GoogleTest), micro-benchmarks (Google Benchmark), plots of `logrid bench`
   libgtest-dev libbenchmark-dev gnuplot-nox
+  # extra packages named by the caller (scripts/fuzz.sh: clang)
+  "$@"
 )
 
 missing=()

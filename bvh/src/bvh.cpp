@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <functional>
 #include <future>
 #include <limits>
 #include <sstream>
@@ -189,7 +190,8 @@ void checkBox(const char* who, std::size_t id, const Aabb& b) {
 }  // namespace
 
 std::size_t FlatHierarchy::memoryBytes() const {
-  return nodes_.capacity() * sizeof(Node) + objects_.capacity() * sizeof(ObjectId);
+  return nodes_.capacity() * sizeof(Node) + objects_.capacity() * sizeof(ObjectId) +
+         object_triangles_.capacity() * sizeof(std::uint32_t);
 }
 
 std::uint32_t FlatHierarchy::depth() const {
@@ -224,6 +226,72 @@ void FlatHierarchy::refit(const std::vector<Aabb>& object_boxes) {
     }
     return box;
   });
+}
+
+void FlatHierarchy::buildLinks() const {
+  if (links_revision_ == revision_ && parent_.size() == nodes_.size()) return;
+  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  parent_.assign(nodes_.size(), kNone);
+  std::uint32_t max_object = 0;
+  for (ObjectId id : objects_) max_object = std::max(max_object, id);
+  leaf_of_.assign(objects_.empty() ? 0 : std::size_t(max_object) + 1, kNone);
+  for (std::size_t n = 0; n < nodes_.size(); ++n) {
+    const Node& node = nodes_[n];
+    for (std::uint32_t c = 0; c < node.child_count; ++c) {
+      parent_[node.first_child + c] = static_cast<std::uint32_t>(n);
+    }
+    for (std::uint32_t i = 0; i < node.object_count; ++i) {
+      leaf_of_[objects_[node.first_object + i]] = static_cast<std::uint32_t>(n);
+    }
+  }
+  links_revision_ = revision_;
+}
+
+std::size_t FlatHierarchy::refit(const std::vector<Aabb>& object_boxes,
+                                 const std::vector<ObjectId>& moved) {
+  buildLinks();
+  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  for (ObjectId id : moved) {
+    if (id >= object_boxes.size() || id >= leaf_of_.size() || leaf_of_[id] == kNone) {
+      std::ostringstream out;
+      out << "FlatHierarchy::refit: moved object " << id << " is not in the hierarchy or has no "
+          << "box (" << object_boxes.size() << " boxes given)";
+      throw Error(ErrorCode::InvalidArgument, out.str());
+    }
+    checkBox("FlatHierarchy::refit", id, object_boxes[id]);
+  }
+  // The nodes to recompute: the moved objects' leaves and their ancestors, each once.
+  std::vector<std::uint32_t> dirty;
+  std::vector<std::uint8_t> seen(nodes_.size(), 0);
+  for (ObjectId id : moved) {
+    for (std::uint32_t n = leaf_of_[id]; n != kNone && !seen[n]; n = parent_[n]) {
+      seen[n] = 1;
+      dirty.push_back(n);
+    }
+  }
+  // Children have larger indices than their parents: recompute from the largest down.
+  std::sort(dirty.begin(), dirty.end(), std::greater<>());
+  for (std::uint32_t n : dirty) {
+    Node& node = nodes_[n];
+    Aabb box = emptyBox();
+    for (std::uint32_t i = 0; i < node.object_count; ++i) {
+      grow(box, object_boxes[objects_[node.first_object + i]]);
+    }
+    for (std::uint32_t c = 0; c < node.child_count; ++c)
+      grow(box, nodes_[node.first_child + c].box);
+    node.box = box;
+  }
+  return dirty.size();
+}
+
+double FlatHierarchy::surfaceAreaSum() const {
+  double sum = 0;
+  for (const Node& n : nodes_) {
+    const double dx = double(n.box.max.x) - n.box.min.x, dy = double(n.box.max.y) - n.box.min.y,
+                 dz = double(n.box.max.z) - n.box.min.z;
+    sum += 2 * (dx * dy + dy * dz + dz * dx);
+  }
+  return sum;
 }
 
 FlatHierarchy buildOverBoxes(const std::vector<Aabb>& boxes, const BuildArgs& args) {

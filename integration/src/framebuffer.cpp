@@ -8,6 +8,7 @@
 
 #include "logrid/error.hpp"
 #include "logrid/gl/context.hpp"
+#include "logrid/zread/gl_state.hpp"
 
 namespace logrid::gl {
 
@@ -86,20 +87,52 @@ Framebuffer::Framebuffer(const FramebufferDesc& desc) : desc_(desc) {
         << "); use the DepthFormat, DepthConvention and ClipDepthRange enumerators";
     throw Error(ErrorCode::InvalidArgument, out.str());
   }
+  GLint max_samples = 0, max_depth_samples = 0, max_color_samples = 0, max_integer_samples = 0;
+  glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
+  glGetIntegerv(GL_MAX_DEPTH_TEXTURE_SAMPLES, &max_depth_samples);
+  glGetIntegerv(GL_MAX_COLOR_TEXTURE_SAMPLES, &max_color_samples);
+  glGetIntegerv(GL_MAX_INTEGER_SAMPLES, &max_integer_samples);
+  GLint limit = std::min({max_samples, max_depth_samples, max_color_samples});
+  if (desc.object_ids) limit = std::min(limit, max_integer_samples);
+  if (desc.samples > 1 && GLint(desc.samples) > limit) {
+    throw Error(ErrorCode::Unsupported,
+                "framebuffer: " + std::to_string(desc.samples) +
+                    " samples per pixel requested, but this driver allows at most " +
+                    std::to_string(limit) +
+                    " for these attachments (GL_MAX_SAMPLES, GL_MAX_DEPTH_TEXTURE_SAMPLES, "
+                    "GL_MAX_COLOR_TEXTURE_SAMPLES" +
+                    (desc.object_ids ? ", GL_MAX_INTEGER_SAMPLES" : "") +
+                    "); ask for fewer, or 0 for a single-sampled framebuffer");
+  }
   checkGlErrors("framebuffer: before creation");
   const GLsizei w = GLsizei(desc.width), h = GLsizei(desc.height);
+  const bool multi = desc.samples > 1;
+  const GLenum target = multi ? GL_TEXTURE_2D_MULTISAMPLE : GL_TEXTURE_2D;
+  auto storage = [&](GLuint texture, GLenum format) {
+    if (multi) {
+      glTextureStorage2DMultisample(texture, GLsizei(desc.samples), format, w, h, GL_TRUE);
+    } else {
+      glTextureStorage2D(texture, 1, format, w, h);
+    }
+  };
+  guard_ = std::make_unique<zread::GlStateGuard>();
   glCreateFramebuffers(1, &fbo_);
-  glCreateTextures(GL_TEXTURE_2D, 1, &color_);
-  glTextureStorage2D(color_, 1, GL_RGBA8, w, h);
+  glCreateTextures(target, 1, &color_);
+  storage(color_, GL_RGBA8);
   glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT0, color_, 0);
   if (desc.object_ids) {
-    glCreateTextures(GL_TEXTURE_2D, 1, &ids_);
-    glTextureStorage2D(ids_, 1, GL_R32UI, w, h);
+    glCreateTextures(target, 1, &ids_);
+    storage(ids_, GL_R32UI);
     glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT1, ids_, 0);
   }
-  glCreateTextures(GL_TEXTURE_2D, 1, &depth_);
-  glTextureStorage2D(depth_, 1, depthInternalFormat(desc.depth.format), w, h);
+  glCreateTextures(target, 1, &depth_);
+  storage(depth_, depthInternalFormat(desc.depth.format));
   glNamedFramebufferTexture(fbo_, GL_DEPTH_ATTACHMENT, depth_, 0);
+  if (multi) {
+    GLint given = 0;
+    glGetTextureLevelParameteriv(depth_, 0, GL_TEXTURE_SAMPLES, &given);
+    samples_ = std::uint32_t(std::max(given, 0));
+  }
   const GLenum error = glGetError();
   if (error == GL_OUT_OF_MEMORY) {
     release();
@@ -131,6 +164,8 @@ Framebuffer::Framebuffer(const FramebufferDesc& desc) : desc_(desc) {
 Framebuffer::~Framebuffer() { release(); }
 
 void Framebuffer::release() {
+  sample_reader_.reset();
+  guard_.reset();
   if (fbo_) glDeleteFramebuffers(1, &fbo_);
   GLuint textures[3] = {color_, ids_, depth_};
   glDeleteTextures(3, textures);
@@ -172,10 +207,15 @@ void Framebuffer::clearDepthAndIds() const {
 namespace {
 
 // Reads a whole texture level in bands of rows, so that no single call's byte count
-// overflows GLsizei on very large framebuffers.
-void readTexture(GLuint texture, std::uint32_t width, std::uint32_t height, GLenum format,
-                 GLenum type, std::size_t pixel_bytes, void* dst) {
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+// overflows GLsizei on very large framebuffers. Whatever pack state and pack buffer the
+// application left are set aside for it and restored.
+void readTexture(zread::GlStateGuard& guard, GLuint texture, std::uint32_t width,
+                 std::uint32_t height, GLenum format, GLenum type, std::size_t pixel_bytes,
+                 void* dst) {
+  zread::GlStateGuard::Scope scope(guard, "Framebuffer read-back");
+  GLint read_framebuffer = 0;
+  glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read_framebuffer);
+  scope.prepareRead(GLuint(read_framebuffer), 0);
   const std::size_t row_bytes = std::size_t(width) * pixel_bytes;
   const std::uint32_t band =
       std::uint32_t(std::max<std::size_t>(1, (std::size_t(1) << 30) / row_bytes));
@@ -185,19 +225,154 @@ void readTexture(GLuint texture, std::uint32_t width, std::uint32_t height, GLen
                          GLsizei(row_bytes * rows),
                          static_cast<std::uint8_t*>(dst) + row_bytes * y);
   }
+  scope.check("glGetTextureSubImage");
+}
+
+// Multisampled textures cannot be read with glGetTextureSubImage: a compute shader copies
+// every sample (depth as float bits, IDs) or the average of the samples (colour, packed
+// RGBA8) into a buffer, a band of rows at a time.
+enum class SampleKind : int { Depth = 0, Ids = 1, ColorAverage = 2 };
+
+constexpr const char* kSampleCompute = R"(
+layout(local_size_x = 8, local_size_y = 8) in;
+#if KIND == 1
+uniform usampler2DMS u_texture;
+#else
+uniform sampler2DMS u_texture;
+#endif
+uniform ivec2 u_size;  // width, rows in this band
+uniform int u_first_row;
+uniform int u_samples;
+layout(std430, binding = 0) writeonly buffer Out { uint values[]; };
+void main() {
+  ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+  if (p.x >= u_size.x || p.y >= u_size.y) return;
+  ivec2 texel = ivec2(p.x, p.y + u_first_row);
+  uint pixel = uint(p.y * u_size.x + p.x);
+#if KIND == 2
+  vec4 sum = vec4(0.0);
+  for (int s = 0; s < u_samples; ++s) sum += texelFetch(u_texture, texel, s);
+  values[pixel] = packUnorm4x8(sum / float(u_samples));
+#else
+  for (int s = 0; s < u_samples; ++s) {
+#if KIND == 0
+    values[pixel * uint(u_samples) + uint(s)] = floatBitsToUint(texelFetch(u_texture, texel, s).r);
+#else
+    values[pixel * uint(u_samples) + uint(s)] = texelFetch(u_texture, texel, s).r;
+#endif
+  }
+#endif
+}
+)";
+
+GLuint computeProgram(SampleKind kind) {
+  const std::string source =
+      "#version 450 core\n#define KIND " + std::to_string(int(kind)) + "\n" + kSampleCompute;
+  const char* text = source.c_str();
+  const GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
+  glShaderSource(shader, 1, &text, nullptr);
+  glCompileShader(shader);
+  const GLuint program = glCreateProgram();
+  glAttachShader(program, shader);
+  glLinkProgram(program);
+  glDeleteShader(shader);
+  GLint ok = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {};
+    glGetProgramInfoLog(program, sizeof log, nullptr, log);
+    glDeleteProgram(program);
+    throw Error(
+        ErrorCode::Runtime,
+        std::string("framebuffer: the multisample read-back shader does not build: ") + log);
+  }
+  return program;
 }
 
 }  // namespace
 
+struct Framebuffer::SampleReader {
+  GLuint programs[3] = {};
+  GLuint buffer = 0;
+  std::size_t capacity = 0;
+  ~SampleReader() {
+    for (GLuint p : programs) {
+      if (p) glDeleteProgram(p);
+    }
+    if (buffer) glDeleteBuffers(1, &buffer);
+  }
+};
+
+// `values_per_pixel` 32-bit values per pixel into dst (rows bottom-up).
+void Framebuffer::readSamples(int kind, std::uint32_t texture, std::uint32_t values_per_pixel,
+                              void* dst) const {
+  if (!sample_reader_) sample_reader_ = std::make_unique<SampleReader>();
+  SampleReader& r = *sample_reader_;
+  GLuint& program = r.programs[kind];
+  if (!program) program = computeProgram(SampleKind(kind));
+  const std::size_t row_values = std::size_t(desc_.width) * values_per_pixel;
+  const std::uint32_t band =
+      std::uint32_t(std::max<std::size_t>(1, (std::size_t(1) << 26) / row_values));
+  const std::size_t bytes = row_values * std::min(band, desc_.height) * 4;
+  if (bytes > r.capacity) {
+    if (r.buffer) glDeleteBuffers(1, &r.buffer);
+    glCreateBuffers(1, &r.buffer);
+    glNamedBufferStorage(r.buffer, GLsizeiptr(bytes), nullptr, 0);
+    r.capacity = bytes;
+  }
+  zread::GlStateGuard::Scope scope(*guard_, "Framebuffer read-back");
+  scope.prepareProgram();
+  scope.bindTexture(0, GL_TEXTURE_2D_MULTISAMPLE, texture);
+  // The storage-buffer binding point 0 and the generic binding, set aside and restored.
+  GLint generic = 0, indexed = 0;
+  GLint64 start = 0, size = 0;
+  glGetIntegerv(GL_SHADER_STORAGE_BUFFER_BINDING, &generic);
+  glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, 0, &indexed);
+  glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_START, 0, &start);
+  glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_SIZE, 0, &size);
+  glUseProgram(program);
+  glProgramUniform1i(program, glGetUniformLocation(program, "u_texture"), 0);
+  glProgramUniform1i(program, glGetUniformLocation(program, "u_samples"), GLint(samples_));
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, r.buffer);
+  for (std::uint32_t y = 0; y < desc_.height; y += band) {
+    const std::uint32_t rows = std::min(band, desc_.height - y);
+    glProgramUniform2i(program, glGetUniformLocation(program, "u_size"), GLint(desc_.width),
+                       GLint(rows));
+    glProgramUniform1i(program, glGetUniformLocation(program, "u_first_row"), GLint(y));
+    glDispatchCompute((desc_.width + 7) / 8, (rows + 7) / 8, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glGetNamedBufferSubData(r.buffer, 0, GLsizeiptr(row_values * rows * 4),
+                            static_cast<std::uint8_t*>(dst) + row_values * 4 * y);
+  }
+  if (size > 0) {
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, GLuint(indexed), start, size);
+  } else {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, GLuint(indexed));
+  }
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, GLuint(generic));
+  scope.check("the multisample read-back");
+}
+
 std::vector<std::uint8_t> Framebuffer::readColor() const {
   std::vector<std::uint8_t> out(std::size_t(desc_.width) * desc_.height * 4);
-  readTexture(color_, desc_.width, desc_.height, GL_RGBA, GL_UNSIGNED_BYTE, 4, out.data());
+  if (samples_) {
+    readSamples(int(SampleKind::ColorAverage), color_, 1, out.data());
+  } else {
+    readTexture(*guard_, color_, desc_.width, desc_.height, GL_RGBA, GL_UNSIGNED_BYTE, 4,
+                out.data());
+  }
   return out;
 }
 
 std::vector<float> Framebuffer::readDepth() const {
-  std::vector<float> out(std::size_t(desc_.width) * desc_.height);
-  readTexture(depth_, desc_.width, desc_.height, GL_DEPTH_COMPONENT, GL_FLOAT, 4, out.data());
+  const std::uint32_t per_pixel = std::max<std::uint32_t>(samples_, 1);
+  std::vector<float> out(std::size_t(desc_.width) * desc_.height * per_pixel);
+  if (samples_) {
+    readSamples(int(SampleKind::Depth), depth_, per_pixel, out.data());
+  } else {
+    readTexture(*guard_, depth_, desc_.width, desc_.height, GL_DEPTH_COMPONENT, GL_FLOAT, 4,
+                out.data());
+  }
   return out;
 }
 
@@ -206,8 +381,14 @@ std::vector<std::uint32_t> Framebuffer::readObjectIds() const {
     throw Error(ErrorCode::InvalidArgument,
                 "Framebuffer::readObjectIds: the framebuffer has no object-ID attachment");
   }
-  std::vector<std::uint32_t> out(std::size_t(desc_.width) * desc_.height);
-  readTexture(ids_, desc_.width, desc_.height, GL_RED_INTEGER, GL_UNSIGNED_INT, 4, out.data());
+  const std::uint32_t per_pixel = std::max<std::uint32_t>(samples_, 1);
+  std::vector<std::uint32_t> out(std::size_t(desc_.width) * desc_.height * per_pixel);
+  if (samples_) {
+    readSamples(int(SampleKind::Ids), ids_, per_pixel, out.data());
+  } else {
+    readTexture(*guard_, ids_, desc_.width, desc_.height, GL_RED_INTEGER, GL_UNSIGNED_INT, 4,
+                out.data());
+  }
   return out;
 }
 

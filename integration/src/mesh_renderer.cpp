@@ -24,12 +24,13 @@ constexpr const char* kVertex = R"(#version 450 core
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec4 a_color;  // per vertex, or the draw's colour (generic value)
 uniform mat4 u_vp;
+uniform mat3 u_rotation;  // identity for objects without a transform: exact
 uniform vec3 u_offset;
 out vec3 v_relative;
 out vec4 v_color;
 invariant gl_Position;
 void main() {
-  v_relative = a_position + u_offset;
+  v_relative = u_rotation * a_position + u_offset;
   v_color = a_color;
   gl_Position = u_vp * vec4(v_relative, 1.0);
 }
@@ -163,9 +164,10 @@ void MeshRenderer::begin(Pass pass, const Camera& camera) {
   float m[16];
   for (int i = 0; i < 16; ++i) m[i] = static_cast<float>(vp.m[i]);
   glUniformMatrix4fv(program.uniform("u_vp"), 1, GL_FALSE, m);
-  // Exact: each value is a float already.
-  glUniform3f(program.uniform("u_offset"), static_cast<float>(-origin.x),
-              static_cast<float>(-origin.y), static_cast<float>(-origin.z));
+  origin_ = origin;
+  rotation_location_ = program.uniform("u_rotation");
+  offset_location_ = program.uniform("u_offset");
+  bindIdentity();
   id_location_ = pass == Pass::ObjectIds ? program.uniform("u_object") : -1;
   const GLboolean color_writes = pass == Pass::DepthOnly ? GL_FALSE : GL_TRUE;
   glColorMask(color_writes, color_writes, color_writes, color_writes);
@@ -182,9 +184,60 @@ void MeshRenderer::draw(ObjectId id) {
   } else if (pass_ == Pass::ObjectIds) {
     glUniform1ui(id_location_, id);
   }
+  if (id < moving_.size() && moving_[id]) {
+    const ObjectTransform& t = transforms_[id];
+    glUniformMatrix3fv(rotation_location_, 1, GL_FALSE, t.rotation);
+    // The translation relative to the render origin, in double, rounded once.
+    glUniform3f(offset_location_, static_cast<float>(t.translation.x - origin_.x),
+                static_cast<float>(t.translation.y - origin_.y),
+                static_cast<float>(t.translation.z - origin_.z));
+    identity_bound_ = false;
+  } else if (!identity_bound_) {
+    bindIdentity();
+  }
   glDrawElementsBaseVertex(GL_TRIANGLES, GLsizei(d.index_count), index_type_,
                            reinterpret_cast<const void*>(std::size_t(d.first_index) * index_bytes_),
                            d.base_vertex);
+}
+
+void MeshRenderer::bindIdentity() {
+  static constexpr float kIdentity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  glUniformMatrix3fv(rotation_location_, 1, GL_FALSE, kIdentity);
+  // Exact: each value is a float already.
+  glUniform3f(offset_location_, static_cast<float>(-origin_.x), static_cast<float>(-origin_.y),
+              static_cast<float>(-origin_.z));
+  identity_bound_ = true;
+}
+
+void MeshRenderer::setTransform(ObjectId id, const ObjectTransform& transform) {
+  if (id >= draws_.size()) {
+    throw Error(ErrorCode::InvalidArgument, "MeshRenderer::setTransform: object " +
+                                                std::to_string(id) + " does not exist (" +
+                                                std::to_string(draws_.size()) + " objects)");
+  }
+  for (float v : transform.rotation) {
+    if (!std::isfinite(v)) {
+      throw Error(ErrorCode::InvalidArgument, "MeshRenderer::setTransform: object " +
+                                                  std::to_string(id) +
+                                                  " has a non-finite rotation element");
+    }
+  }
+  if (!std::isfinite(transform.translation.x) || !std::isfinite(transform.translation.y) ||
+      !std::isfinite(transform.translation.z)) {
+    throw Error(ErrorCode::InvalidArgument, "MeshRenderer::setTransform: object " +
+                                                std::to_string(id) +
+                                                " has a non-finite translation");
+  }
+  if (transforms_.size() < draws_.size()) {
+    transforms_.resize(draws_.size());
+    moving_.resize(draws_.size(), 0);
+  }
+  transforms_[id] = transform;
+  moving_[id] = 1;
+}
+
+void MeshRenderer::clearTransform(ObjectId id) {
+  if (id < moving_.size()) moving_[id] = 0;
 }
 
 void MeshRenderer::end() {

@@ -7,6 +7,8 @@
 #include <sstream>
 
 #include "logrid/error.hpp"
+#include "query_frame.hpp"
+#include "query_prefilter.hpp"
 #include "testers.hpp"
 
 namespace logrid {
@@ -46,6 +48,10 @@ std::string validateCullerDesc(const CullerDesc& desc) {
     const std::string problem = validateGridDesc({1, 1, desc.tile_size, variant}, a);
     if (!problem.empty()) return "culler: " + problem;
   }
+  if (info.box_queries) {
+    const std::string problem = validateQuerySchedule(desc.method, desc.queries);
+    if (!problem.empty()) return "culler: method " + method + ": " + problem;
+  }
   return {};
 }
 
@@ -53,6 +59,7 @@ Culler::Culler(const CullerDesc& desc) : desc_(desc) {
   const std::string problem = validateCullerDesc(desc);
   if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
   tester_ = detail::makeTester(desc_);
+  schedule_ = detail::makeQuerySchedule(desc_);
 }
 
 Culler::~Culler() = default;
@@ -83,6 +90,20 @@ bool overlaps(const PixelRect& a, const PixelRect& b) {
   return a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1;
 }
 
+// Stands in for the depth source of a query method that reads none.
+class NoDepthSource final : public DepthSource {
+ public:
+  DepthSourceTraits traits() const override { return {"none", false, false}; }
+  void beginFrame(const Camera&) override {}
+  void submit(const AreaRequest*, std::size_t, AreaAnswer*) override { unused(); }
+  void readKeys(const PixelRect&, float*) override { unused(); }
+
+ private:
+  [[noreturn]] static void unused() {
+    throw Error(ErrorCode::Runtime, "culler: internal error: a query method read depth values");
+  }
+};
+
 }  // namespace
 
 void Culler::prepare(const Camera& camera, const DepthSource& depth) {
@@ -102,10 +123,44 @@ void Culler::prepare(const Camera& camera, const DepthSource& depth) {
 
 FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy, DepthSource& depth,
                              const DrawCallback& draw, const std::vector<DrawnArea>& drawn_before) {
+  return cull(camera, hierarchy, &depth, nullptr, draw, drawn_before);
+}
+
+FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy,
+                             OcclusionQueries& queries, const DrawCallback& draw,
+                             const std::vector<DrawnArea>& drawn_before) {
+  return cull(camera, hierarchy, nullptr, &queries, draw, drawn_before);
+}
+
+FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy, DepthSource& depth,
+                             OcclusionQueries& queries, const DrawCallback& draw,
+                             const std::vector<DrawnArea>& drawn_before) {
+  return cull(camera, hierarchy, &depth, &queries, draw, drawn_before);
+}
+
+FrameStats Culler::cull(const Camera& camera, const Hierarchy& hierarchy, DepthSource* depth_ptr,
+                        OcclusionQueries* queries, const DrawCallback& draw,
+                        const std::vector<DrawnArea>& drawn_before) {
+  const MethodInfo& info = methodInfo(desc_.method);
+  if (info.box_queries && !queries) {
+    throw Error(ErrorCode::InvalidArgument,
+                std::string("culler: method ") + info.name +
+                    " tests boxes with hardware occlusion queries; pass an OcclusionQueries "
+                    "(e.g. zread::BoxQuerySource) to cullFrame()");
+  }
+  if (info.uses_depth_source && !depth_ptr) {
+    throw Error(ErrorCode::InvalidArgument,
+                std::string("culler: method ") + info.name +
+                    " reads the depth buffer; pass a DepthSource to cullFrame()");
+  }
+  static thread_local NoDepthSource no_depth;
+  DepthSource& depth = depth_ptr ? *depth_ptr : no_depth;
   const auto start = std::chrono::steady_clock::now();
   prepare(camera, depth);
   depth.beginFrame(camera);
+  if (queries) queries->beginQueryFrame(camera);
   const ReadCounters before = depth.counters();
+  const QueryCounters queries_before = queries ? queries->queryCounters() : QueryCounters{};
   stats_ = {};
   grid_counts_ = {};
   drawn_back_ = kNothingDrawn;
@@ -116,15 +171,87 @@ FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy, D
   visible_leaves_.clear();
   drawn_first_.clear();
   current_source_ = &depth;
+  current_queries_ = queries;
   struct Reset {  // noteDrawn() outside this frame must throw, even after an exception
     DepthSource*& source;
-    ~Reset() { source = nullptr; }
-  } reset{current_source_};
+    OcclusionQueries*& queries;
+    ~Reset() {
+      source = nullptr;
+      queries = nullptr;
+    }
+  } reset{current_source_, current_queries_};
 
   unordered_.clear();
   for (const DrawnArea& area : drawn_before) noteDrawnWith(area, depth, false);
-  if (desc_.temporal_coherence) drawCoherent(hierarchy, depth, draw);
+  if (schedule_) {
+    runSchedule(hierarchy, depth, *queries, draw);
+  } else {
+    if (desc_.temporal_coherence) drawCoherent(hierarchy, depth, draw);
+    traverse(hierarchy, depth, draw);
+  }
+  depth.endFrame();
+  if (queries) queries->endQueryFrame();
 
+  // Next frame's coherent set: the leaves this frame found visible.
+  if (desc_.temporal_coherence && !schedule_) {
+    coherent_.swap(visible_leaves_);
+    coherent_hierarchy_ = &hierarchy;
+    coherent_revision_ = hierarchy.revision();
+  }
+
+  const ReadCounters& after = depth.counters();
+  stats_.tiles_tested = grid_counts_.tiles_tested;
+  stats_.tiles_read = grid_counts_.tiles_read;
+  stats_.reads = after.reads - before.reads;
+  stats_.pixels_read = after.pixels - before.pixels;
+  stats_.bytes_read = after.bytes - before.bytes;
+  stats_.queries = after.queries - before.queries;
+  stats_.batches = after.batches - before.batches;
+  stats_.flushes = after.flushes - before.flushes;
+  stats_.read_seconds = after.seconds - before.seconds;
+  if (queries) {
+    const QueryCounters& q = queries->queryCounters();
+    stats_.queries += q.queries - queries_before.queries;
+    stats_.query_boxes = q.boxes - queries_before.boxes;
+    stats_.query_polls = q.polls - queries_before.polls;
+    stats_.query_waits = q.waits - queries_before.waits;
+    stats_.flushes += q.flushes - queries_before.flushes;
+    stats_.read_seconds += q.seconds - queries_before.seconds;
+  }
+  stats_.seconds = secondsSince(start);
+  return stats_;
+}
+
+void Culler::runSchedule(const Hierarchy& hierarchy, DepthSource& depth, OcclusionQueries& queries,
+                         const DrawCallback& draw) {
+  if (schedule_hierarchy_ != &hierarchy || schedule_revision_ != hierarchy.revision()) {
+    schedule_->forget();
+    schedule_hierarchy_ = &hierarchy;
+    schedule_revision_ = hierarchy.revision();
+  }
+  std::optional<detail::GridPrefilter> prefilter;
+  if (desc_.method == Method::LogHwq) prefilter.emplace(*tester_, depth, grid_counts_);
+  detail::QueryFrame::Wiring wiring;
+  wiring.hierarchy = &hierarchy;
+  wiring.projector = projector_.get();
+  wiring.queries = &queries;
+  wiring.prefilter = prefilter ? &*prefilter : nullptr;
+  wiring.shape = desc_.queries.shape;
+  wiring.stats = &stats_;
+  wiring.clear_epoch = &clear_epoch_;
+  wiring.draw = [&](const detail::QueryNode& n) {
+    drawEntry({n.order, n.id, n.projection}, hierarchy, depth, draw);
+  };
+  if (observer_) {
+    wiring.observe = [this](const detail::QueryNode& n, Visibility v) {
+      observer_->onTested(n.id, n.projection, v);
+    };
+  }
+  detail::QueryFrame frame(wiring, ++schedule_frame_);
+  schedule_->run(frame);
+}
+
+void Culler::traverse(const Hierarchy& hierarchy, DepthSource& depth, const DrawCallback& draw) {
   const NodeId root = hierarchy.root();
   if (root != kNoNode) pushTest(hierarchy, root);
 
@@ -151,6 +278,17 @@ FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy, D
       ++stats_.nodes_visited;
       Visibility v = Visibility::Visible;
       if (!forced(entry, v)) {
+        if (lookahead_ > 1 && desc_.detect_colliding && !pending_.empty() &&
+            collidesWithPending(entry.projection.rect)) {
+          // §3.5: wait for the nearer boxes' answers (and draws) before asking about this
+          // one; it comes off the test-list again after the batch.
+          --stats_.nodes_visited;
+          ++stats_.colliding_waits;
+          test_list_.push_back(entry);
+          std::push_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
+          resolvePending(hierarchy, depth, draw);
+          continue;
+        }
         const float threshold = thresholdFor(entry);
         ++stats_.boxes_tested;
         if (lookahead_ == 1) {
@@ -188,27 +326,6 @@ FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy, D
     }
     if (test_list_.empty()) break;
   }
-  depth.endFrame();
-
-  // Next frame's coherent set: the leaves this frame found visible.
-  if (desc_.temporal_coherence) {
-    coherent_.swap(visible_leaves_);
-    coherent_hierarchy_ = &hierarchy;
-    coherent_revision_ = hierarchy.revision();
-  }
-
-  const ReadCounters& after = depth.counters();
-  stats_.tiles_tested = grid_counts_.tiles_tested;
-  stats_.tiles_read = grid_counts_.tiles_read;
-  stats_.reads = after.reads - before.reads;
-  stats_.pixels_read = after.pixels - before.pixels;
-  stats_.bytes_read = after.bytes - before.bytes;
-  stats_.queries = after.queries - before.queries;
-  stats_.batches = after.batches - before.batches;
-  stats_.flushes = after.flushes - before.flushes;
-  stats_.read_seconds = after.seconds - before.seconds;
-  stats_.seconds = secondsSince(start);
-  return stats_;
 }
 
 void Culler::pushTest(const Hierarchy& hierarchy, NodeId node) {
@@ -238,6 +355,15 @@ bool Culler::forced(const Entry& entry, Visibility& result) {
   if (!methodInfo(desc_.method).tests_occlusion) {
     result = Visibility::Visible;
     return true;
+  }
+  return false;
+}
+
+bool Culler::collidesWithPending(const PixelRect& r) const {
+  // Pending boxes came off the test-list first, so they are the nearer ones.
+  for (const Entry& e : pending_) {
+    const PixelRect& p = e.projection.rect;
+    if (r.x0 < p.x1 && p.x0 < r.x1 && r.y0 < p.y1 && p.y0 < r.y1) return true;
   }
   return false;
 }
@@ -355,6 +481,7 @@ void Culler::noteDrawnWith(const DrawnArea& area, DepthSource& depth, bool order
   }
   if (r.empty()) return;
   depth.noteDraw();
+  if (current_queries_) current_queries_->noteDraw();
   tester_->noteDrawn(r, depth);
 }
 
@@ -394,10 +521,16 @@ void Culler::noteDepthCleared(float window_depth) {
   }
   const float key = depthKey(projector_->camera().depth.convention, window_depth);
   tester_->noteCleared(key);
+  ++clear_epoch_;  // query answers issued before now no longer hold
   // What was drawn before is gone. A clear to a nearer value is itself "drawn" at that
   // depth: occlusion-state tests of boxes in front of it must go by depth.
   drawn_back_ = key < projector_->clearKey() ? key : kNothingDrawn;
   unordered_.clear();
+}
+
+void Culler::forgetCoherence() {
+  coherent_.clear();
+  if (schedule_) schedule_->forget();
 }
 
 BoxProjection Culler::project(const Aabb& box) const {

@@ -421,20 +421,13 @@ Visibility OcclusionGrid::testCounting(const PixelRect& rect, float threshold, D
 }
 
 // ---------------------------------------------------------------------------
-// Batched tests
+// Decisions from the records alone
 // ---------------------------------------------------------------------------
 
-std::optional<Visibility> OcclusionGrid::plan(const PixelRect& rect, float threshold,
-                                              const DepthSourceTraits& source, GridBatch* to,
-                                              GridTestCounts& counts) {
-  assert(!rect.empty() && rect.x0 >= 0 && rect.y0 >= 0 && rect.x1 <= std::int32_t(desc_.width) &&
-         rect.y1 <= std::int32_t(desc_.height) &&
-         "OcclusionGrid::plan: rect must be non-empty and inside the viewport");
-  assert(approx_.visible_pixels == 0 && "OcclusionGrid::plan: counting tests are not batched");
-  assert((!to || !to->submitted_) && "OcclusionGrid::plan: the batch was already submitted");
-  exact_records_ = source.reads_depth;
+std::optional<Visibility> OcclusionGrid::decideFromRecords(const PixelRect& rect, float threshold,
+                                                           GridTestCounts& counts,
+                                                           std::vector<std::uint32_t>* undecided) {
   const TileSpan s = tileSpan(rect, desc_.tile_size, desc_.width, desc_.height);
-
   // Steps 1 and 2, as in test().
   for (int internal_pass = 1; internal_pass >= 0; --internal_pass) {
     for (std::uint32_t ty = s.y0; ty <= s.y1; ++ty) {
@@ -451,7 +444,7 @@ std::optional<Visibility> OcclusionGrid::plan(const PixelRect& rect, float thres
     }
   }
   // What steps 3 and 4 would read.
-  undecided_.clear();
+  bool open = false;
   for (int internal_pass = 1; internal_pass >= 0; --internal_pass) {
     for (std::uint32_t ty = s.y0; ty <= s.y1; ++ty) {
       for (std::uint32_t tx = s.x0; tx <= s.x1; ++tx) {
@@ -465,11 +458,41 @@ std::optional<Visibility> OcclusionGrid::plan(const PixelRect& rect, float thres
           ++counts.tiles_tested;
           continue;
         }
-        undecided_.push_back(std::uint32_t(i) | (internal ? kInternalBit : 0u));
+        if (!undecided) return std::nullopt;
+        undecided->push_back(std::uint32_t(i) | (internal ? kInternalBit : 0u));
+        open = true;
       }
     }
   }
-  if (undecided_.empty()) return Visibility::Occluded;
+  if (open) return std::nullopt;
+  return Visibility::Occluded;
+}
+
+std::optional<Visibility> OcclusionGrid::decide(const PixelRect& rect, float threshold,
+                                                GridTestCounts& counts) {
+  assert(!rect.empty() && rect.x0 >= 0 && rect.y0 >= 0 && rect.x1 <= std::int32_t(desc_.width) &&
+         rect.y1 <= std::int32_t(desc_.height) &&
+         "OcclusionGrid::decide: rect must be non-empty and inside the viewport");
+  return decideFromRecords(rect, threshold, counts, nullptr);
+}
+
+// ---------------------------------------------------------------------------
+// Batched tests
+// ---------------------------------------------------------------------------
+
+std::optional<Visibility> OcclusionGrid::plan(const PixelRect& rect, float threshold,
+                                              const DepthSourceTraits& source, GridBatch* to,
+                                              GridTestCounts& counts) {
+  assert(!rect.empty() && rect.x0 >= 0 && rect.y0 >= 0 && rect.x1 <= std::int32_t(desc_.width) &&
+         rect.y1 <= std::int32_t(desc_.height) &&
+         "OcclusionGrid::plan: rect must be non-empty and inside the viewport");
+  assert(approx_.visible_pixels == 0 && "OcclusionGrid::plan: counting tests are not batched");
+  assert((!to || !to->submitted_) && "OcclusionGrid::plan: the batch was already submitted");
+  exact_records_ = source.reads_depth;
+  undecided_.clear();
+  if (const auto decided = decideFromRecords(rect, threshold, counts, &undecided_)) {
+    return decided;
+  }
   if (!to) return std::nullopt;
   GridBatch& batch = *to;
   if (batch.empty()) {
@@ -572,12 +595,36 @@ Visibility OcclusionGrid::resolve(const GridBatch& batch, std::size_t index,
 }
 
 void OcclusionGrid::refreshOutdated(DepthSource& source, GridTestCounts& counts) {
+  refreshMarked(source, counts, nullptr);
+}
+
+void OcclusionGrid::refreshOutdated(const PixelRect* rects, std::size_t count, DepthSource& source,
+                                    GridTestCounts& counts) {
+  wanted_.assign(outdated_.size(), 0);
+  bool any = false;
+  for (std::size_t k = 0; k < count; ++k) {
+    const PixelRect r =
+        intersect(rects[k], {0, 0, std::int32_t(desc_.width), std::int32_t(desc_.height)});
+    if (r.empty()) continue;
+    const TileSpan s = tileSpan(r, desc_.tile_size, desc_.width, desc_.height);
+    for (std::uint32_t ty = s.y0; ty <= s.y1; ++ty) {
+      const std::size_t row = std::size_t(ty) * tiles_x_;
+      for (std::uint32_t tx = s.x0; tx <= s.x1; ++tx)
+        any |= (wanted_[row + tx] = outdated_[row + tx]);
+    }
+  }
+  if (any) refreshMarked(source, counts, wanted_.data());
+}
+
+void OcclusionGrid::refreshMarked(DepthSource& source, GridTestCounts& counts,
+                                  const std::uint8_t* wanted) {
   refresh_.clear();
-  refresh_.reads_depth_ = source.traits().reads_depth;
+  exact_records_ = source.traits().reads_depth;
+  refresh_.reads_depth_ = exact_records_;
   refresh_.epoch_ = epoch_;
   const AreaAsk ask = refresh_.reads_depth_ ? AreaAsk::Summary : AreaAsk::Count;
   for (std::size_t i = 0; i < outdated_.size(); ++i) {
-    if (!outdated_[i]) continue;
+    if (!outdated_[i] || (wanted && !wanted[i])) continue;
     GridBatch::Read read{std::uint32_t(i), true, clear_key_,
                          std::uint32_t(refresh_.requests_.size()), 0};
     appendRead(tileRectOf(i), ask, clear_key_, refresh_.requests_);

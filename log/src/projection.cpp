@@ -91,7 +91,9 @@ Projector::Projector(const Camera& camera, const ProjectionSettings& settings)
   near_key_ = logrid::nearPlaneKey(camera.depth);
 }
 
-BoxProjection Projector::project(const Aabb& box) const {
+BoxProjection Projector::project(const Aabb& box) const { return projectWith(box, nullptr); }
+
+BoxProjection Projector::projectWith(const Aabb& box, Extent* extent) const {
   BoxProjection out;
   const PixelRect viewport = viewportRect();
   // Anything we cannot reason about is visible everywhere and drawn last.
@@ -168,12 +170,14 @@ BoxProjection Projector::project(const Aabb& box) const {
   double x_min = std::numeric_limits<double>::infinity(), x_max = -x_min;
   double y_min = x_min, y_max = -x_min, key_min = x_min, key_max = -x_min;
   double err_x = 0, err_y = 0, err_z = 0;
+  double w_min = std::numeric_limits<double>::infinity(), w_max = 0;
   for (int i = 0; i < count; ++i) {
     const ClipPoint& p = points[i];
     const double w = p.c[3];
     // Points of the clipped box lie in front of the eye for any sane projection; if
     // not (w <= 0, a projection that puts the near plane behind the eye), give up.
     if (!(w > 0)) return visibleEverywhere(ProjectionClass::CrossesNear);
+    w_min = std::min(w_min, w), w_max = std::max(w_max, w);
     const double inv_w = 1.0 / w;
     const double xn = p.c[0] * inv_w, yn = p.c[1] * inv_w, zn = p.c[2] * inv_w;
     const double wx = (xn + 1.0) * half_w, wy = (yn + 1.0) * half_h;
@@ -192,6 +196,7 @@ BoxProjection Projector::project(const Aabb& box) const {
   const double k = settings_.render_error_ulps * kUnitRoundoff;
   const double widen_x = k * err_x + snap_px_;
   const double widen_y = k * err_y + snap_px_;
+  if (extent) *extent = {widen_x, widen_y, w_min, w_max};
   const std::int32_t w_px = static_cast<std::int32_t>(camera_.width);
   const std::int32_t h_px = static_cast<std::int32_t>(camera_.height);
   if (camera_.multisample) {
@@ -215,6 +220,8 @@ BoxProjection Projector::project(const Aabb& box) const {
   out.near_key = roundDown(key_min);
   out.far_key = roundUp(key_max);
   out.margin = roundUp(quantisation_ + k * (err_z + largest_key));
+  out.widen_x = roundUp(widen_x);
+  out.widen_y = roundUp(widen_y);
 
   if (crosses_near) {
     out.cls = ProjectionClass::CrossesNear;
@@ -223,6 +230,56 @@ BoxProjection Projector::project(const Aabb& box) const {
     out.cls = ProjectionClass::Outside;  // covers no pixel centre: draws nothing
   } else {
     out.cls = ProjectionClass::Inside;
+  }
+  return out;
+}
+
+std::optional<QueryBox> Projector::queryBox(const Aabb& box) const {
+  Extent e;
+  if (projectWith(box, &e).cls != ProjectionClass::Inside) return std::nullopt;
+  // Rows of the clip transform (xyz parts): a, b in pixels per clip unit, c the z row,
+  // d the w row; a, b and c projected onto the plane normal to d ("Query boxes").
+  double a[3], b[3], c[3], d[3];
+  for (int j = 0; j < 3; ++j) {
+    a[j] = render_[4 * j] * 0.5 * camera_.width;
+    b[j] = render_[4 * j + 1] * 0.5 * camera_.height;
+    c[j] = render_[4 * j + 2];
+    d[j] = render_[4 * j + 3];
+  }
+  auto dot3 = [](const double* u, const double* v) {
+    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+  };
+  const double dd = dot3(d, d);
+  if (dd > 0) {
+    const double ka = dot3(a, d) / dd, kb = dot3(b, d) / dd, kc = dot3(c, d) / dd;
+    for (int j = 0; j < 3; ++j) {
+      a[j] -= ka * d[j];
+      b[j] -= kb * d[j];
+      c[j] -= kc * d[j];
+    }
+  }
+  const double aa = dot3(a, a), ab = dot3(a, b), bb = dot3(b, b);
+  const double half_trace = 0.5 * (aa + bb);
+  const double lambda =
+      half_trace - std::sqrt(std::max(0.0, half_trace * half_trace - (aa * bb - ab * ab)));
+  if (!(lambda > 0) || !(e.w_min > 0)) return std::nullopt;  // a degenerate projection
+  const double r = 2.0 * std::hypot(e.widen_x, e.widen_y) + kQueryWidenPixels;
+  // The eigenvalue carries the rounding of its formula: a relative slack of 1e-6.
+  const double delta = r * e.w_max / std::sqrt(lambda) * (1.0 + 1e-6);
+  if (!std::isfinite(delta)) return std::nullopt;
+
+  QueryBox out;
+  out.box.min = {roundDown(double(box.min.x) - delta), roundDown(double(box.min.y) - delta),
+                 roundDown(double(box.min.z) - delta)};
+  out.box.max = {roundUp(double(box.max.x) + delta), roundUp(double(box.max.y) + delta),
+                 roundUp(double(box.max.z) + delta)};
+  const BoxProjection q = project(out.box);
+  if (q.cls != ProjectionClass::Inside) return std::nullopt;
+  const double depth_shift = depth_scale_ * std::sqrt(dot3(c, c)) * delta / e.w_min;
+  out.depth_bias = roundUp(2.0 * double(q.margin) + depth_shift);
+  // Faces moved nearer than the near plane would be clipped away: no query then.
+  if (!(double(q.near_key) - double(out.depth_bias) - double(q.margin) > double(near_key_))) {
+    return std::nullopt;
   }
   return out;
 }

@@ -27,9 +27,10 @@ class GridTester final : public BoxTester {
   GridTester(const CullerDesc& desc, bool busy) : desc_(desc), busy_(busy) {}
 
   void beginFrame(const Camera& camera, float clear_key) override {
-    const GridDesc want{
-        camera.width, camera.height, desc_.tile_size,
-        desc_.method == Method::LogZfar ? GridVariant::Zfar : GridVariant::OcclusionState};
+    // log+hwq draws what the queries find visible at once: depth tests, as the zfar variant.
+    const bool zfar = desc_.method == Method::LogZfar || desc_.method == Method::LogHwq;
+    const GridDesc want{camera.width, camera.height, desc_.tile_size,
+                        zfar ? GridVariant::Zfar : GridVariant::OcclusionState};
     if (!grid_ || grid_->desc().width != want.width || grid_->desc().height != want.height) {
       grid_.emplace(want, desc_.approximation);
     }
@@ -61,6 +62,14 @@ class GridTester final : public BoxTester {
   void noteCleared(float key) override { grid_->fill(key); }
   void refreshOutdated(DepthSource& source, GridTestCounts& counts) override {
     grid_->refreshOutdated(source, counts);
+  }
+  std::optional<Visibility> decide(const PixelRect& rect, float threshold,
+                                   GridTestCounts& counts) override {
+    return grid_->decide(rect, threshold, counts);
+  }
+  void refreshUnder(const std::vector<PixelRect>& rects, DepthSource& source,
+                    GridTestCounts& counts) override {
+    grid_->refreshOutdated(rects.data(), rects.size(), source, counts);
   }
   const OcclusionGrid* grid() const override { return grid_ ? &*grid_ : nullptr; }
 
@@ -157,11 +166,16 @@ class NoTester final : public BoxTester {
 std::unique_ptr<BoxTester> makeTester(const CullerDesc& desc) {
   switch (desc.method) {
     case Method::LogState:
-    case Method::LogZfar: return std::make_unique<GridTester>(desc, false);
+    case Method::LogZfar:
+    case Method::LogHwq: return std::make_unique<GridTester>(desc, false);
     case Method::Bog: return std::make_unique<GridTester>(desc, true);
     case Method::Hzb: return std::make_unique<PyramidTester>();
     case Method::Pq: return std::make_unique<RectCountTester>(desc.approximation.visible_pixels);
-    case Method::Vfc: return std::make_unique<NoTester>();
+    case Method::Vfc:
+    case Method::Hwq:
+    case Method::Chc:
+    case Method::Stat:
+    case Method::Nohc: return std::make_unique<NoTester>();
   }
   return std::make_unique<NoTester>();
 }

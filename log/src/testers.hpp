@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "logrid/camera.hpp"
 #include "logrid/culler.hpp"
@@ -41,6 +42,21 @@ class BoxTester {
   virtual void noteCleared(float key) = 0;
   // Brings every outdated record up to date in one batch (temporal coherence).
   virtual void refreshOutdated(DepthSource& source, GridTestCounts& counts) {
+    (void)source;
+    (void)counts;
+  }
+  // The grid as a pre-filter of hardware queries (log+hwq): what the records decide
+  // without reading, and a refresh of the outdated records under some rectangles.
+  virtual std::optional<Visibility> decide(const PixelRect& rect, float threshold,
+                                           GridTestCounts& counts) {
+    (void)rect;
+    (void)threshold;
+    (void)counts;
+    return std::nullopt;
+  }
+  virtual void refreshUnder(const std::vector<PixelRect>& rects, DepthSource& source,
+                            GridTestCounts& counts) {
+    (void)rects;
     (void)source;
     (void)counts;
   }

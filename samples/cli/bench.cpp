@@ -12,14 +12,17 @@
 #include <memory>
 #include <sstream>
 
+#include "cli/bench_motion.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/experiment.hpp"
 #include "cli/plot.hpp"
+#include "cli/readers.hpp"
 #include "cli/report.hpp"
 #include "cli/tradeoff.hpp"
 #include "cli/traversal_sweep.hpp"
 #include "logrid/error.hpp"
+#include "logrid/method.hpp"
 
 namespace logrid::samples {
 namespace {
@@ -73,6 +76,7 @@ struct BenchOptions {
   bool tradeoff = false;
   bool traversal = false;
   std::string lookaheads = "1,4,16,64,all";  // --traversal
+  MotionBenchOptions motion;                 // --motion: bench_motion.cpp
 };
 
 std::string ratio(double a, double b) { return b > 0 ? formatFixed(a / b, 2) + "×" : "–"; }
@@ -89,7 +93,9 @@ struct Row {
   double tiles_per_box = 0;
   double read_share = 0;
   double flushes = 0;
-  double occluders = -1;  // DDO methods: occluders per frame
+  double occluders = -1;     // DDO methods: occluders per frame
+  bool box_queries = false;  // a hardware-query method (MethodInfo::box_queries)
+  double queries = 0, query_waits = 0, query_boxes = 0;
   std::int64_t missed = -1;
   std::int64_t missed_artifacts = 0;  // objects shown only by depth-extrapolated fragments
   bool conservative = true;
@@ -100,7 +106,10 @@ Row makeRow(const std::string& label, const ConfigResult& r, const nlohmann::jso
   Row row;
   row.label = label;
   row.method = r.config.method.name();
-  row.reader = r.config.method.method ? r.config.reader : "–";
+  // Only methods that read the depth buffer use a reader (not vfc, nor hwq, chc, stat, nohc).
+  row.reader = r.config.method.method && methodInfo(*r.config.method.method).uses_depth_source
+                   ? r.config.reader
+                   : "–";
   row.ms = r.avg_ms();
   row.spread = r.spread();
   row.objects = s["avg_drawn_objects"];
@@ -112,6 +121,14 @@ Row makeRow(const std::string& label, const ConfigResult& r, const nlohmann::jso
   for (const FrameRecord& f : r.records) flushes += double(f.stats.flushes);
   row.flushes = r.records.empty() ? 0 : flushes / double(r.records.size());
   if (s.contains("avg_occluders")) row.occluders = s["avg_occluders"];
+  if (r.config.method.method && methodInfo(*r.config.method.method).box_queries) {
+    row.box_queries = true;
+    row.queries = s["avg_queries"];
+    row.query_waits = s["avg_query_waits"];
+    double boxes = 0;
+    for (const FrameRecord& f : r.records) boxes += double(f.stats.query_boxes);
+    row.query_boxes = r.records.empty() ? 0 : boxes / double(r.records.size());
+  }
   if (s.contains("missed_visible_objects")) {
     row.missed = s["missed_visible_objects"];
     row.missed_artifacts = s["missed_depth_artifact_objects"];
@@ -129,13 +146,36 @@ const Row* findRow(const std::vector<Row>& rows, const std::string& label) {
   return nullptr;
 }
 
+// The hardware-query methods of a cell (issue 12): queries and waits per frame, and the
+// papers' ratios: queries against hwq (Kovalčík & Sochor, CHC++), frame time against the
+// oracle (NOHC's Table 4 compares with an optimum). Nothing when no such method ran.
+void writeQueryTable(std::ostream& md, const std::vector<Row>& rows) {
+  const Row* hwq = findRow(rows, "hwq");
+  const Row* oracle = findRow(rows, "oracle");
+  bool any = false;
+  for (const Row& r : rows) any = any || r.box_queries;
+  if (!any) return;
+  md << "\nHardware occlusion queries (per frame; a multi-query counts once and draws several "
+        "boxes):\n\n"
+        "| method | queries | boxes queried | waited for | flushes | queries ÷ hwq | time ÷ hwq "
+        "| time ÷ oracle |\n|---|--:|--:|--:|--:|--:|--:|--:|\n";
+  for (const Row& r : rows) {
+    if (!r.box_queries) continue;
+    md << "| " << r.label << " | " << formatFixed(r.queries, 1) << " | "
+       << formatFixed(r.query_boxes, 1) << " | " << formatFixed(r.query_waits, 1) << " | "
+       << formatFixed(r.flushes, 1) << " | " << (hwq ? ratio(r.queries, hwq->queries) : "–")
+       << " | " << (hwq ? ratio(r.ms, hwq->ms) : "–") << " | "
+       << (oracle ? ratio(r.ms, oracle->ms) : "–") << " |\n";
+  }
+}
+
 // The markdown of one scene × size cell: the measured table, the ratios beside the
 // paper's, and the targets.
 void writeCell(std::ostream& md, const std::string& scene, std::uint32_t width,
-               std::uint32_t height, const std::vector<Row>& rows, std::size_t frames,
+               std::uint32_t height, const std::vector<Row>& rows, const RunConfig& config,
                std::size_t repeats, const std::string& plot_prefix) {
   md << "\n### " << scene << " " << width << "×" << height << "\n\n";
-  md << frames << " frames along the walkthrough, " << repeats
+  md << framesAlong(config.frames, config.time_step) << ", " << repeats
      << " interleaved repetitions; ms/frame is the average over frames of the per-frame median, "
         "spread is (max − min) / median of the repetitions' averages.\n\n";
   md << "| method | reader | ms/frame | spread | drawn objects | drawn triangles | pixels read "
@@ -154,12 +194,16 @@ void writeCell(std::ostream& md, const std::string& scene, std::uint32_t width,
 
   for (const Row& r : rows) {
     if (r.occluders >= 0) {
-      md << "\n" << r.label << ": " << formatFixed(r.occluders, 1)
+      md << "\n"
+         << r.label << ": " << formatFixed(r.occluders, 1)
          << (r.label == "ddo" ? " octree faces entered into the occlusion map"
                               : " occluder quads drawn before the grid")
          << " per frame.\n";
     }
   }
+
+  writeQueryTable(md, rows);
+
   const Row* log = findRow(rows, "log-state");
   if (!log) return;
   const PaperCell* paper = paperCell(scene, width);
@@ -207,15 +251,14 @@ void writeCell(std::ostream& md, const std::string& scene, std::uint32_t width,
            "LOG within 1.15× of the oracle: " + ratio(log->ms, oracle->ms));
   }
   if (const Row* both = findRow(rows, "ddo+log")) {
-    target(both->flushes < log->flushes, "ddo+log makes fewer flushes than log-state: " +
-                                             formatFixed(both->flushes, 1) + " vs " +
-                                             formatFixed(log->flushes, 1));
-    target(both->objects <= log->objects, "ddo+log draws no more objects than log-state: " +
-                                              formatFixed(both->objects, 1) + " vs " +
-                                              formatFixed(log->objects, 1));
-    target(both->ms < log->ms, "ddo+log faster than log-state: " + formatFixed(both->ms) +
-                                   " vs " + formatFixed(log->ms) + " ms (" +
-                                   ratio(both->ms, log->ms) + ")");
+    target(both->flushes < log->flushes,
+           "ddo+log makes fewer flushes than log-state: " + formatFixed(both->flushes, 1) + " vs " +
+               formatFixed(log->flushes, 1));
+    target(both->objects <= log->objects,
+           "ddo+log draws no more objects than log-state: " + formatFixed(both->objects, 1) +
+               " vs " + formatFixed(log->objects, 1));
+    target(both->ms < log->ms, "ddo+log faster than log-state: " + formatFixed(both->ms) + " vs " +
+                                   formatFixed(log->ms) + " ms (" + ratio(both->ms, log->ms) + ")");
   }
   if (paper && paper->tiles_per_box > 0) {
     target(log->tiles_per_box <= paper->tiles_per_box, "tiles tested per box at most the paper's " +
@@ -232,6 +275,11 @@ int runBench(const BenchOptions& o) {
   if (o.tradeoff)
     return runTradeoff(o.walk, splitList(o.scenes), splitList(o.sizes), o.forest_scale,
                        o.city_scale, o.repeat, o.markdown, o.json, o.plots);
+  if (o.motion.enabled) {
+    return runMotionBench(
+        o.motion, {o.walk, splitList(o.scenes), splitList(o.sizes), o.forest_scale, o.city_scale,
+                   o.repeat, o.warmup, !o.no_verify, o.markdown, o.json, o.plots});
+  }
   if (o.traversal) {
     TraversalSweepOptions t;
     t.scenes = splitList(o.scenes);
@@ -313,8 +361,7 @@ int runBench(const BenchOptions& o) {
                        " ms"
                  : "built in " + formatFixed(scene.ddo->report.total_ms / 1000, 1) + " s with " +
                        std::to_string(scene.ddo->report.threads) + " threads")
-         << "; masks " << formatFixed(double(octree.maskBytes()) / double(1 << 20), 1)
-         << " MiB.\n";
+         << "; masks " << formatFixed(double(octree.maskBytes()) / double(1 << 20), 1) << " MiB.\n";
     }
 
     for (const std::string& size : sizes) {
@@ -386,7 +433,7 @@ int runBench(const BenchOptions& o) {
                   "pixels (log scale)", px, true);
         if (!o.markdown.empty()) plot_prefix = linkFrom(o.markdown, o.plots) + "/" + stem;
       }
-      writeCell(md, scene.prepared.name, w, h, rows, configs.front().frames, o.repeat, plot_prefix);
+      writeCell(md, scene.prepared.name, w, h, rows, configs.front(), o.repeat, plot_prefix);
       report["cells"].push_back(std::move(cell));
     }
   }
@@ -414,7 +461,8 @@ void addBenchCommand(CLI::App& app) {
                     "comma-separated: " + methodNames() +
                         ", oracle; each may take :K or :all and :tc (e.g. log-state:16:tc)");
   bench->add_option("--readers", o->readers,
-                    "log-state again with these depth readers (pbo, query, software; '' for none)");
+                    "log-state again with these depth readers (comma-separated: " + readerNames() +
+                        "; '' for none)");
   addWalkthroughOptions(*bench, o->walk);
   addViewOptions(*bench, o->walk);  // --tile, --reader, depth, projection, approximate knobs
   bench->add_option("--forest-scale", o->forest_scale, "scale of the forest (default --scale)");
@@ -431,6 +479,7 @@ void addBenchCommand(CLI::App& app) {
                   "sweep lookahead K x temporal coherence x --readers for log-state and log-zfar "
                   "instead: flushes, batches, bytes, time against the oracle");
   bench->add_option("--lookaheads", o->lookaheads, "with --traversal: the K values to sweep");
+  addMotionBenchOptions(*bench, o->motion);
   bench->final_callback([o] { throw CLI::RuntimeError(runBench(*o)); });
 }
 

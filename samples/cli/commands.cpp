@@ -10,6 +10,7 @@ void addCommands(CLI::App& app) {
   addWalkCommand(app);
   addBenchCommand(app);
   addTuneCommand(app);
+  addCalibrateCommand(app);
   addDdoCommand(app);
   addExportCommand(app);
 }

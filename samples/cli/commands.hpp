@@ -7,15 +7,16 @@
 
 namespace logrid::samples {
 
-// Adds walk, bench, tune, ddo and export to `app`. Every option of every subcommand takes one value,
-// and a repeated option is no usage error: the last one wins, as in common command-line
-// tools (`logrid walk --frames 8 ... --frames 2` walks 2 frames), so that a script can
-// pass defaults and then its caller's arguments.
+// Adds walk, bench, tune, calibrate, ddo and export to `app`. Every option of every
+// subcommand takes one value, and a repeated option is no usage error: the last one wins,
+// as in common command-line tools (`logrid walk --frames 8 ... --frames 2` walks 2
+// frames), so that a script can pass defaults and then its caller's arguments.
 void addCommands(CLI::App& app);
 
 void addWalkCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 void addTuneCommand(CLI::App& app);
+void addCalibrateCommand(CLI::App& app);
 void addDdoCommand(CLI::App& app);
 void addExportCommand(CLI::App& app);
 

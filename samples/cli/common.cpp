@@ -14,6 +14,7 @@
 #include "logrid/error.hpp"
 #include "scene/generators.hpp"
 #include "scene/loader.hpp"
+#include "scene/movers.hpp"
 
 namespace logrid::samples {
 
@@ -28,10 +29,20 @@ void addWalkthroughOptions(CLI::App& app, WalkOptions& o) {
   app.add_option("--seed", o.seed, "seed of the procedural scenes");
   app.add_option("--path", o.path_file, "camera path JSON (keys: position, look_at, time)");
   app.add_option("--frames", o.frames, "frames along the path")->check(CLI::Range(1, 10000000));
+  app.add_option("--time-step", o.time_step,
+                 "path time between frames from the path's start (seconds; metres on the "
+                 "procedural paths; default 0: the frames spread over the whole path)")
+      ->check(CLI::Range(0.0, 1e9));
   app.add_option("--leaf", o.leaf, "objects (or triangles) per hierarchy leaf; 0: the scene's");
   app.add_option("--tree-parts", o.tree_parts,
                  "forest: each tree one object (whole), trunk and crown apart (trunk-crown), or "
                  "the trunk and each crown tier apart (tiers)");
+  app.add_option("--movers", o.movers,
+                 "add N moving objects (animals in the forest, vehicles in the city), "
+                 "deterministic from --seed")
+      ->check(CLI::Range(0u, kMaxMovers));
+  app.add_option("--animate", o.motion_file,
+                 "a scene from a file: JSON paths its meshes move along (see docs/MOTION.md)");
   app.add_option("--platform", o.platform, "EGL platform: auto, surfaceless or device");
   app.add_option("--ddo-regions", o.ddo_regions,
                  "DDO: view-direction regions per octree face, 32 or 64");
@@ -54,8 +65,25 @@ void addViewOptions(CLI::App& app, WalkOptions& o) {
                  "'all': every box the traversal reaches)");
   app.add_flag("--coherence,!--no-coherence", o.coherence,
                "draw last frame's visible leaves first, then refresh the grid in one batch");
+  app.add_option(
+      "--hierarchy", o.hierarchy,
+      "hierarchy culled: auto (static without movers, refit with), static, " + bvh::motionNames());
+  app.add_flag("--colliding", o.colliding,
+               "with --lookahead > 1: keep boxes that overlap on screen out of one batch "
+               "(colliding-query detection)");
+  app.add_option("--cpu-resolution", o.cpu_resolution,
+                 "--reader cpu: buffer resolution full, half or quarter");
+  app.add_option("--occluders", o.occluders,
+                 "--reader cpu: what it rasterises per drawn object: mesh (its triangles) or "
+                 "model (the scene's simpler occluder where it has one)");
+  app.add_option("--cpu-threads", o.cpu_threads, "--reader cpu: worker threads (0: none)")
+      ->check(CLI::Range(0, 64));
+  app.add_option("--cpu-isa", o.cpu_isa, "--reader cpu: kernel auto, scalar, sse4.1 or avx2");
   app.add_option("--depth-format", o.depth_format, "depth buffer: 16, 24 or 32f");
   app.add_option("--depth-convention", o.depth_convention, "standard or reversed");
+  app.add_option("--samples", o.samples,
+                 "samples per pixel (multisampled framebuffer; 0: single-sampled)")
+      ->check(CLI::Range(0, 64));
   app.add_option("--near", o.near_plane, "near plane (default: the scene's)");
   app.add_option("--far", o.far_plane, "far plane (default: the scene's)");
   auto* fov = app.add_option("--fov", o.fov, "vertical field of view in degrees");
@@ -67,6 +95,21 @@ void addViewOptions(CLI::App& app, WalkOptions& o) {
       "approximate: tiles with at most this fraction free count as full (log-state, bog)");
   app.add_option("--row-stride", o.approximation.row_stride,
                  "approximate: read every k-th pixel row of a tile (default 1: every row)");
+  app.add_option(
+      "--query-schedule", o.query_schedule,
+      "log+hwq: schedule of the boxes the grid leaves undecided: hwq, chc, stat or nohc");
+  app.add_option("--query-shape", o.query_shape,
+                 "query methods: what a query draws: box (its faces) or rect (its rectangle)");
+  app.add_flag("--any-samples", o.any_samples,
+               "query methods: GL_ANY_SAMPLES_PASSED_CONSERVATIVE instead of GL_SAMPLES_PASSED");
+  app.add_option("--chc-batch", o.chc_batch,
+                 "chc: previously invisible nodes gathered before their multi-queries");
+  app.add_option("--chc-interval", o.chc_interval,
+                 "chc: frames a visible leaf goes without a query (n_av)");
+  app.add_option("--stat-in-flight", o.stat_in_flight,
+                 "stat: queries issued before the second pass collects them");
+  app.add_option("--stat-base", o.stat_base,
+                 "stat: BASE_TIME in frames (the paper's 2/3 s at 30 frames per second: 20)");
 }
 
 std::vector<std::string> splitList(const std::string& text) {
@@ -174,7 +217,9 @@ DdoOptions ddoOptions(const WalkOptions& o) {
   d.leaf_triangles = o.ddo_leaf;
   d.threads = o.ddo_threads;
   d.rebuild = o.ddo_rebuild;
-  d.file = o.ddo_file == "auto" ? defaultDdoFile(o.scene) : o.ddo_file == "none" ? "" : o.ddo_file;
+  d.file = o.ddo_file == "auto"   ? defaultDdoFile(o.scene, o.motion_file)
+           : o.ddo_file == "none" ? ""
+                                  : o.ddo_file;
   return d;
 }
 
@@ -237,6 +282,8 @@ LoadedScene loadScene(const WalkOptions& o, bool upload, bool with_ddo) {
     scene = loadSceneFile(o.scene);
   }
   if (!o.path_file.empty()) scene.path = CameraPath::fromJsonFile(o.path_file);
+  if (!o.motion_file.empty()) animateMeshes(scene, o.motion_file);
+  addMovers(scene, o.movers, o.seed);
   out.generate_ms = msSince(start);
   bvh::BuildArgs args = defaultBuildArgs(scene);
   if (o.leaf) args.max_leaf_size = o.leaf;
@@ -259,7 +306,7 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
                 "method '" + o.method + "' is unknown; use " + methodNames() +
                     ", ddo, ddo+log or oracle, optionally followed by :K or :all (lookahead) "
                     "and :tc (temporal coherence), e.g. log-state:16:tc (not after ddo or "
-                    "oracle)");
+                    "oracle); log+hwq also by its query schedule :hwq, :chc, :stat or :nohc");
   }
   c.method = *method;
   if (!findReader(o.reader)) {
@@ -267,15 +314,66 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
                 "reader '" + o.reader + "' is unknown; use " + readerNames());
   }
   c.reader = o.reader;
+  if (!cpu::parseResolution(o.cpu_resolution, c.cpu.resolution)) {
+    throw Error(ErrorCode::InvalidArgument, "CPU buffer resolution '" + o.cpu_resolution +
+                                                "' is unknown; use full, half or quarter");
+  }
+  const auto occluders = parseOccluderChoice(o.occluders);
+  if (!occluders) {
+    throw Error(ErrorCode::InvalidArgument,
+                "occluders '" + o.occluders + "' is unknown; use mesh or model");
+  }
+  c.cpu.occluders = *occluders;
+  c.cpu.threads = o.cpu_threads;
+  if (!cpu::parseIsa(o.cpu_isa, c.cpu.isa)) {
+    throw Error(ErrorCode::InvalidArgument,
+                "CPU kernel '" + o.cpu_isa + "' is unknown; use auto, scalar, sse4.1 or avx2");
+  }
+  if (!cpu::isaSupported(c.cpu.isa)) {
+    throw Error(ErrorCode::InvalidArgument,
+                "this CPU does not run the " + o.cpu_isa + " kernel; use --cpu-isa auto or scalar");
+  }
   c.culler.tile_size = o.tile;
   if (o.tile < 1)
     throw Error(ErrorCode::InvalidArgument, "tile size 0 is invalid; use 1 pixel or more");
   c.culler.approximation = o.approximation;
   c.culler.lookahead = c.method.lookahead ? *c.method.lookahead : parseLookahead(o.lookahead);
   c.culler.temporal_coherence = c.method.coherence || o.coherence;
+  c.culler.detect_colliding = o.colliding;
+  if (o.hierarchy != "auto" && o.hierarchy != "static" && !bvh::parseMotionKind(o.hierarchy)) {
+    throw Error(
+        ErrorCode::InvalidArgument,
+        "hierarchy '" + o.hierarchy + "' is unknown; use auto, static, " + bvh::motionNames());
+  }
+  if (o.hierarchy == "static" && !scene.motion.empty()) {
+    throw Error(ErrorCode::InvalidArgument, "--hierarchy static holds none of the scene's " +
+                                                std::to_string(scene.motion.movers.size()) +
+                                                " moving objects; use " + bvh::motionNames());
+  }
+  c.hierarchy = o.hierarchy;
+  c.time_step = o.time_step;
+  QueryScheduleDesc& q = c.culler.queries;
+  const auto schedule = parseMethod(o.query_schedule);
+  if (!schedule || !methodInfo(*schedule).box_queries || *schedule == Method::LogHwq) {
+    throw Error(ErrorCode::InvalidArgument,
+                "query schedule '" + o.query_schedule + "' is unknown; use hwq, chc, stat or nohc");
+  }
+  q.schedule = c.method.schedule ? *c.method.schedule : *schedule;
+  if (o.query_shape != "box" && o.query_shape != "rect") {
+    throw Error(ErrorCode::InvalidArgument,
+                "query shape '" + o.query_shape + "' is unknown; use box or rect");
+  }
+  q.shape = o.query_shape == "rect" ? QueryShape::Rect : QueryShape::Box;
+  q.chc_batch = o.chc_batch;
+  q.chc_visible_interval = o.chc_interval;
+  q.stat_in_flight = o.stat_in_flight;
+  q.stat_base_frames = o.stat_base;
+  c.any_samples_passed = o.any_samples;
   if (c.method.method) {
     CullerDesc check = c.culler;
     check.method = *c.method.method;
+    measureHardwareIfNeeded(check);  // nohc: measured on this context's renderer
+    c.culler.queries.hardware = check.queries.hardware;
     const std::string problem = validateCullerDesc(check);
     if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
   }
@@ -297,6 +395,7 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
   }
   c.view.depth =
       depthSetupFor(parseDepthConvention(o.depth_convention), parseDepthFormat(o.depth_format));
+  c.view.samples = o.samples;
   c.frames = o.frames;
   c.verify = o.verify;
   c.images_dir = o.images;

@@ -24,14 +24,20 @@ struct WalkOptions {
   std::uint64_t seed = 1;
   std::string path_file;
   std::size_t frames = 100;
+  double time_step = 0;  // > 0: path time between frames (RunConfig::time_step)
   std::string method = "log-state";
   std::string size = "640x480";
   std::uint32_t tile = 32;
   std::string reader = "readpixels";
-  std::string lookahead = "1";  // a count, or "all"
+  std::string cpu_resolution = "full";  // --reader cpu: full, half or quarter
+  std::string occluders = "mesh";       // --reader cpu: mesh or model
+  std::uint32_t cpu_threads = 0;        // --reader cpu: worker threads
+  std::string cpu_isa = "auto";         // --reader cpu: auto, scalar, sse4.1 or avx2
+  std::string lookahead = "1";          // a count, or "all"
   bool coherence = false;
   std::string depth_format = "32f";
   std::string depth_convention = "standard";
+  std::uint32_t samples = 0;
   double near_plane = 0;  // 0: the scene's
   double far_plane = 0;
   double fov = 60;
@@ -45,6 +51,19 @@ struct WalkOptions {
   std::uint32_t leaf = 0;  // 0: the scene's default
   std::string tree_parts = "whole";  // forest: whole, trunk-crown or tiers
   GridApproximation approximation;   // off by default
+  // Motion (motion.hpp, movers.hpp).
+  std::uint32_t movers = 0;        // moving objects added to the scene
+  std::string motion_file;         // a scene from a file: its meshes' paths
+  std::string hierarchy = "auto";  // RunConfig::hierarchy
+  bool colliding = false;          // CullerDesc::detect_colliding
+  // The query methods (hwq, chc, stat, nohc, log+hwq), CullerDesc::queries.
+  std::string query_schedule = "stat";  // log+hwq's schedule of the undecided boxes
+  std::string query_shape = "box";      // box or rect
+  bool any_samples = false;             // GL_ANY_SAMPLES_PASSED_CONSERVATIVE queries
+  std::uint32_t chc_batch = 50;
+  std::uint32_t chc_interval = 5;
+  std::uint32_t stat_in_flight = 20;
+  std::uint32_t stat_base = 20;
   // Directional discretized occluders (methods ddo and ddo+log, scene/ddo_scene.hpp).
   std::uint32_t ddo_regions = 64;
   std::uint32_t ddo_leaf = 2048;

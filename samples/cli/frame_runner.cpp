@@ -4,12 +4,15 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
 #include "cli/images.hpp"
 #include "logrid/error.hpp"
 #include "logrid/gl/context.hpp"
+#include "logrid/zread/box_query_source.hpp"
+#include "logrid/zread/calibration.hpp"
 #include "logrid/zread/gl_sources.hpp"
 
 namespace logrid::samples {
@@ -24,6 +27,7 @@ std::string MethodChoice::name() const {
         ":" + (*lookahead == kUnlimitedLookahead ? std::string("all") : std::to_string(*lookahead));
   }
   if (coherence) out += ":tc";
+  if (schedule) out += ":" + std::string(toString(*schedule));
   return out;
 }
 
@@ -49,11 +53,16 @@ std::optional<MethodChoice> parseMethodChoice(const std::string& name) {
     choice.method = *m;
   }
   for (std::size_t i = 1; i < parts.size(); ++i) {
+    const auto schedule = parseMethod(parts[i]);
     if (parts[i] == "tc" && !choice.coherence) {
       choice.coherence = true;
+    } else if (schedule && choice.method == Method::LogHwq && !choice.schedule &&
+               methodInfo(*schedule).box_queries && *schedule != Method::LogHwq) {
+      choice.schedule = *schedule;
     } else if (!choice.lookahead && !parts[i].empty() &&
                (parts[i] == "all" ||
                 parts[i].find_first_not_of("0123456789") == std::string::npos)) {
+      if (parts[i].size() > 10) return std::nullopt;  // beyond any 32-bit count
       const unsigned long k = parts[i] == "all" ? kUnlimitedLookahead : std::stoul(parts[i]);
       if (k < 1 || k > kUnlimitedLookahead) return std::nullopt;
       choice.lookahead = std::uint32_t(k);
@@ -62,6 +71,13 @@ std::optional<MethodChoice> parseMethodChoice(const std::string& name) {
     }
   }
   return choice;
+}
+
+void measureHardwareIfNeeded(CullerDesc& desc) {
+  const Method schedule = desc.method == Method::LogHwq ? desc.queries.schedule : desc.method;
+  if (schedule == Method::Nohc && !validateHardwareParameters(desc.queries.hardware).empty()) {
+    desc.queries.hardware = zread::hardwareParameters();
+  }
 }
 
 namespace {
@@ -87,6 +103,17 @@ constexpr float kBackground[4] = {0.62f, 0.72f, 0.82f, 1.0f};
 
 }  // namespace
 
+// Hands the culler's callbacks to several observers (the overlay's, the hierarchy's).
+struct FrameRunner::FanOut : CullObserver {
+  std::vector<CullObserver*> to;
+  void onTested(NodeId node, const BoxProjection& p, Visibility v) override {
+    for (CullObserver* o : to) o->onTested(node, p, v);
+  }
+  void onDrawn(NodeId node, const BoxProjection& p) override {
+    for (CullObserver* o : to) o->onDrawn(node, p);
+  }
+};
+
 // Collects what the overlay shows.
 struct FrameRunner::Observer : CullObserver {
   std::vector<BoxProjection> occluded;
@@ -105,20 +132,64 @@ struct FrameRunner::Observer : CullObserver {
 
 FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
                          const RunConfig& config)
-    : scene_(scene), renderer_(renderer), config_(config), observer_(std::make_unique<Observer>()) {
+    : scene_(scene),
+      renderer_(renderer),
+      config_(config),
+      observer_(std::make_unique<Observer>()),
+      fan_out_(std::make_unique<FanOut>()) {
   if (config.frames == 0) throw Error(ErrorCode::InvalidArgument, "frames must be at least 1");
+  if (!(config.time_step >= 0) || !std::isfinite(config.time_step)) {
+    throw Error(ErrorCode::InvalidArgument, "time step " + std::to_string(config.time_step) +
+                                                " is invalid; use 0 (frames spread over the "
+                                                "path) or a positive number of seconds");
+  }
+  // Every object's box, the movers' where they are at the first frame; the motion
+  // hierarchy is built over them.
+  motion_.boxes = scene.object_boxes;
+  applyMotion(frameTime(0));
+  motion_.moved.clear();
+  const std::string& h = config.hierarchy;
+  if (!config.method.method) {
+    // The oracle draws the visible set itself and walks no hierarchy.
+  } else if (h == "static" || (h == "auto" && scene.motion.empty())) {
+    if (!scene.motion.empty()) {
+      throw Error(ErrorCode::InvalidArgument,
+                  "the scene has " + std::to_string(scene.motion.movers.size()) +
+                      " moving objects, which its static hierarchy does not hold; use "
+                      "--hierarchy " +
+                      bvh::motionNames());
+    }
+  } else {
+    const auto kind = h == "auto" ? std::optional(bvh::MotionKind::Refit) : bvh::parseMotionKind(h);
+    if (!kind) {
+      throw Error(ErrorCode::InvalidArgument,
+                  "hierarchy '" + h + "' is unknown; use auto, static, " + bvh::motionNames());
+    }
+    dynamic_ = bvh::makeMotionHierarchy(*kind, motion_.boxes, config.motion);
+  }
   gl::FramebufferDesc fb;
   fb.width = config.view.width;
   fb.height = config.view.height;
   fb.depth = config.view.depth;
+  fb.samples = config.view.samples;
   fb.object_ids = config.verify || config.method.oracle();
   framebuffer_ = std::make_unique<gl::Framebuffer>(fb);
 
   if (config.method.method) {
     CullerDesc desc = config.culler;
     desc.method = *config.method.method;
+    measureHardwareIfNeeded(desc);
     culler_ = std::make_unique<Culler>(desc);
-    if (config.overlay) culler_->setObserver(observer_.get());
+    config_.culler.queries.hardware = desc.queries.hardware;
+    if (methodInfo(desc.method).box_queries) {
+      queries_ = std::make_unique<zread::BoxQuerySource>(
+          framebuffer_->handle(), config.any_samples_passed
+                                      ? zread::QueryTarget::AnySamplesPassedConservative
+                                      : zread::QueryTarget::SamplesPassed);
+    }
+    if (config.overlay) fan_out_->to.push_back(observer_.get());
+    if (dynamic_ && dynamic_->observer()) fan_out_->to.push_back(dynamic_->observer());
+    if (!fan_out_->to.empty()) culler_->setObserver(fan_out_.get());
     const ReaderInfo* reader = findReader(config.reader);
     if (!reader) {
       throw Error(ErrorCode::InvalidArgument,
@@ -133,7 +204,8 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
                                                   " needs depth values, which " + reader->name +
                                                   " cannot give; use --reader " + readers);
     }
-    reader_ = reader->make({scene, framebuffer_->handle(), fb.width, fb.height, fb.depth});
+    reader_ = reader->make({scene, framebuffer_->handle(), fb.width, fb.height, fb.depth, &motion_,
+                            &config.cpu, desc.projection});
   }
   if (config.method.ddo != DdoUse::None) {
     if (!scene.ddo) {
@@ -144,10 +216,15 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
     selector_ = std::make_unique<ddo::Selector>(*scene.ddo);
   }
   if (config.method.ddo == DdoUse::Occluders) {
-    if (config.reader == "software") {
+    const ReaderInfo* reader = findReader(config.reader);
+    if (reader && !reader->reads_framebuffer) {
+      std::string readers;
+      for (const ReaderInfo& r : readerTable()) {
+        if (r.reads_framebuffer) readers += std::string(readers.empty() ? "" : ", ") + r.name;
+      }
       throw Error(ErrorCode::InvalidArgument,
-                  "method ddo+log draws its occluders with GL; use --reader readpixels, pbo or "
-                  "query");
+                  "method ddo+log draws its occluders with GL, which reader " + config.reader +
+                      " does not see; use --reader " + readers);
     }
     occluder_renderer_ = std::make_unique<gl::OccluderRenderer>();
   }
@@ -162,14 +239,55 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
 
 FrameRunner::~FrameRunner() = default;
 
+double FrameRunner::frameTime(std::size_t frame) const {
+  if (config_.time_step > 0 && !scene_.path.empty()) {
+    return scene_.path.keys().front().time + double(frame) * config_.time_step;
+  }
+  return scene_.path.frameTime(frame, config_.frames);
+}
+
+CameraPose FrameRunner::poseFor(std::size_t frame) const {
+  return scene_.path.at(frameTime(frame));
+}
+
 Camera FrameRunner::cameraFor(std::size_t frame) const {
-  return makeCamera(scene_.path.frame(frame, config_.frames), scene_.origin, config_.view);
+  return makeCamera(poseFor(frame), scene_.origin, config_.view);
+}
+
+const Hierarchy& FrameRunner::hierarchy() const {
+  return dynamic_ ? static_cast<const Hierarchy&>(*dynamic_) : scene_.hierarchy;
+}
+
+void FrameRunner::applyMotion(double time) {
+  if (scene_.motion.empty()) {
+    motion_.time = time;
+    motion_.moved.clear();
+    return;
+  }
+  evaluateMotion(scene_.motion, scene_.static_objects, time, motion_);
+  // The renderer is shared by every runner of a scene: set the transforms each frame.
+  for (std::size_t i = 0; i < motion_.transforms.size(); ++i) {
+    const RigidTransform& r = motion_.transforms[i];
+    gl::ObjectTransform t;
+    for (int k = 0; k < 9; ++k) t.rotation[k] = static_cast<float>(r.rotation[k]);
+    t.translation = r.translation;
+    renderer_.setTransform(scene_.static_objects + static_cast<ObjectId>(i), t);
+  }
 }
 
 gl::OracleFrame FrameRunner::idPass(const Camera& camera) {
-  return gl::objectIdOracle(*framebuffer_, camera, scene_.object_boxes, [&] {
+  // Boxes at the frame's time: the movers' own (not from any hierarchy under test).
+  // A multisampled framebuffer gives one id and depth per sample: an object is visible
+  // if any sample of it survives.
+  return gl::objectIdOracle(*framebuffer_, camera, motion_.boxes, [&] {
+    if (config_.hooks.after_clear) config_.hooks.after_clear();
     renderer_.begin(gl::Pass::ObjectIds, camera);
     vfc_->cullFrame(camera, scene_.hierarchy, g_no_depth, [&](ObjectId id) { renderer_.draw(id); });
+    // The movers, from their own boxes at the frame's time.
+    const Projector frustum(camera, config_.culler.projection);
+    for (ObjectId id = scene_.static_objects; id < motion_.boxes.size(); ++id) {
+      if (frustum.project(motion_.boxes[id]).cls != ProjectionClass::Outside) renderer_.draw(id);
+    }
     renderer_.end();
   });
 }
@@ -185,7 +303,11 @@ gl::OracleFrame FrameRunner::visibleSet(std::size_t frame, const Camera& camera)
 FrameRecord FrameRunner::renderFrame(std::size_t frame) {
   FrameRecord rec;
   rec.frame = frame;
-  const Camera camera = cameraFor(frame);
+  rec.time = frameTime(frame);
+  applyMotion(rec.time);
+  rec.moved = motion_.moved.size();
+  const CameraPose pose = poseFor(frame);
+  const Camera camera = makeCamera(pose, scene_.origin, config_.view);
   gl::OracleFrame oracle;
   if (config_.method.oracle()) oracle = visibleSet(frame, camera);  // not timed
   for (ObjectId id : drawn_list_) drawn_[id] = 0;
@@ -194,8 +316,17 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
 
   glFinish();
   const auto start = std::chrono::steady_clock::now();
+  if (dynamic_) {
+    bvh::MotionUpdate update;
+    update.boxes = &motion_.boxes;
+    update.moved = &motion_.moved;
+    update.view_direction = {pose.look_at.x - pose.position.x, pose.look_at.y - pose.position.y,
+                             pose.look_at.z - pose.position.z};
+    rec.update = dynamic_->update(update);
+  }
   framebuffer_->bind();
   framebuffer_->clear(kBackground);
+  if (config_.hooks.after_clear) config_.hooks.after_clear();
   ddo::SelectionStats selection;
   if (config_.method.ddo == DdoUse::Occluders) {
     // Occluders first, into the depth buffer only; they are no object of the scene.
@@ -204,8 +335,15 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
     rec.occluders = std::int64_t(selector_->occluders().size());
   }
   renderer_.begin(gl::Pass::Shaded, camera);
+  const FrameHooks& hooks = config_.hooks;
   auto draw = [&](ObjectId id) {
+    if (hooks.before_draw) {
+      hooks.before_draw();
+      framebuffer_->bind();
+      renderer_.begin(gl::Pass::Shaded, camera);
+    }
     renderer_.draw(id);
+    if (hooks.after_draw) hooks.after_draw();
     rec.triangles += renderer_.triangles(id);
     if (!drawn_[id]) {
       drawn_[id] = 1;
@@ -228,8 +366,16 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
     rec.stats.objects_drawn = selection.objects;
     rec.stats.seconds = selection.seconds;
     rec.occluders = std::int64_t(selection.faces_selected);
+    // Moving objects are in no octree: each one in the view frustum is drawn, untested.
+    const Projector frustum(camera, config_.culler.projection);
+    for (ObjectId id = scene_.static_objects; id < motion_.boxes.size(); ++id) {
+      if (frustum.project(motion_.boxes[id]).cls == ProjectionClass::Outside) continue;
+      draw(id);
+      ++rec.stats.objects_drawn;
+    }
   } else {
     reader_->beginFrame(camera);
+    if (hooks.before_cull) hooks.before_cull();
     // ddo+log: the occluders drawn above are announced, each with its pixels and its
     // farthest depth key, so that the grid reads those tiles and the occlusion-state order
     // knows how far back they lie.
@@ -239,11 +385,17 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
         occluder_areas_.push_back({o.rect, o.far_key});
       }
     }
-    rec.stats = culler_->cullFrame(camera, scene_.hierarchy, reader_->source(), draw,
-                                   occluder_areas_);
+    rec.stats = queries_ ? culler_->cullFrame(camera, hierarchy(), reader_->source(), *queries_,
+                                              draw, occluder_areas_)
+                         : culler_->cullFrame(camera, hierarchy(), reader_->source(), draw,
+                                              occluder_areas_);
     if (selector_) rec.stats.seconds += selection.seconds;
+    if (auto* cpu = dynamic_cast<CpuFrameReader*>(reader_.get())) rec.cpu = cpu->takeFrameStats();
+    if (hooks.after_cull) hooks.after_cull();
   }
   renderer_.end();
+  // The hierarchy's statistics of this frame (ternary: the additional queries).
+  if (dynamic_ && culler_) rec.measure = dynamic_->measure(camera, reader_->source());
   glFinish();
   rec.ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -292,8 +444,7 @@ void FrameRunner::writeImages(std::size_t frame, const Camera& camera) {
     overlay.grid = culler_->grid();
     overlay.occluded = observer_->occluded;
     overlay.tested_visible = observer_->tested_visible;
-    for (NodeId n : observer_->drawn_nodes)
-      overlay.drawn_boxes.push_back(scene_.hierarchy.bounds(n));
+    for (NodeId n : observer_->drawn_nodes) overlay.drawn_boxes.push_back(hierarchy().bounds(n));
     writePng(std::string(stem) + "_overlay.png", drawOverlay(color, camera, overlay), camera.width,
              camera.height);
   }

@@ -6,11 +6,13 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "cli/cpu_reader.hpp"
 #include "cli/readers.hpp"
 #include "logrid/culler.hpp"
 #include "logrid/ddo/selector.hpp"
@@ -18,6 +20,7 @@
 #include "logrid/gl/mesh_renderer.hpp"
 #include "logrid/gl/object_id_oracle.hpp"
 #include "logrid/gl/occluder_renderer.hpp"
+#include "logrid/motion.hpp"
 #include "scene/prepare.hpp"
 #include "scene/view.hpp"
 
@@ -27,41 +30,91 @@ namespace logrid::samples {
 // logrid/ddo/selector.hpp).
 enum class DdoUse : std::uint8_t {
   None,
-  Culler,     // "ddo": the paper's culler (§4): octree walk, occlusion map, no depth reads
-  Occluders,  // "ddo+log": the selected occluders drawn first (depth only), then log-state
+  // "ddo": the paper's culler (§4): octree walk, occlusion map, no depth reads; moving
+  // objects (in no octree) are drawn whenever they are in the view frustum.
+  Culler,
+  // "ddo+log": the selected occluders drawn first (depth only), then log-state (over the
+  // motion hierarchy when objects move; the occluders come from the static scene).
+  Occluders,
 };
 
 // A method as the commands name it: one of logrid::Method's names, "ddo", "ddo+log", or
 // "oracle" (draws exactly the visible set found by an ID pass that is not timed: the floor
 // no culling method can beat), optionally followed by traversal settings that override
 // the command's --lookahead and --coherence: ":K" (a lookahead, or ":all") and ":tc"
-// (temporal coherence), e.g. "log-state:16:tc" or "ddo+log:16". ddo and the oracle run
-// no logrid culler and take no settings.
+// (temporal coherence), e.g. "log-state:16:tc" or "ddo+log:16"; log+hwq also takes its
+// query schedule (log+hwq:chc). ddo and the oracle run no logrid culler and take no
+// settings.
 struct MethodChoice {
+  MethodChoice() = default;
+  MethodChoice(std::optional<Method> m) : method(m) {}  // NOLINT: implicit on purpose
+
   std::optional<Method> method;  // the logrid culler's method, if one runs
   std::optional<std::uint32_t> lookahead;
   bool coherence = false;
+  // log+hwq: the schedule of the boxes the grid leaves undecided (hwq, chc, stat or
+  // nohc), from a suffix (log+hwq:chc); empty: RunConfig::culler.queries.schedule.
+  std::optional<Method> schedule;
   DdoUse ddo = DdoUse::None;
   bool oracle() const { return !method && ddo == DdoUse::None; }
   std::string name() const;
 };
 std::optional<MethodChoice> parseMethodChoice(const std::string& name);
 
+// Calls into a frame, for tests that act as an application with state of its own (the
+// GL-state fuzz test). Each is optional.
+struct FrameHooks {
+  // The frame's buffers were just cleared (the culled frame and the ID pass alike).
+  std::function<void()> after_clear;
+  // Right before and right after Culler::cullFrame (the culled frame only).
+  std::function<void()> before_cull;
+  std::function<void()> after_cull;
+  // Inside the draw callback, around the renderer's draw. With before_draw set, the
+  // runner binds its framebuffer and renderer again after it (as an application that
+  // leaves other bindings between its draws would).
+  std::function<void()> before_draw;
+  std::function<void()> after_draw;
+};
+
+// nohc (and log+hwq scheduled by nohc) needs the hardware parameters of this renderer:
+// fills desc.queries.hardware from zread::hardwareParameters() (measured on first use,
+// kept per renderer for the process) unless it holds valid ones. Needs a GL context.
+void measureHardwareIfNeeded(CullerDesc& desc);
+
 struct RunConfig {
-  MethodChoice method{Method::LogState, std::nullopt, false, DdoUse::None};
+  MethodChoice method{Method::LogState};
   CullerDesc culler;                  // method is taken from `method`
   std::string reader = "readpixels";  // a name of readerTable()
+  // The query methods (MethodInfo::box_queries) issue their queries through a
+  // zread::BoxQuerySource over the frame's framebuffer, of this GL target.
+  bool any_samples_passed = false;  // GL_ANY_SAMPLES_PASSED_CONSERVATIVE, else GL_SAMPLES_PASSED
+  // The hierarchy culled: "static" (the scene's own, PreparedScene::hierarchy), a name of
+  // bvh::motionTable() (built over every object's box and updated each frame), or
+  // "auto": static for a scene without moving objects, refit for one with them.
+  std::string hierarchy = "auto";
+  bvh::MotionDesc motion;  // settings of the motion hierarchies
+  CpuReaderOptions cpu;    // for --reader cpu
   ViewSettings view;
   std::size_t frames = 100;  // frames spread over the whole path
-  bool verify = false;       // object-ID check after each frame
-  std::string images_dir;    // write PNG frames here when set
-  bool overlay = false;      // and overlay pictures (tile grid, boxes)
+  // > 0: frame f is at path time (first key) + f * time_step instead (the camera stops
+  // at the path's end; movers go on): consecutive frames as close as at an interactive
+  // rate, for what methods carry from frame to frame (temporal coherence, the query
+  // schedules). Untimed paths, as the procedural ones, count time in metres travelled.
+  double time_step = 0;
+  bool verify = false;     // object-ID check after each frame
+  std::string images_dir;  // write PNG frames here when set
+  bool overlay = false;    // and overlay pictures (tile grid, boxes)
+  FrameHooks hooks;
 };
 
 struct FrameRecord {
   std::size_t frame = 0;
-  double ms = 0;  // clear + cull + draw + glFinish
+  double ms = 0;  // hierarchy update + clear + cull + draw + statistics + glFinish
   FrameStats stats;
+  double time = 0;                     // the frame's time (motion.hpp)
+  bvh::UpdateStats update;             // the motion hierarchy's update (zero for static ones)
+  bvh::MeasureStats measure;           // its statistics pass after the frame (ternary)
+  std::uint64_t moved = 0;             // objects whose box changed since the last frame
   std::uint64_t triangles = 0;         // triangles drawn
   std::int64_t visible = -1;           // objects in the ID buffer (with verify or oracle)
   std::int64_t missed = -1;            // visible objects not drawn (with verify)
@@ -70,6 +123,7 @@ struct FrameRecord {
                                        // logrid/gl/object_id_oracle.hpp)
   std::vector<ObjectId> missed_ids;    // the first few
   std::int64_t occluders = -1;         // DDO: quads drawn first (ddo+log) or faces in the map (ddo)
+  std::optional<CpuFrameStats> cpu;    // with --reader cpu
 };
 
 // The visible set of each frame found by the object-ID oracle (gl::objectIdOracle),
@@ -90,12 +144,21 @@ class FrameRunner {
   FrameRecord renderFrame(std::size_t frame);
   // The camera of a frame (for callers that need it, e.g. overlays and tests).
   Camera cameraFor(std::size_t frame) const;
+  CameraPose poseFor(std::size_t frame) const;
+  double frameTime(std::size_t frame) const;
+  // The hierarchy culled (the scene's static one or the motion hierarchy).
+  const Hierarchy& hierarchy() const;
+  const bvh::MotionHierarchy* motionHierarchy() const { return dynamic_.get(); }
+  // Every object's box in the last frame rendered (movers where they were).
+  const std::vector<Aabb>& objectBoxes() const { return motion_.boxes; }
   // Share ID-pass results with other runners of the same frames and view.
   void shareOracle(std::shared_ptr<OracleCache> cache) { oracle_cache_ = std::move(cache); }
   // Last frame's colour image (RGBA8, bottom-up rows).
   std::vector<std::uint8_t> readColor() const { return framebuffer_->readColor(); }
 
  private:
+  // Moves the movers to `time`: boxes, `moved`, and the renderer's transforms.
+  void applyMotion(double time);
   gl::OracleFrame idPass(const Camera& camera);
   // The ID pass of a frame, from the shared cache when another runner did it.
   gl::OracleFrame visibleSet(std::size_t frame, const Camera& camera);
@@ -106,6 +169,7 @@ class FrameRunner {
   RunConfig config_;
   std::unique_ptr<gl::Framebuffer> framebuffer_;
   std::unique_ptr<FrameReader> reader_;
+  std::unique_ptr<OcclusionQueries> queries_;  // query methods
   std::unique_ptr<Culler> culler_;
   std::unique_ptr<Culler> vfc_;                              // for the ID pass
   std::unique_ptr<ddo::Selector> selector_;                  // ddo and ddo+log
@@ -113,6 +177,10 @@ class FrameRunner {
   std::vector<DrawnArea> occluder_areas_;                    // ddo+log, this frame's
   struct Observer;
   std::unique_ptr<Observer> observer_;
+  struct FanOut;
+  std::unique_ptr<FanOut> fan_out_;
+  std::unique_ptr<bvh::MotionHierarchy> dynamic_;  // null: the static hierarchy
+  MotionFrame motion_;
   std::vector<std::uint8_t> drawn_;  // per object, this frame
   std::vector<ObjectId> drawn_list_;
   std::shared_ptr<OracleCache> oracle_cache_;

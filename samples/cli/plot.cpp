@@ -48,7 +48,8 @@ bool runGnuplot(const std::string& script) {
 }  // namespace
 
 bool plotLines(const std::string& stem, const std::string& title, const std::string& xlabel,
-               const std::string& ylabel, const std::vector<PlotSeries>& series, bool log_y) {
+               const std::string& ylabel, const std::vector<PlotSeries>& series, bool log_y,
+               const std::string& settings) {
   std::string data;
   std::string plot = "plot ";
   for (std::size_t s = 0; s < series.size(); ++s) {
@@ -70,7 +71,7 @@ bool plotLines(const std::string& stem, const std::string& title, const std::str
   writeText(stem + ".dat", data);
   std::string script = header(stem, title, xlabel, ylabel);
   if (log_y) script += "set logscale y\n";
-  writeText(stem + ".gp", script + plot + "\n");
+  writeText(stem + ".gp", script + settings + plot + "\n");
   return !series.empty() && runGnuplot(stem + ".gp");
 }
 

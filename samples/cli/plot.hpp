@@ -15,9 +15,11 @@ struct PlotSeries {
 
 // Writes STEM.dat, STEM.gp and, if gnuplot runs, STEM.png: one line per series.
 // Returns false (after a warning on stderr) when gnuplot is missing or fails; the
-// data and script are written either way.
+// data and script are written either way. `settings`: more gnuplot commands (e.g.
+// "set xtics (...)\n"), placed before the plot command.
 bool plotLines(const std::string& stem, const std::string& title, const std::string& xlabel,
-               const std::string& ylabel, const std::vector<PlotSeries>& series, bool log_y);
+               const std::string& ylabel, const std::vector<PlotSeries>& series, bool log_y,
+               const std::string& settings = "");
 
 // The same with points and a label per point (e.g. a Pareto plot: time vs error).
 struct PlotPoint {

@@ -2,6 +2,7 @@
 
 #include <optional>
 
+#include "cli/cpu_reader.hpp"
 #include "logrid/cpu/software_depth.hpp"
 #include "logrid/cpu/software_rasterizer.hpp"
 #include "logrid/zread/gl_sources.hpp"
@@ -26,7 +27,7 @@ class GlReader final : public FrameReader {
 class SoftwareReader final : public FrameReader {
  public:
   explicit SoftwareReader(const ReaderContext& c)
-      : scene_(c.scene), buffer_(c.width, c.height, c.depth.convention) {}
+      : scene_(c.scene), motion_(c.motion), buffer_(c.width, c.height, c.depth.convention) {}
   DepthSource& source() override { return buffer_; }
   void beginFrame(const Camera& camera) override {
     buffer_.clear();
@@ -35,12 +36,28 @@ class SoftwareReader final : public FrameReader {
   void objectDrawn(ObjectId id) override {
     const gl::RenderMesh& mesh = scene_.mesh;
     const gl::RenderMesh::Draw& d = mesh.draws[id];
+    // A mover's vertices where the renderer puts them (in double, rounded once).
+    const RigidTransform* t = nullptr;
+    if (motion_ && id >= scene_.static_objects &&
+        id - scene_.static_objects < motion_->transforms.size()) {
+      t = &motion_->transforms[id - scene_.static_objects];
+    }
+    float moved[3][3];
     for (std::uint32_t i = d.first_index; i < d.first_index + d.index_count; i += 3) {
       const float* v[3];
       for (std::uint32_t k = 0; k < 3; ++k) {
         const std::uint32_t local =
             mesh.indices16.empty() ? mesh.indices32[i + k] : mesh.indices16[i + k];
         v[k] = &mesh.positions[(std::size_t(d.base_vertex) + local) * 3];
+        if (t) {
+          const double tr[3] = {t->translation.x, t->translation.y, t->translation.z};
+          for (int r = 0; r < 3; ++r) {
+            moved[k][r] =
+                static_cast<float>(t->rotation[r] * v[k][0] + t->rotation[3 + r] * v[k][1] +
+                                   t->rotation[6 + r] * v[k][2] + tr[r]);
+          }
+          v[k] = moved[k];
+        }
       }
       raster_->drawTriangle(v[0], v[1], v[2], id);
     }
@@ -48,6 +65,7 @@ class SoftwareReader final : public FrameReader {
 
  private:
   const PreparedScene& scene_;
+  const MotionFrame* motion_;
   cpu::SoftwareDepthBuffer buffer_;
   std::optional<cpu::SoftwareRasterizer> raster_;
 };
@@ -56,24 +74,26 @@ class SoftwareReader final : public FrameReader {
 
 const std::vector<ReaderInfo>& readerTable() {
   static const std::vector<ReaderInfo> table = {
-      {"readpixels", "glReadPixels, synchronous, one read per rectangle (the default)", true,
+      {"readpixels", "glReadPixels, synchronous, one read per rectangle (the default)", true, true,
        [](const ReaderContext& c) {
          return std::make_unique<GlReader<zread::ReadPixelsSource>>(c.framebuffer);
        }},
-      {"pbo", "a ring of pixel-buffer objects with fences: one wait per batch", true,
+      {"pbo", "a ring of pixel-buffer objects with fences: one wait per batch", true, true,
        [](const ReaderContext& c) {
          return std::make_unique<GlReader<zread::PboSource>>(c.framebuffer);
        }},
-      {"reduce", "a compute shader reduces each rectangle to 16 bytes on the GPU", true,
+      {"reduce", "a compute shader reduces each rectangle to 16 bytes on the GPU", true, true,
        [](const ReaderContext& c) {
          return std::make_unique<GlReader<zread::ReductionSource>>(c.framebuffer);
        }},
-      {"query", "hardware occlusion queries (GL_SAMPLES_PASSED), counts only", false,
+      {"query", "hardware occlusion queries (GL_SAMPLES_PASSED), counts only", false, true,
        [](const ReaderContext& c) {
          return std::make_unique<GlReader<zread::QuerySource>>(c.framebuffer);
        }},
-      {"software", "a scalar CPU depth buffer fed with the drawn triangles", true,
+      {"software", "a scalar CPU depth buffer fed with the drawn triangles", true, false,
        [](const ReaderContext& c) { return std::make_unique<SoftwareReader>(c); }},
+      {"cpu", "the conservative CPU occlusion buffer fed with each drawn object's occluder", true,
+       false, [](const ReaderContext& c) { return makeCpuReader(c); }},
   };
   return table;
 }

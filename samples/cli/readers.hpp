@@ -9,9 +9,13 @@
 #include <vector>
 
 #include "logrid/depth_source.hpp"
+#include "logrid/projection.hpp"
+#include "scene/motion.hpp"
 #include "scene/prepare.hpp"
 
 namespace logrid::samples {
+
+struct CpuReaderOptions;  // cli/cpu_reader.hpp
 
 // A depth source as a frame uses it.
 class FrameReader {
@@ -31,12 +35,18 @@ struct ReaderContext {
   std::uint32_t width;
   std::uint32_t height;
   DepthSetup depth;
+  // The movers' transforms of the current frame (objects from scene.static_objects on);
+  // nullptr or empty when nothing moves.
+  const MotionFrame* motion = nullptr;
+  const CpuReaderOptions* cpu = nullptr;  // the cpu reader's settings (nullptr: defaults)
+  ProjectionSettings projection;          // the culler's
 };
 
 struct ReaderInfo {
   const char* name;
   const char* description;  // one line
   bool reads_depth;         // answers Summary requests (else counts only)
+  bool reads_framebuffer;   // reads the GL framebuffer (else a CPU buffer it is fed)
   std::function<std::unique_ptr<FrameReader>(const ReaderContext&)> make;
 };
 

@@ -28,6 +28,9 @@ std::string formatFixed(double value, int decimals = 2);
 // The path of `target` relative to the folder of `document` (for links in markdown).
 std::string linkFrom(const std::string& document, const std::string& target);
 
+// "30 frames along the walkthrough" (spread over all of it), or with a time step (RunConfig::
+// time_step) "30 frames 0.040 s of path time apart from the walkthrough's start".
+std::string framesAlong(std::size_t frames, double time_step);
 // 1234567 -> "1,234,567"
 std::string grouped(double value);
 

@@ -125,7 +125,7 @@ int runTraversalSweep(const WalkOptions& base, const TraversalSweepOptions& o) {
     const Row& oracle = rows.front();
 
     md << "\n## " << scene.prepared.name << " " << so.size << "\n\n"
-       << configs.front().frames << " frames, " << o.repeat
+       << framesAlong(configs.front().frames, configs.front().time_step) << ", " << o.repeat
        << " interleaved repetitions (ms/frame: average over frames of the per-frame "
           "median).\n\n"
        << "| method | reader | K | tc | ms/frame | spread | ÷ oracle | objects | triangles | "

@@ -35,6 +35,11 @@ int runWalk(const WalkOptions& o) {
       config.view.height, config.culler.tile_size, summary["avg_frame_ms"].get<double>(),
       summary["avg_drawn_objects"].get<double>(), summary["avg_drawn_triangles"].get<double>(),
       summary["avg_read_pixels"].get<double>(), summary["avg_tiles_per_box"].get<double>());
+  if (config.method.method && methodInfo(*config.method.method).box_queries) {
+    std::printf(", %.1f queries (%.1f waited for), %.1f flushes",
+                summary["avg_queries"].get<double>(), summary["avg_query_waits"].get<double>(),
+                summary["avg_flushes"].get<double>());
+  }
   if (summary.contains("visible_objects")) {
     std::printf(", %lld visible, %lld missed",
                 (long long)summary["visible_objects"].get<std::int64_t>(),
@@ -47,6 +52,18 @@ int runWalk(const WalkOptions& o) {
     }
   }
   std::printf("\n");
+  if (summary.contains("cpu")) {
+    const nlohmann::json& c = summary["cpu"];
+    std::printf(
+        "cpu buffer (%s, %s occluders, %u threads, %s): %.3f ms/frame in the buffer (%.3f waiting, "
+        "workers %.3f), %.0f triangles set up, %.0f triangle-tiles rasterised in %.0f tiles, "
+        "%.1f flushes\n",
+        c["resolution"].get<std::string>().c_str(), c["occluders"].get<std::string>().c_str(),
+        c["threads"].get<unsigned>(), c["isa"].get<std::string>().c_str(),
+        c["avg_ms"].get<double>(), c["avg_wait_ms"].get<double>(), c["avg_worker_ms"].get<double>(),
+        c["avg_triangles_set_up"].get<double>(), c["avg_tile_triangles"].get<double>(),
+        c["avg_tiles"].get<double>(), summary["avg_flushes"].get<double>());
+  }
   if (!o.json.empty()) writeJson(o.json, summary);
 
   if (summary.value("missed_visible_objects", std::int64_t{0}) > 0) {
@@ -74,7 +91,8 @@ void addWalkCommand(CLI::App& app) {
   walk->add_option("--method", options->method,
                    methodNames() +
                        ", ddo, ddo+log or oracle; :K or :all and :tc set the lookahead and "
-                       "temporal coherence (e.g. log-state:16:tc, ddo+log:16)");
+                       "temporal coherence (e.g. log-state:16:tc, ddo+log:16), :hwq, :chc, :stat "
+                       "or :nohc the schedule of log+hwq (e.g. log+hwq:chc)");
   walk->add_option("--size", options->size, "viewport WIDTHxHEIGHT");
   addViewOptions(*walk, *options);
   walk->add_flag("--verify", options->verify, "check every frame against the object-ID oracle");

@@ -608,6 +608,10 @@ CameraPose CameraPath::at(double time) const {
 }
 
 CameraPose CameraPath::frame(std::size_t frame, std::size_t frames) const {
+  return at(frameTime(frame, frames));
+}
+
+double CameraPath::frameTime(std::size_t frame, std::size_t frames) const {
   if (frames == 0) {
     throw Error(ErrorCode::InvalidArgument,
                 "camera path: frame() with frames == 0; ask for at least one frame");
@@ -617,12 +621,15 @@ CameraPose CameraPath::frame(std::size_t frame, std::size_t frames) const {
                                                 " is out of range for " + std::to_string(frames) +
                                                 " frames; use 0 to " + std::to_string(frames - 1));
   }
-  if (keys_.empty()) return at(0);  // throws the empty-path error
+  if (keys_.empty()) {
+    at(0);  // throws the empty-path error
+    return 0.0;
+  }
   // The last frame takes the last key's time exactly rather than first + duration.
-  if (frame + 1 == frames && frames > 1) return at(keys_.back().time);
+  if (frame + 1 == frames && frames > 1) return keys_.back().time;
   const double fraction =
       frames == 1 ? 0.0 : static_cast<double>(frame) / static_cast<double>(frames - 1);
-  return at(keys_.front().time + duration() * fraction);
+  return keys_.front().time + duration() * fraction;
 }
 
 }  // namespace logrid::samples

@@ -53,6 +53,9 @@ class CameraPath {
   CameraPose at(double time) const;
   // The pose of frame `frame` of `frames` frames spread evenly over the whole path.
   CameraPose frame(std::size_t frame, std::size_t frames) const;
+  // The time of that frame (the time moving objects are evaluated at, motion.hpp).
+  // Throws like frame().
+  double frameTime(std::size_t frame, std::size_t frames) const;
 
  private:
   std::vector<CameraKey> keys_;

@@ -174,6 +174,11 @@ Scene makeCity(const GeneratorOptions& options) {
   scene.path = CameraPath(std::move(keys));
   scene.near_plane = 0.3;
   scene.far_plane = 1000.0;
+  // Movers (--movers, movers.hpp): vehicles on the streets.
+  scene.mover_site.kind = MoverKind::Vehicles;
+  for (int i = 0; i <= blocks; ++i) scene.mover_site.streets_x.push_back(street(i));
+  scene.mover_site.streets_z = scene.mover_site.streets_x;
+  scene.mover_site.size = 1.0;
   computeBounds(scene);
   return scene;
 }

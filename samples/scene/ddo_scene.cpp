@@ -19,24 +19,29 @@ double msSince(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
-std::string defaultDdoFile(const std::string& scene_argument) {
+std::string defaultDdoFile(const std::string& scene_argument, const std::string& motion_file) {
   if (scene_argument == "forest" || scene_argument == "city" || scene_argument == "office" ||
       scene_argument.empty()) {
     return "";
   }
-  return scene_argument + ".ddo";
+  if (motion_file.empty()) return scene_argument + ".ddo";
+  // The meshes an animation file moves are not in the octree: another static scene.
+  return scene_argument + "+" + std::filesystem::path(motion_file).stem().string() + ".ddo";
 }
 
 DdoScene prepareDdo(const PreparedScene& scene, const DdoOptions& options) {
   DdoScene out;
   out.file = options.file;
   // The renderer's mesh as one triangle list: vertex indices made global, objects = draws.
+  // Only the static objects [0, static_objects): the occluders hold for the static scene
+  // (a mover's draw holds its geometry in its own frame, placed by a transform per frame).
   const gl::RenderMesh& mesh = scene.mesh;
   std::vector<std::uint32_t> indices;
   indices.reserve(mesh.triangleCount() * 3);
   std::vector<std::uint32_t> object_first;
-  object_first.reserve(mesh.draws.size() + 1);
-  for (const gl::RenderMesh::Draw& d : mesh.draws) {
+  object_first.reserve(std::size_t(scene.static_objects) + 1);
+  for (std::uint32_t o = 0; o < scene.static_objects && o < mesh.draws.size(); ++o) {
+    const gl::RenderMesh::Draw& d = mesh.draws[o];
     object_first.push_back(std::uint32_t(indices.size() / 3));
     for (std::uint32_t i = d.first_index; i < d.first_index + d.index_count; ++i) {
       const std::uint32_t local = mesh.indices16.empty() ? mesh.indices32[i] : mesh.indices16[i];

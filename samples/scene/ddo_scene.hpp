@@ -1,6 +1,7 @@
 // The DDO octree of a prepared scene (logrid/ddo/*.hpp): built from the renderer's mesh
-// (objects are the renderer's draws), or loaded from a DDO file when one exists for this
-// very scene, and saved after building when a file is named.
+// (objects are the renderer's draws; only the static ones, PreparedScene::static_objects:
+// moving objects are in no octree and occlude nothing in it), or loaded from a DDO file when one
+// exists for this very scene, and saved after building when a file is named.
 #pragma once
 
 #include <memory>
@@ -32,9 +33,10 @@ struct DdoScene {
   std::uint64_t file_bytes = 0;
 };
 
-// The file a scene's DDO goes to by default: next to a model file (FILE.ddo); none for
-// the procedural scenes ("" ) unless the caller names one.
-std::string defaultDdoFile(const std::string& scene_argument);
+// The file a scene's DDO goes to by default: next to a model file (FILE.ddo, or
+// FILE+ANIMATION.ddo when an animation file moves some of its meshes, which the octree
+// then leaves out); none for the procedural scenes ("") unless the caller names one.
+std::string defaultDdoFile(const std::string& scene_argument, const std::string& motion_file = "");
 
 // Builds or loads the scene's octree. Throws logrid::Error when a file exists but is
 // stale, foreign or built with other parameters (delete it or pass rebuild), or cannot be

@@ -18,6 +18,7 @@ constexpr double kBaseTrees = 6000.0;  // trees at scale 1: ~1.7 M triangles in 
 constexpr double kCell = 4.0;          // terrain cell size
 constexpr int kPatchCells = 16;        // terrain cells per patch side (512 triangles)
 constexpr double kEye = 1.7;           // eye height above the trail
+constexpr int kConiferTiers = 5;       // cones per conifer
 
 // Rolling hills: a few sine waves with seeded directions and phases.
 class Terrain {
@@ -130,6 +131,62 @@ void ellipsoid(MeshWriter& w, double x, double y, double z, double rh, double rv
   }
 }
 
+// The occluder model of a tree (scene.hpp, OccluderModel): the trunk as it is (an open
+// tube, 16 triangles) and each crown part, a closed convex cone or ellipsoid, replaced
+// by the convex hull of some of its own vertices, which lies inside it: every third
+// vertex of a cone's base ring with its apex and base centre (16 of 48 triangles), and
+// every second vertex of three of an ellipsoid's nine rings with its poles (48 of 288).
+// `first` is the tree's first vertex; the layout is the one trunk(), cone() and
+// ellipsoid() write.
+OccluderModel treeModel(const Scene& scene, std::uint32_t first, bool conifer, int tiers) {
+  OccluderModel m;
+  auto take = [&](std::uint32_t v) {
+    const float* p = &scene.positions[std::size_t(v) * 3];
+    m.positions.insert(m.positions.end(), p, p + 3);
+    return std::uint32_t(m.positions.size() / 3 - 1);
+  };
+  auto quad = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
+    m.indices.insert(m.indices.end(), {a, b, c, a, c, d});
+  };
+  constexpr std::uint32_t kTrunkSides = 8;
+  std::uint32_t trunk[2 * kTrunkSides];
+  for (std::uint32_t i = 0; i < 2 * kTrunkSides; ++i) trunk[i] = take(first + i);
+  for (std::uint32_t s = 0; s < kTrunkSides; ++s) {
+    const std::uint32_t n = (s + 1) % kTrunkSides;
+    quad(trunk[s], trunk[n], trunk[kTrunkSides + n], trunk[kTrunkSides + s]);
+  }
+  std::uint32_t v = first + 2 * kTrunkSides;
+  if (conifer) {
+    constexpr std::uint32_t kSegments = 24, kStep = 3, kKept = kSegments / kStep;
+    for (int t = 0; t < tiers; ++t, v += kSegments + 2) {
+      std::uint32_t ring[kKept];
+      for (std::uint32_t i = 0; i < kKept; ++i) ring[i] = take(v + i * kStep);
+      const std::uint32_t apex = take(v + kSegments), centre = take(v + kSegments + 1);
+      for (std::uint32_t i = 0; i < kKept; ++i) {
+        const std::uint32_t a = ring[i], b = ring[(i + 1) % kKept];
+        m.indices.insert(m.indices.end(), {a, b, apex, b, a, centre});
+      }
+    }
+  } else {
+    constexpr std::uint32_t kSlices = 16, kStep = 2, kKept = kSlices / kStep;
+    constexpr std::uint32_t kRings[3] = {1, 4, 7};  // of rings 0..8 (the poles excluded)
+    const std::uint32_t top = take(v), bottom = take(v + 1 + 9 * kSlices);
+    std::uint32_t ring[3][kKept];
+    for (int r = 0; r < 3; ++r) {
+      for (std::uint32_t i = 0; i < kKept; ++i) {
+        ring[r][i] = take(v + 1 + kRings[r] * kSlices + i * kStep);
+      }
+    }
+    for (std::uint32_t i = 0; i < kKept; ++i) {
+      const std::uint32_t n = (i + 1) % kKept;
+      m.indices.insert(m.indices.end(), {top, ring[0][n], ring[0][i]});
+      for (int r = 0; r < 2; ++r) quad(ring[r][i], ring[r][n], ring[r + 1][n], ring[r + 1][i]);
+      m.indices.insert(m.indices.end(), {bottom, ring[2][i], ring[2][n]});
+    }
+  }
+  return m;
+}
+
 }  // namespace
 
 const char* toString(TreeParts parts) {
@@ -156,7 +213,7 @@ Scene makeForest(const GeneratorOptions& options) {
   scene.name = "forest";
   MeshWriter w(scene);
 
-  // Terrain patches, each one object.
+  // Terrain patches, each one object (no occluder model: the mesh is simple enough).
   const int cells = std::max(2, int(std::ceil(side / kCell)));
   const double half = 0.5 * cells * kCell;
   for (int pz = 0; pz < cells; pz += kPatchCells) {
@@ -179,6 +236,7 @@ Scene makeForest(const GeneratorOptions& options) {
         }
       }
       w.endObject();
+      scene.occluder_models.emplace_back();
     }
   }
 
@@ -198,12 +256,14 @@ Scene makeForest(const GeneratorOptions& options) {
       const double y = terrain.height(x, z);
       const TreeParts parts = options.tree_parts;
       w.beginObject();
+      const std::uint32_t first = std::uint32_t(scene.vertex_colors.size());
       trunk(w, x, y, z, conifer ? 0.3 * height : 0.55 * height, 0.15 + 0.02 * height,
             jitter(rng, 92, 64, 40, 12));
       if (parts != TreeParts::Whole) w.endObject(), w.beginObject();
       if (conifer) {
         const std::uint32_t green = jitter(rng, 34, 78, 44, 14);
         constexpr int kTiers = 5;
+        static_assert(kTiers == kConiferTiers);
         // Branches down to the ground, as in a dense spruce stand.
         for (int t = 0; t < kTiers; ++t) {
           const double f = double(t) / kTiers;
@@ -215,6 +275,7 @@ Scene makeForest(const GeneratorOptions& options) {
         ellipsoid(w, x, y + 0.62 * height, z, crown, 0.36 * height, jitter(rng, 70, 120, 46, 18));
       }
       w.endObject();
+      scene.occluder_models.push_back(treeModel(scene, first, conifer, kConiferTiers));
     }
   }
 
@@ -232,6 +293,10 @@ Scene makeForest(const GeneratorOptions& options) {
   scene.path = CameraPath(std::move(keys));
   scene.near_plane = 0.1;
   scene.far_plane = std::max(300.0, side);
+  // Movers (--movers, movers.hpp): animals walking on the terrain.
+  scene.mover_site.kind = MoverKind::Animals;
+  scene.mover_site.ground = [terrain](double x, double z) { return terrain.height(x, z); };
+  scene.mover_site.size = 1.0;
   computeBounds(scene);
   return scene;
 }

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <limits>
+#include <map>
 
 namespace logrid::samples {
 namespace {
@@ -130,9 +131,18 @@ PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args) {
   out.triangles = scene.triangleCount();
 
   if (scene.split_by_triangles) {
+    // The movers' meshes are appended after the static triangles (movers.cpp): set them
+    // aside while the static triangles are split into chunks.
+    std::size_t static_end = scene.indices.size();
+    for (const SceneObject& o : scene.moving)
+      static_end = std::min<std::size_t>(static_end, o.first_index);
+    std::vector<std::uint32_t> moving_indices(scene.indices.begin() + std::ptrdiff_t(static_end),
+                                              scene.indices.end());
+    scene.indices.resize(static_end);
     const auto build_start = std::chrono::steady_clock::now();
     bvh::TriangleHierarchy th = bvh::buildOverTriangles(scene.positions, scene.indices, args);
     out.bvh_build_ms = msSince(build_start);
+    scene.indices.insert(scene.indices.end(), moving_indices.begin(), moving_indices.end());
     out.hierarchy = std::move(th.hierarchy);
     std::vector<std::pair<std::uint32_t, std::uint32_t>> spans;
     for (std::size_t c = 0; c + 1 < th.chunk_first.size(); ++c) {
@@ -162,7 +172,35 @@ PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args) {
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
       builder.addObject(IotaRange{spans[i].first, spans[i].second}, scene.objects[i].color);
     }
+    out.occluder_models = std::move(scene.occluder_models);
   }
+  // Moving objects after the static ones; objects over the same indices share a draw's
+  // geometry (the movers of one shape).
+  out.static_objects = static_cast<std::uint32_t>(out.mesh.draws.size());
+  if (!scene.moving.empty()) {
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> spans;
+    for (const SceneObject& o : scene.moving) {
+      spans.emplace_back(o.first_index / 3, (o.first_index + o.index_count) / 3);
+    }
+    const bool wide = !out.mesh.indices32.empty() || needsWideIndices(scene, spans, nullptr);
+    if (wide && out.mesh.indices32.empty() && !out.mesh.indices16.empty()) {
+      out.mesh.indices32.assign(out.mesh.indices16.begin(), out.mesh.indices16.end());
+      out.mesh.indices16.clear();
+    }
+    MeshBuilder builder(scene, out.mesh, wide);
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::size_t> shared;  // span -> draw
+    for (std::size_t i = 0; i < scene.moving.size(); ++i) {
+      const auto [it, first] = shared.emplace(spans[i], out.mesh.draws.size());
+      if (first) {
+        builder.addObject(IotaRange{spans[i].first, spans[i].second}, scene.moving[i].color);
+      } else {
+        gl::RenderMesh::Draw draw = out.mesh.draws[it->second];
+        draw.color = scene.moving[i].color;
+        out.mesh.draws.push_back(draw);
+      }
+    }
+  }
+  out.motion = std::move(scene.motion);
   // Release the source geometry before computing the per-object boxes from the mesh.
   scene.positions = {};
   scene.indices = {};
@@ -170,9 +208,19 @@ PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args) {
   out.mesh.positions.shrink_to_fit();
   out.mesh.colors.shrink_to_fit();
 
+  std::vector<std::uint32_t> triangles;  // per object, for nohc's cost model
+  triangles.reserve(out.mesh.draws.size());
+  for (const gl::RenderMesh::Draw& d : out.mesh.draws) triangles.push_back(d.index_count / 3);
+  out.hierarchy.setObjectTriangles(std::move(triangles));
+
   out.bounds = emptyBox();
   out.object_boxes.reserve(out.mesh.draws.size());
-  for (const gl::RenderMesh::Draw& d : out.mesh.draws) {
+  for (std::size_t o = 0; o < out.mesh.draws.size(); ++o) {
+    if (o >= out.static_objects) {  // a mover, at time 0
+      out.object_boxes.push_back(out.motion.boxAt(o - out.static_objects, 0.0));
+      continue;
+    }
+    const gl::RenderMesh::Draw& d = out.mesh.draws[o];
     Aabb box = emptyBox();
     for (std::uint32_t i = d.first_index; i < d.first_index + d.index_count; ++i) {
       const std::uint32_t local =
@@ -182,6 +230,10 @@ PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args) {
     out.object_boxes.push_back(box);
     growBox(out.bounds, box);
   }
+  // Every object's triangles, each mover's counted (they share geometry but are drawn
+  // one by one).
+  out.triangles = 0;
+  for (const gl::RenderMesh::Draw& d : out.mesh.draws) out.triangles += d.index_count / 3;
   out.prepare_ms = msSince(start);
   return out;
 }

@@ -14,6 +14,9 @@
 #include "logrid/gl/mesh_renderer.hpp"
 #include "scene/scene.hpp"
 
+namespace logrid::cpu {
+class OccluderMeshes;
+}
 namespace logrid::ddo {
 class Octree;
 }
@@ -23,15 +26,26 @@ namespace logrid::samples {
 struct PreparedScene {
   std::string name;
   glm::dvec3 origin{0.0};
-  Aabb bounds;
+  Aabb bounds;  // local, of the static objects
   CameraPath path;
   double near_plane = 0.1;
   double far_plane = 1000.0;
 
+  // The hierarchy of the static objects [0, static_objects); moving objects are not in
+  // it (a walk with movers culls with a motion hierarchy over all objects, motion.hpp).
   bvh::FlatHierarchy hierarchy;
   gl::RenderMesh mesh;
-  std::vector<Aabb> object_boxes;  // local, indexed by ObjectId
-  // The DDO octree over the mesh, when a method needs it (scene/ddo_scene.hpp).
+  // Local, indexed by ObjectId; the movers' at time 0 (MotionFrame has them per frame).
+  std::vector<Aabb> object_boxes;
+  // Objects [static_objects, static_objects + motion.movers.size()) move: mover i is
+  // object static_objects + i, drawn with its transform (mesh_renderer.hpp).
+  std::uint32_t static_objects = 0;
+  Motion motion;
+  // Occluder models by ObjectId (Scene::occluder_models), empty when the scene has none.
+  std::vector<OccluderModel> occluder_models;
+  // The CPU occlusion buffer's meshes, built on first use (scene/occluders.hpp).
+  mutable std::shared_ptr<const cpu::OccluderMeshes> occluder_cache[2];
+  // The DDO octree over the static mesh, when a method needs it (scene/ddo_scene.hpp).
   std::shared_ptr<const ddo::Octree> ddo;
 
   std::uint64_t triangles = 0;
@@ -42,6 +56,8 @@ struct PreparedScene {
 };
 
 // Consumes the scene (its arrays are released as soon as they are no longer needed).
+// Moving objects are appended after the static ones; movers of one shape share one copy
+// of its geometry.
 // args.max_leaf_size: objects per leaf for object scenes, triangles per chunk for split
 // scenes. Throws logrid::Error(BadInput) through validateScene for broken geometry.
 PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args);

@@ -66,17 +66,29 @@ void validateScene(const Scene& scene) {
     fail("has " + std::to_string(scene.vertex_colors.size()) + " vertex colours for " +
          std::to_string(vertices) + " vertices");
   }
+  auto checkObjects = [&](const std::vector<SceneObject>& objects, const char* what) {
+    for (std::size_t o = 0; o < objects.size(); ++o) {
+      const SceneObject& obj = objects[o];
+      if (obj.index_count == 0 || obj.index_count % 3 != 0 ||
+          std::uint64_t(obj.first_index) + obj.index_count > scene.indices.size()) {
+        std::ostringstream out;
+        out << what << " " << o << " covers indices [" << obj.first_index << ", "
+            << std::uint64_t(obj.first_index) + obj.index_count << ") of " << scene.indices.size();
+        fail(out.str());
+      }
+    }
+  };
+  checkObjects(scene.moving, "moving object");
+  if (scene.moving.size() != scene.motion.movers.size()) {
+    fail("has " + std::to_string(scene.moving.size()) + " moving objects but " +
+         std::to_string(scene.motion.movers.size()) + " movers");
+  }
   if (scene.split_by_triangles) return;
   if (scene.objects.empty()) fail("has no objects");
-  for (std::size_t o = 0; o < scene.objects.size(); ++o) {
-    const SceneObject& obj = scene.objects[o];
-    if (obj.index_count == 0 || obj.index_count % 3 != 0 ||
-        std::uint64_t(obj.first_index) + obj.index_count > scene.indices.size()) {
-      std::ostringstream out;
-      out << "object " << o << " covers indices [" << obj.first_index << ", "
-          << std::uint64_t(obj.first_index) + obj.index_count << ") of " << scene.indices.size();
-      fail(out.str());
-    }
+  checkObjects(scene.objects, "object");
+  if (!scene.occluder_models.empty() && scene.occluder_models.size() != scene.objects.size()) {
+    fail("has " + std::to_string(scene.occluder_models.size()) + " occluder models for " +
+         std::to_string(scene.objects.size()) + " objects");
   }
 }
 

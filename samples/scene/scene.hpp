@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@
 
 #include "logrid/types.hpp"
 #include "scene/camera_path.hpp"
+#include "scene/motion.hpp"
 
 namespace logrid::samples {
 
@@ -23,6 +25,27 @@ struct SceneObject {
   std::uint32_t index_count = 0;      // a multiple of 3
   std::uint32_t color = 0xFFFFFFFFu;  // RGBA8: r | g << 8 | b << 16 | a << 24
   Aabb box;                           // local coordinates, contains every vertex used
+};
+
+// Where generated movers may go (movers.hpp). The generators set it; a scene from a
+// file gets the floor of its bounds.
+enum class MoverKind : std::uint8_t { Animals, Vehicles };
+struct MoverSite {
+  MoverKind kind = MoverKind::Animals;
+  std::function<double(double, double)> ground;  // height at (x, z); empty: the floor
+  std::vector<double> streets_x;                 // vehicles: streets along z, at these x
+  std::vector<double> streets_z;                 // ... and along x, at these z
+  double size = 0;                               // metres per mesh unit; 0: from the bounds
+};
+
+// A simpler occluder for one object, for the CPU occlusion buffer (logrid/cpu/
+// occluder_mesh.hpp, OccluderObject::inside_solid): triangles of the object as they are,
+// and triangles that lie inside closed convex solids formed by the object's own
+// triangles (e.g. the convex hull of some of a convex crown's vertices). Positions are
+// bit-identical copies of the object's where they are its vertices.
+struct OccluderModel {
+  std::vector<float> positions;  // xyz, local coordinates
+  std::vector<std::uint32_t> indices;
 };
 
 struct Scene {
@@ -38,6 +61,14 @@ struct Scene {
   // hierarchy's leaf chunks of at most BuildArgs::max_leaf_size triangles.
   std::vector<SceneObject> objects;
   bool split_by_triangles = false;
+  // Objects that move (movers.hpp, motion.hpp): drawn with a transform, not part of the
+  // static hierarchy. Their index ranges may be shared (movers of one shape), and their
+  // box is the mesh's box in its own coordinates. Scene::motion has one mover for each.
+  std::vector<SceneObject> moving;
+  Motion motion;
+  MoverSite mover_site;
+  // Optional occluder models, one per object (an empty model: none); object scenes only.
+  std::vector<OccluderModel> occluder_models;
   Aabb bounds;      // local, of all positions
   CameraPath path;  // the default walkthrough
   // Suggested clip planes for the walkthrough (world units).

@@ -35,8 +35,10 @@ Camera makeCamera(const CameraPose& pose, const glm::dvec3& scene_origin,
   const glm::dmat4 world_view =
       toGlm(lookAt(toDVec3(pose.position), toDVec3(pose.look_at), toDVec3(pose.up)));
   // Local (scene) coordinates to world, then to eye space, all in double.
-  return cameraFromGlm(toGlm(projection), glm::translate(world_view, scene_origin), view.width,
-                       view.height, view.depth, pose.position - scene_origin);
+  Camera camera = cameraFromGlm(toGlm(projection), glm::translate(world_view, scene_origin),
+                                view.width, view.height, view.depth, pose.position - scene_origin);
+  camera.multisample = view.samples > 1;
+  return camera;
 }
 
 }  // namespace logrid::samples

@@ -19,6 +19,8 @@ struct ViewSettings {
   double near_plane = 0.1;
   double far_plane = 1000.0;
   DepthSetup depth;
+  // Samples per pixel of the framebuffer (0: single-sampled); sets Camera::multisample.
+  std::uint32_t samples = 0;
 };
 
 // The usual clip range for a convention: -1..1 (GL's default) for standard, 0..1 for

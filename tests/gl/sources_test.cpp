@@ -1,13 +1,15 @@
 // On a rendered frame, every GL depth source (glReadPixels, PBO ring, compute-shader
 // reduction with both kernels, occlusion queries) gives the same answers as a software
 // source holding the same depth values, in every depth format and convention, whether
-// asked one request at a time or in batches. And the query source leaves the GL state
-// as it found it.
+// asked one request at a time or in batches; and so they do under any GL state the
+// application left (culling, winding, polygon mode, stencil, depth range, pack state,
+// random state of every kind), which each of them leaves as it found it.
 #include <epoxy/gl.h>
 #include <gtest/gtest.h>
 
 #include <random>
 
+#include "gl_state_probe.hpp"
 #include "gl_test_context.hpp"
 #include "logrid/cpu/software_depth.hpp"
 #include "logrid/cpu/software_rasterizer.hpp"
@@ -184,6 +186,125 @@ TEST_P(SourcesTest, QuerySourceRestoresTheStateItChanges) {
   EXPECT_TRUE(glIsEnabled(GL_SCISSOR_TEST));
   EXPECT_EQ(box[2], 3);
   glDisable(GL_SCISSOR_TEST);
+}
+
+// A framebuffer with a stencil buffer where the format has one (D24S8, D32F_S8), so that
+// a stencil test can fail, and the random boxes drawn into it.
+struct StencilFramebuffer {
+  GLuint fbo = 0, color = 0, depth = 0;
+  StencilFramebuffer(const Camera& cam, const gl::RenderMesh& mesh) {
+    const GLenum format = cam.depth.format == DepthFormat::D24    ? GL_DEPTH24_STENCIL8
+                          : cam.depth.format == DepthFormat::D32F ? GL_DEPTH32F_STENCIL8
+                                                                  : GL_DEPTH_COMPONENT16;
+    const GLsizei w = GLsizei(cam.width), h = GLsizei(cam.height);
+    glCreateFramebuffers(1, &fbo);
+    glCreateTextures(GL_TEXTURE_2D, 1, &color);
+    glTextureStorage2D(color, 1, GL_RGBA8, w, h);
+    glCreateTextures(GL_TEXTURE_2D, 1, &depth);
+    glTextureStorage2D(depth, 1, format, w, h);
+    glNamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, color, 0);
+    glNamedFramebufferTexture(
+        fbo, format == GL_DEPTH_COMPONENT16 ? GL_DEPTH_ATTACHMENT : GL_DEPTH_STENCIL_ATTACHMENT,
+        depth, 0);
+    const float far_depth = cam.depth.convention == DepthConvention::Reversed ? 0.0f : 1.0f;
+    glClearNamedFramebufferfi(fbo, GL_DEPTH_STENCIL, 0, far_depth, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glViewport(0, 0, w, h);
+    gl::applyDepthState(cam.depth);
+    gl::MeshRenderer renderer(mesh);
+    renderer.begin(gl::Pass::DepthOnly, cam);
+    for (ObjectId id = 0; id < renderer.objectCount(); ++id) renderer.draw(id);
+    renderer.end();
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  }
+  ~StencilFramebuffer() {
+    glDeleteFramebuffers(1, &fbo);
+    GLuint t[2] = {color, depth};
+    glDeleteTextures(2, t);
+  }
+  std::vector<float> readDepth(const Camera& cam) const {
+    std::vector<float> out(std::size_t(cam.width) * cam.height);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glGetTextureSubImage(depth, 0, 0, 0, 0, GLsizei(cam.width), GLsizei(cam.height), 1,
+                         GL_DEPTH_COMPONENT, GL_FLOAT, GLsizei(out.size() * 4), out.data());
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    return out;
+  }
+};
+
+// Every source under each hostile state of tests/support/gl_state_probe.hpp, then under
+// random state of every kind: the same counts and summaries as the software reference,
+// and every item of the state as the application set it. Before GlStateGuard the query
+// source counted 0 under most of them (culling, winding, polygon mode, stencil, discard),
+// and the readers wrote out of bounds under the application's pack row length and skips.
+TEST_P(SourcesTest, EverySourceAnswersTheSameUnderAnyApplicationState) {
+  LOGRID_REQUIRE_GL();
+  const Case c = GetParam();
+  const std::uint32_t w = 53, h = 37;
+  const Camera cam = testCamera(c, w, h);
+  const StencilFramebuffer fb(cam, randomBoxes(8));
+  cpu::SoftwareDepthBuffer reference(w, h, c.convention);
+  const std::vector<float> depth = fb.readDepth(cam);
+  std::copy(depth.begin(), depth.end(), reference.data());
+  reference.beginFrame(cam);
+  zread::ReadPixelsSource readpixels(fb.fbo);
+  zread::PboSource pbo(fb.fbo);
+  zread::QuerySource query(fb.fbo);
+  zread::ReductionSource reduce(fb.fbo);
+  const std::pair<const char*, DepthSource*> sources[] = {
+      {"readpixels", &readpixels}, {"pbo", &pbo}, {"query", &query}, {"reduce", &reduce}};
+  const double step = quantisationStep(c.format);
+  std::vector<test::HostileState> states = test::hostileGlStates();
+  test::AppObjects objects;
+  std::mt19937 state_rng(41);
+  for (int round = 0; round < 8; ++round) {
+    // Random state of every kind; the seed is drawn now so that each source sees it.
+    const std::uint32_t seed = std::uint32_t(state_rng());
+    states.push_back({"random state", [&objects, seed, &fb] {
+                        std::mt19937 r(seed);
+                        test::setRandomGlState(r, objects, test::kAllGlState, fb.fbo, 53, 37);
+                      }});
+  }
+  std::mt19937 rng(9);
+  for (const test::HostileState& state : states) {
+    for (const auto& [name, source] : sources) {
+      SCOPED_TRACE(std::string(name) + " under " + state.name);
+      test::setDefaultGlState(int(w), int(h));
+      state.set();
+      const test::GlSnapshot before = test::snapshotGlState({fb.depth}, {fb.fbo});
+      try {
+        source->beginFrame(cam);
+        for (int i = 0; i < 12; ++i) {
+          const std::int32_t x0 = std::int32_t(rng() % w), y0 = std::int32_t(rng() % h);
+          const PixelRect r{x0, y0, x0 + 1 + std::int32_t(rng() % (w - std::uint32_t(x0))),
+                            y0 + 1 + std::int32_t(rng() % (h - std::uint32_t(y0)))};
+          AreaDepth want;
+          reference.summarize(&r, 1, &want);
+          if (source->traits().reads_depth) {
+            AreaDepth got;
+            source->summarize(&r, 1, &got);
+            EXPECT_EQ(got.free_pixels, want.free_pixels);
+            EXPECT_NEAR(got.min_key, want.min_key, 2e-7);
+            EXPECT_NEAR(got.max_key, want.max_key, 2e-7);
+          }
+          for (float t : {want.min_key, want.max_key}) {
+            std::uint32_t n = 0, n_ref = 0, n_step_below = 0;
+            source->countAtOrBeyond(&r, 1, t, &n);
+            reference.countAtOrBeyond(&r, 1, t, &n_ref);
+            reference.countAtOrBeyond(&r, 1, float(t - step - 2e-7), &n_step_below);
+            EXPECT_GE(n, n_ref) << "rect " << r.x0 << "," << r.y0 << "," << r.x1 << "," << r.y1
+                                << " threshold " << t;
+            EXPECT_LE(n, n_step_below);
+          }
+        }
+      } catch (const Error& e) {
+        ADD_FAILURE() << e.what();
+      }
+      EXPECT_EQ(test::diffGlState(before, test::snapshotGlState({fb.depth}, {fb.fbo})), "");
+    }
+  }
+  test::setDefaultGlState(int(w), int(h));
+  gl::checkGlErrors("EverySourceAnswersTheSameUnderAnyApplicationState");
 }
 
 TEST(SourcesErrorTest, AMismatchedDepthFormatIsAClearError) {

@@ -24,6 +24,7 @@
 #include "gl_test_context.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
 #include "scene/generators.hpp"
+#include "scene/movers.hpp"
 #include "scene/prepare.hpp"
 #include "scene/view.hpp"
 
@@ -63,11 +64,12 @@ struct SceneKey {
   std::string name;  // forest or city
   double scale = kForestScale;
   Offset offset = Offset::None;
-  double distance = 0;  // added to x, y and z (world units)
+  double distance = 0;       // added to x, y and z (world units)
+  std::uint32_t movers = 0;  // moving objects (samples/scene/movers.hpp, seed 1)
 
   std::string id() const {
     std::ostringstream out;
-    out << name << "@" << scale << "/" << toString(offset) << "/" << distance;
+    out << name << "@" << scale << "/" << toString(offset) << "/" << distance << "/" << movers;
     return out.str();
   }
 };
@@ -105,6 +107,7 @@ inline LoadedScene& loadScene(const SceneKey& key) {
     samples::Scene scene = key.name == "city" ? samples::makeCity({key.scale, 1})
                                               : samples::makeForest({key.scale, 1});
     offsetScene(scene, key.offset, key.distance);
+    samples::addMovers(scene, key.movers, 1);
     const bvh::BuildArgs args = samples::defaultBuildArgs(scene);
     slot = std::make_unique<LoadedScene>();
     slot->prepared = samples::prepareScene(std::move(scene), args);
@@ -168,16 +171,32 @@ inline std::string reproducer(const SceneKey& key, const RunConfig& c) {
     out << "(no CLI equivalent: scene moved by " << key.distance << " via " << toString(key.offset)
         << "; run this test) ";
   }
-  out << "logrid walk --scene " << key.name << " --scale " << key.scale << " --frames " << c.frames
-      << " --method " << c.method.name() << " --reader " << c.reader << " --size " << c.view.width
-      << "x" << c.view.height << " --tile " << c.culler.tile_size << " --depth-format "
-      << formatName(c.view.depth.format) << " --depth-convention "
+  out << "logrid walk --scene " << key.name << " --scale " << key.scale;
+  if (key.movers) {
+    out << " --movers " << key.movers << " --hierarchy " << c.hierarchy;
+    if (c.time_step > 0) out << " --time-step " << c.time_step;
+    if (c.culler.lookahead != 1) {
+      out << " --lookahead "
+          << (c.culler.lookahead == kUnlimitedLookahead ? std::string("all")
+                                                        : std::to_string(c.culler.lookahead));
+    }
+    if (c.culler.detect_colliding) out << " --colliding";
+    if (c.culler.temporal_coherence) out << " --coherence";
+  }
+  out << " --frames " << c.frames << " --method " << c.method.name() << " --reader " << c.reader
+      << " --size " << c.view.width << "x" << c.view.height << " --tile " << c.culler.tile_size
+      << " --depth-format " << formatName(c.view.depth.format) << " --depth-convention "
       << toString(c.view.depth.convention) << " --near " << c.view.near_plane << " --far "
       << c.view.far_plane;
+  if (c.view.samples > 1) out << " --samples " << c.view.samples;
   if (c.view.orthographic) {
     out << " --ortho";
   } else {
     out << " --fov " << c.view.fov_degrees;
+  }
+  if (c.reader == "cpu") {
+    out << " --cpu-resolution " << cpu::toString(c.cpu.resolution) << " --occluders "
+        << samples::toString(c.cpu.occluders) << " --cpu-threads " << c.cpu.threads;
   }
   out << " --verify";
   return out.str();
@@ -217,14 +236,14 @@ inline WalkTotals checkedWalk(const SceneKey& key, LoadedScene& scene, const Run
       std::ostringstream out;
       out.precision(12);
       const Camera cam = runner.cameraFor(f);
-      const samples::CameraPose pose = scene.prepared.path.frame(f, config.frames);
+      const samples::CameraPose pose = runner.poseFor(f);
       out << config.method.name() << " missed " << r.missed << " of " << r.visible
           << " visible objects in frame " << f << " (eye " << pose.position.x << ", "
           << pose.position.y << ", " << pose.position.z << "; look at " << pose.look_at.x << ", "
           << pose.look_at.y << ", " << pose.look_at.z << "; render origin " << cam.render_origin.x
           << ", " << cam.render_origin.y << ", " << cam.render_origin.z << ")\n  first missed:";
       for (ObjectId id : r.missed_ids) {
-        const Aabb& b = scene.prepared.object_boxes[id];
+        const Aabb& b = runner.objectBoxes()[id];
         out << "\n    object " << id << " box (" << b.min.x << ", " << b.min.y << ", " << b.min.z
             << ")-(" << b.max.x << ", " << b.max.y << ", " << b.max.z << ")";
       }

@@ -15,6 +15,7 @@
 #include <set>
 
 #include "logrid/bvh.hpp"
+#include "logrid/cpu/occlusion_buffer.hpp"
 #include "logrid/cpu/software_rasterizer.hpp"
 #include "logrid/error.hpp"
 #include "logrid/gl/framebuffer.hpp"
@@ -601,6 +602,8 @@ CulledFrame culledFrame(const BoxScene& scene, gl::Framebuffer& fb, gl::MeshRend
   std::unique_ptr<DepthSource> source;
   std::unique_ptr<cpu::SoftwareDepthBuffer> software;
   std::unique_ptr<cpu::SoftwareRasterizer> raster;
+  cpu::OccluderMeshes occluders;
+  std::unique_ptr<cpu::OcclusionBuffer> occlusion;
   if (reader == "software") {
     // Fed with the boxes themselves (samples/cli/readers.cpp feeds a scene's meshes).
     software =
@@ -614,15 +617,27 @@ CulledFrame culledFrame(const BoxScene& scene, gl::Framebuffer& fb, gl::MeshRend
     source = std::make_unique<zread::PboSource>(fb.handle());
   } else if (reader == "reduce") {
     source = std::make_unique<zread::ReductionSource>(fb.handle());
+  } else if (reader == "cpu") {
+    // The CPU occlusion buffer fed with the boxes' meshes (samples/cli/cpu_reader.cpp
+    // feeds a scene's).
+    for (const Aabb& box : scene.boxes) {
+      std::vector<float> p;
+      std::vector<std::uint32_t> idx;
+      cpu::appendBox(box, p, idx);
+      occluders.addObject(p.data(), p.size() / 3, idx.data(), idx.size());
+    }
+    occlusion = std::make_unique<cpu::OcclusionBuffer>(occluders);
   } else {
     source = std::make_unique<zread::QuerySource>(fb.handle());
   }
+  DepthSource& depth = software ? *software : occlusion ? *occlusion : *source;
   const float clear[4] = {0, 0, 0, 1};
   fb.bind();
   fb.clear(clear);
   renderer.begin(gl::Pass::Shaded, cam);
-  out.stats = culler.cullFrame(cam, hierarchy, software ? *software : *source, [&](ObjectId id) {
+  out.stats = culler.cullFrame(cam, hierarchy, depth, [&](ObjectId id) {
     renderer.draw(id);
+    if (occlusion) occlusion->drawObject(id);
     if (raster) {
       std::vector<float> p;
       std::vector<std::uint32_t> idx;
@@ -667,7 +682,7 @@ TEST_P(BoxEdgeCases, EveryMethodAndSourceDrawsEveryVisibleBox) {
       ASSERT_FALSE(visible.count(id)) << "test set-up: \"" << scene.names[id] << "\" is visible";
     }
     for (Method method : kConservative) {
-      for (const std::string reader : {"software", "readpixels", "pbo", "reduce", "query"}) {
+      for (const std::string reader : {"software", "readpixels", "pbo", "reduce", "query", "cpu"}) {
         if (method == Method::Hzb && reader == "query") continue;
         for (std::uint32_t tile : {1u, 7u, 32u, 200u}) {  // 200: larger than the viewport
           const CulledFrame f =

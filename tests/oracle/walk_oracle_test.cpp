@@ -5,6 +5,9 @@
 //                   24-bit and 32F depth, two resolutions (one odd) and two tile sizes.
 //   Readers         log-state, log-zfar, bog, hzb and pq with every depth source
 //                   (samples/cli/readers.cpp) at one configuration.
+//   CpuBuffer       log-state and log-zfar with the CPU occlusion buffer over both scenes:
+//                   each resolution, both conventions, 24-bit and 32F depth, full meshes
+//                   and occluder models, with and without a worker thread.
 //   Lookahead       log-state and log-zfar with lookahead K in {1, 4, 16, all}, with and
 //                   without temporal coherence, over both scenes.
 //   Reduction       per scene, LOG draws clearly fewer objects than view-frustum culling
@@ -148,6 +151,89 @@ TEST(ReadersRefusal, HzbWithQueriesIsRefusedClearly) {
     EXPECT_NE(std::string(e.what()).find("readpixels"), std::string::npos) << e.what();
   }
 }
+
+// ---------------------------------------------------------------------------
+// The CPU occlusion buffer (`cpu` reader) across what it must agree with GL on: both
+// conventions, 24-bit and 32F depth, each resolution, full meshes and occluder models,
+// with and without a worker thread.
+// ---------------------------------------------------------------------------
+
+struct CpuCase {
+  std::string scene;
+  Method method;
+  DepthConvention convention;
+  DepthFormat format;
+  cpu::Resolution resolution;
+  samples::OccluderChoice occluders;
+  std::uint32_t threads;
+};
+
+class CpuBuffer : public testing::TestWithParam<CpuCase> {};
+
+TEST_P(CpuBuffer, NoVisibleObjectIsMissed) {
+  LOGRID_REQUIRE_GL();
+  const CpuCase& c = GetParam();
+  const SceneKey key = sceneKey(c.scene);
+  LoadedScene& scene = loadScene(key);
+  View v;
+  v.width = 200;
+  v.height = 150;
+  v.tile = 16;
+  v.convention = c.convention;
+  v.format = c.format;
+  RunConfig config = makeConfig(scene.prepared, c.method, "cpu", v, kMatrixFrames);
+  config.cpu.resolution = c.resolution;
+  config.cpu.occluders = c.occluders;
+  config.cpu.threads = c.threads;
+  const WalkTotals t = checkedWalk(key, scene, config);
+  std::printf("[ oracle ] %s\n", summary(t).c_str());
+  EXPECT_EQ(t.missed, 0u) << reproducer(key, config);
+  EXPECT_GT(t.visible, 0u);
+  EXPECT_GT(t.occluded, 0u) << "no box was ever found occluded; the walk tests nothing";
+}
+
+std::vector<CpuCase> cpuCases() {
+  using samples::OccluderChoice;
+  // Each resolution meets both conventions and both formats over the two scenes.
+  struct Variant {
+    DepthConvention convention;
+    DepthFormat format;
+    cpu::Resolution resolution;
+    OccluderChoice occluders;
+    std::uint32_t threads;
+  };
+  const Variant variants[] = {
+      {DepthConvention::Standard, DepthFormat::D32F, cpu::Resolution::Full, OccluderChoice::Model,
+       1},
+      {DepthConvention::Reversed, DepthFormat::D24, cpu::Resolution::Full, OccluderChoice::Mesh, 0},
+      {DepthConvention::Reversed, DepthFormat::D32F, cpu::Resolution::Half, OccluderChoice::Mesh,
+       0},
+      {DepthConvention::Standard, DepthFormat::D24, cpu::Resolution::Half, OccluderChoice::Model,
+       0},
+      {DepthConvention::Standard, DepthFormat::D32F, cpu::Resolution::Quarter, OccluderChoice::Mesh,
+       0},
+      {DepthConvention::Reversed, DepthFormat::D24, cpu::Resolution::Quarter, OccluderChoice::Model,
+       1},
+  };
+  std::vector<CpuCase> out;
+  for (const char* scene : {"forest", "city"}) {
+    for (Method m : {Method::LogState, Method::LogZfar}) {
+      for (const Variant& v : variants) {
+        out.push_back({scene, m, v.convention, v.format, v.resolution, v.occluders, v.threads});
+      }
+    }
+  }
+  return out;
+}
+
+std::string cpuName(const testing::TestParamInfo<CpuCase>& p) {
+  const CpuCase& c = p.param;
+  return sanitize(c.scene + "_" + toString(c.method) + "_" + toString(c.convention) + "_d" +
+                  formatName(c.format) + "_" + cpu::toString(c.resolution) + "_" +
+                  samples::toString(c.occluders) + "_t" + std::to_string(c.threads));
+}
+
+INSTANTIATE_TEST_SUITE_P(Variants, CpuBuffer, testing::ValuesIn(cpuCases()), cpuName);
 
 // ---------------------------------------------------------------------------
 // Lookahead and temporal coherence: every K, with and without coherence, is exact.

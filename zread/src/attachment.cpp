@@ -48,14 +48,4 @@ void checkDepthAttachment(const char* who, GLuint framebuffer, const Camera& cam
   }
 }
 
-void checkReadError(const char* who, const char* call) {
-  const GLenum error = glGetError();
-  if (error == GL_NO_ERROR) return;
-  std::ostringstream out;
-  out << who << ": GL error 0x" << std::hex << error << std::dec << " after " << call
-      << "; the depth values cannot be trusted (the error may also come from an earlier call "
-         "of the application: check its GL errors before cullFrame())";
-  throw Error(ErrorCode::Runtime, out.str());
-}
-
 }  // namespace logrid::zread::detail

@@ -20,9 +20,4 @@ inline std::size_t bytesOf(GLenum type) { return type == GL_UNSIGNED_SHORT ? 2 :
 // camera says: the depth margin depends on it, so a mismatch would be silently wrong.
 void checkDepthAttachment(const char* who, GLuint framebuffer, const Camera& camera);
 
-// Throws logrid::Error (Runtime) naming `call` if GL reported an error since the last
-// check. The error may also come from the application's own earlier calls: GL keeps no
-// record of which call raised it.
-void checkReadError(const char* who, const char* call);
-
 }  // namespace logrid::zread::detail

@@ -16,42 +16,34 @@ namespace logrid::zread {
 
 using detail::bytesOf;
 using detail::checkDepthAttachment;
-using detail::checkReadError;
 using detail::nativeDepth;
 using detail::nativeType;
 
 namespace {
 
-// Pack state for tightly packed rows, saved and restored around the reads so that the
-// application's own pixel-store settings survive.
-class PackState {
- public:
-  PackState(GLuint read_framebuffer, GLuint pack_buffer) {
-    glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &framebuffer_);
-    glGetIntegerv(GL_PIXEL_PACK_BUFFER_BINDING, &buffer_);
-    for (std::size_t i = 0; i < kNames.size(); ++i) glGetIntegerv(kNames[i], &values_[i]);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, read_framebuffer);
-    glBindBuffer(GL_PIXEL_PACK_BUFFER, pack_buffer);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    for (std::size_t i = 1; i < kNames.size(); ++i) glPixelStorei(kNames[i], 0);
-  }
-  ~PackState() {
-    for (std::size_t i = 0; i < kNames.size(); ++i) glPixelStorei(kNames[i], values_[i]);
-    glBindBuffer(GL_PIXEL_PACK_BUFFER, glIsBuffer(GLuint(buffer_)) ? GLuint(buffer_) : 0);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER,
-                      glIsFramebuffer(GLuint(framebuffer_)) ? GLuint(framebuffer_) : 0);
-  }
-  PackState(const PackState&) = delete;
-  PackState& operator=(const PackState&) = delete;
+// The checks of beginFrame() common to every source; returns the depth attachment.
+DepthAttachment checkFramebuffer(const char* who, GLuint framebuffer, const Camera& camera) {
+  checkDepthAttachment(who, framebuffer, camera);
+  const DepthAttachment a = describeDepthAttachment(who, framebuffer);
+  checkMultisample(who, a, camera);
+  return a;
+}
 
- private:
-  static constexpr std::array<GLenum, 7> kNames = {
-      GL_PACK_ALIGNMENT, GL_PACK_ROW_LENGTH,  GL_PACK_IMAGE_HEIGHT, GL_PACK_SKIP_PIXELS,
-      GL_PACK_SKIP_ROWS, GL_PACK_SKIP_IMAGES, GL_PACK_SWAP_BYTES};
-  GLint framebuffer_ = 0;
-  GLint buffer_ = 0;
-  std::array<GLint, 7> values_{};
-};
+// The format the pixel readers read: the buffer's own, or 32-bit float when they read
+// the resolve of a multisampled buffer.
+DepthFormat readFormat(const DepthAttachment& a, const Camera& camera) {
+  return a.samples ? DepthFormat::D32F : camera.depth.format;
+}
+
+// The framebuffer to read `rects` from: the application's, or the resolve of its
+// multisampled depth (the farthest sample of each pixel).
+GLuint readableFramebuffer(GlStateGuard::Scope& scope, std::unique_ptr<MultisampleResolver>& r,
+                           const DepthAttachment& a, DepthConvention convention,
+                           const PixelRect* rects, std::size_t count) {
+  if (a.samples == 0) return a.framebuffer;
+  if (!r) r = std::make_unique<MultisampleResolver>();
+  return r->resolve(scope, a, convention, rects, count);
+}
 
 }  // namespace
 
@@ -62,9 +54,9 @@ class PackState {
 ReadPixelsSource::ReadPixelsSource(std::uint32_t framebuffer) : framebuffer_(framebuffer) {}
 
 void ReadPixelsSource::beginFrame(const Camera& camera) {
-  checkDepthAttachment("ReadPixelsSource", framebuffer_, camera);
-  encoding_ = {nativeDepth(camera.depth.format), camera.depth.convention};
-  type_ = nativeType(camera.depth.format);
+  attachment_ = checkFramebuffer("ReadPixelsSource", framebuffer_, camera);
+  encoding_ = {nativeDepth(readFormat(attachment_, camera)), camera.depth.convention};
+  type_ = nativeType(readFormat(attachment_, camera));
 }
 
 void ReadPixelsSource::fetch(const PixelRect* rects, std::size_t count, const void** data,
@@ -73,19 +65,19 @@ void ReadPixelsSource::fetch(const PixelRect* rects, std::size_t count, const vo
   std::size_t total = 0;
   for (std::size_t i = 0; i < count; ++i) total += std::size_t(rects[i].area()) * bytes;
   if (scratch_.size() < total) scratch_.resize(total);
-  {
-    const PackState pack(framebuffer_, 0);
-    std::size_t offset = 0;
-    for (std::size_t i = 0; i < count; ++i) {
-      const PixelRect& r = rects[i];
-      glReadPixels(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0, GL_DEPTH_COMPONENT, type_,
-                   scratch_.data() + offset);
-      data[i] = scratch_.data() + offset;
-      strides[i] = std::size_t(r.x1 - r.x0);
-      offset += std::size_t(r.area()) * bytes;
-    }
+  GlStateGuard::Scope scope(guard_, "ReadPixelsSource");
+  scope.prepareRead(
+      readableFramebuffer(scope, resolver_, attachment_, encoding_.convention, rects, count), 0);
+  std::size_t offset = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const PixelRect& r = rects[i];
+    glReadPixels(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0, GL_DEPTH_COMPONENT, type_,
+                 scratch_.data() + offset);
+    data[i] = scratch_.data() + offset;
+    strides[i] = std::size_t(r.x1 - r.x0);
+    offset += std::size_t(r.area()) * bytes;
   }
-  checkReadError("ReadPixelsSource", "glReadPixels");
+  scope.check("glReadPixels");
 }
 
 // ---------------------------------------------------------------------------
@@ -113,9 +105,9 @@ void PboSource::release(Slot& slot) {
 }
 
 void PboSource::beginFrame(const Camera& camera) {
-  checkDepthAttachment("PboSource", framebuffer_, camera);
-  encoding_ = {nativeDepth(camera.depth.format), camera.depth.convention};
-  type_ = nativeType(camera.depth.format);
+  attachment_ = checkFramebuffer("PboSource", framebuffer_, camera);
+  encoding_ = {nativeDepth(readFormat(attachment_, camera)), camera.depth.convention};
+  type_ = nativeType(readFormat(attachment_, camera));
 }
 
 void PboSource::endFrame() {
@@ -162,18 +154,19 @@ void PboSource::issue(const PixelRect* rects, std::size_t count) {
   for (std::size_t i = 0; i < count; ++i) total += aligned(std::size_t(rects[i].area()) * bytes);
   Slot& slot = freeSlot(total);
   const std::size_t slot_index = std::size_t(&slot - slots_.data());
-  {
-    const PackState pack(framebuffer_, slot.buffer);
-    std::size_t offset = 0;
-    for (std::size_t i = 0; i < count; ++i) {
-      const PixelRect& r = rects[i];
-      glReadPixels(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0, GL_DEPTH_COMPONENT, type_,
-                   reinterpret_cast<void*>(offset));
-      issued_.push_back({slot_index, offset});
-      offset += aligned(std::size_t(r.area()) * bytes);
-    }
+  GlStateGuard::Scope scope(guard_, "PboSource");
+  scope.prepareRead(
+      readableFramebuffer(scope, resolver_, attachment_, encoding_.convention, rects, count),
+      slot.buffer);
+  std::size_t offset = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const PixelRect& r = rects[i];
+    glReadPixels(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0, GL_DEPTH_COMPONENT, type_,
+                 reinterpret_cast<void*>(offset));
+    issued_.push_back({slot_index, offset});
+    offset += aligned(std::size_t(r.area()) * bytes);
   }
-  checkReadError("PboSource", "glReadPixels into a pixel-buffer object");
+  scope.check("glReadPixels into a pixel-buffer object");
   slot.fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
   glFlush();  // the fence must reach the renderer, or waiting on it could wait forever
 }
@@ -183,6 +176,7 @@ void PboSource::fetch(const PixelRect* rects, std::size_t count, const void** da
   if (issued_.size() != count) {
     throw Error(ErrorCode::Runtime, "PboSource: fetch of rectangles that were not issued");
   }
+  GlStateGuard::Scope scope(guard_, "PboSource");
   for (Slot& slot : slots_) {
     if (!slot.fence) continue;
     const GLenum result = glClientWaitSync(static_cast<GLsync>(slot.fence), 0, kWaitNanoseconds);
@@ -193,6 +187,7 @@ void PboSource::fetch(const PixelRect* rects, std::size_t count, const void** da
                   "PboSource: waiting for depth reads failed or took over 10 s");
     }
   }
+  scope.check("glClientWaitSync");
   for (std::size_t i = 0; i < count; ++i) {
     data[i] = slots_[issued_[i].slot].mapped + issued_[i].offset;
     strides[i] = std::size_t(rects[i].x1 - rects[i].x0);
@@ -239,8 +234,10 @@ QuerySource::~QuerySource() {
 }
 
 void QuerySource::beginFrame(const Camera& camera) {
-  checkDepthAttachment("QuerySource", framebuffer_, camera);
+  checkFramebuffer("QuerySource", framebuffer_, camera);
   depth_ = camera.depth;
+  width_ = std::int32_t(camera.width);
+  height_ = std::int32_t(camera.height);
   if (!pending_.empty())
     throw Error(ErrorCode::Runtime, "QuerySource: a batch was never collected");
 }
@@ -264,27 +261,21 @@ void QuerySource::submit(const AreaRequest* requests, std::size_t count, AreaAns
     // One query object per target (PLATFORM.md pitfall 4): created for SAMPLES_PASSED.
     glCreateQueries(GL_SAMPLES_PASSED, GLsizei(queries_.size() - old), queries_.data() + old);
   }
-  // Save the state this draws with, and restore it afterwards.
-  GLint program = 0, vao = 0, draw_fb = 0, depth_func = 0, scissor_box[4];
-  GLboolean depth_mask = GL_TRUE, color_mask[4], scissor = glIsEnabled(GL_SCISSOR_TEST);
-  glGetIntegerv(GL_CURRENT_PROGRAM, &program);
-  glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &vao);
-  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &draw_fb);
-  glGetIntegerv(GL_DEPTH_FUNC, &depth_func);
-  glGetIntegerv(GL_SCISSOR_BOX, scissor_box);
-  glGetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask);
-  glGetBooleanv(GL_COLOR_WRITEMASK, color_mask);
-
+  GLint active = 0;
+  glGetQueryiv(GL_SAMPLES_PASSED, GL_CURRENT_QUERY, &active);
+  if (active) {
+    throw Error(ErrorCode::InvalidArgument,
+                "QuerySource: the application's GL_SAMPLES_PASSED query " + std::to_string(active) +
+                    " is active, and GL allows one per target; end it before culling, or use "
+                    "another reader");
+  }
   const bool reversed = depth_.convention == DepthConvention::Reversed;
   const float far_key = clearKey(depth_), near_key = nearPlaneKey(depth_);
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer_);
+  GlStateGuard::Scope scope(guard_, "QuerySource");
+  // Pass where the stored key >= threshold: standard stored >= d, reversed stored <= d.
+  scope.prepareDraw(framebuffer_, width_, height_, reversed ? GL_GEQUAL : GL_LEQUAL, false);
   program_->use();
   glBindVertexArray(vao_);
-  glEnable(GL_SCISSOR_TEST);
-  glDepthMask(GL_FALSE);
-  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-  // Pass where the stored key >= threshold: standard stored >= d, reversed stored <= d.
-  glDepthFunc(reversed ? GL_GEQUAL : GL_LEQUAL);
   std::size_t issued = 0;
   for (std::size_t i = 0; i < count; ++i) {
     const PixelRect& r = requests[i].rect;
@@ -306,7 +297,7 @@ void QuerySource::submit(const AreaRequest* requests, std::size_t count, AreaAns
     if (reversed && depth < d) depth = std::nextafter(depth, 2.0f);
     depth = std::clamp(depth, 0.0f, 1.0f);
     glUniform1f(depth_uniform_, depth);
-    glScissor(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0);
+    scope.scissor(r);
     const std::uint32_t q = std::uint32_t(first_free + issued);
     glBeginQuery(GL_SAMPLES_PASSED, queries_[q]);
     glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -315,16 +306,7 @@ void QuerySource::submit(const AreaRequest* requests, std::size_t count, AreaAns
     ++issued;
   }
 
-  glDepthFunc(GLenum(depth_func));
-  glDepthMask(depth_mask);
-  glColorMask(color_mask[0], color_mask[1], color_mask[2], color_mask[3]);
-  glScissor(scissor_box[0], scissor_box[1], scissor_box[2], scissor_box[3]);
-  if (!scissor) glDisable(GL_SCISSOR_TEST);
-  // A program or vertex array the application deleted while it was current ceased to
-  // exist when this source switched away from it: restore only names that still exist.
-  glBindVertexArray(glIsVertexArray(GLuint(vao)) ? GLuint(vao) : 0);
-  glUseProgram(glIsProgram(GLuint(program)) ? GLuint(program) : 0);
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, glIsFramebuffer(GLuint(draw_fb)) ? GLuint(draw_fb) : 0);
+  scope.check("the occlusion queries");
 
   counters_.queries += issued;
   counters_.reads += count;
@@ -335,11 +317,13 @@ void QuerySource::submit(const AreaRequest* requests, std::size_t count, AreaAns
 void QuerySource::collect() {
   if (pending_.empty()) return;
   const auto start = std::chrono::steady_clock::now();
+  GlStateGuard::Scope scope(guard_, "QuerySource");
   for (const Pending& p : pending_) {
     GLuint samples = 0;
     glGetQueryObjectuiv(queries_[p.query], GL_QUERY_RESULT, &samples);
     p.answer->count = samples;
   }
+  scope.check("glGetQueryObjectuiv");
   counters_.bytes += pending_.size() * sizeof(GLuint);
   pending_.clear();
   if (drawn_since_query_) {

@@ -129,51 +129,6 @@ Bindings bindings() {
           GLuint(std::max(ssbos, 2) - 1)};
 }
 
-// Saves and restores what a dispatch changes: program, the texture and sampler of one
-// unit, two indexed shader-storage bindings and the generic one.
-class DispatchState {
- public:
-  explicit DispatchState(const Bindings& b) : b_(b) {
-    glGetIntegerv(GL_CURRENT_PROGRAM, &program_);
-    glGetIntegerv(GL_ACTIVE_TEXTURE, &active_);
-    glActiveTexture(GL_TEXTURE0 + b.unit);
-    glGetIntegerv(GL_TEXTURE_BINDING_2D, &texture_);
-    glGetIntegerv(GL_SAMPLER_BINDING, &sampler_);
-    glActiveTexture(GLenum(active_));
-    glGetIntegerv(GL_SHADER_STORAGE_BUFFER_BINDING, &generic_);
-    for (int k = 0; k < 2; ++k) {
-      const GLuint index = k == 0 ? b.requests : b.answers;
-      glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, index, &buffer_[k]);
-      glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_START, index, &start_[k]);
-      glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_SIZE, index, &size_[k]);
-    }
-  }
-  ~DispatchState() {
-    for (int k = 0; k < 2; ++k) {
-      const GLuint index = k == 0 ? b_.requests : b_.answers;
-      const GLuint buffer = glIsBuffer(GLuint(buffer_[k])) ? GLuint(buffer_[k]) : 0;
-      if (buffer && size_[k] > 0) {
-        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, index, buffer, GLintptr(start_[k]),
-                          GLsizeiptr(size_[k]));
-      } else {
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, index, buffer);
-      }
-    }
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, glIsBuffer(GLuint(generic_)) ? GLuint(generic_) : 0);
-    glBindTextureUnit(b_.unit, glIsTexture(GLuint(texture_)) ? GLuint(texture_) : 0);
-    glBindSampler(b_.unit, glIsSampler(GLuint(sampler_)) ? GLuint(sampler_) : 0);
-    glUseProgram(glIsProgram(GLuint(program_)) ? GLuint(program_) : 0);
-  }
-  DispatchState(const DispatchState&) = delete;
-  DispatchState& operator=(const DispatchState&) = delete;
-
- private:
-  Bindings b_;
-  GLint program_ = 0, active_ = 0, texture_ = 0, sampler_ = 0, generic_ = 0;
-  GLint buffer_[2] = {0, 0};
-  GLint64 start_[2] = {0, 0}, size_[2] = {0, 0};
-};
-
 }  // namespace
 
 ReductionSource::ReductionSource(std::uint32_t framebuffer, Kernel kernel)
@@ -201,17 +156,10 @@ ReductionSource::ReductionSource(std::uint32_t framebuffer, Kernel kernel)
                                  : perWorkgroupKernel(int(b.requests), int(b.answers));
   program_ = std::make_unique<Program>("ReductionSource", source.c_str());
   glProgramUniform1i(program_->handle(), program_->uniform("u_depth"), GLint(b.unit));
-  // texelFetch on a depth texture is defined only without depth comparison; a sampler
-  // object overrides whatever compare mode the application gave its texture.
-  glCreateSamplers(1, &sampler_);
-  glSamplerParameteri(sampler_, GL_TEXTURE_COMPARE_MODE, GL_NONE);
-  glSamplerParameteri(sampler_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glSamplerParameteri(sampler_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
 }
 
 ReductionSource::~ReductionSource() {
   for (Slot& s : slots_) release(s);
-  if (sampler_) glDeleteSamplers(1, &sampler_);
 }
 
 void ReductionSource::release(Slot& slot) {
@@ -223,41 +171,31 @@ void ReductionSource::release(Slot& slot) {
 
 void ReductionSource::beginFrame(const Camera& camera) {
   detail::checkDepthAttachment("ReductionSource", framebuffer_, camera);
-  GLint type = 0, name = 0, level = 0, layered = 0;
-  if (framebuffer_ != 0) {
-    const GLenum a = GL_DEPTH_ATTACHMENT;
-    glGetNamedFramebufferAttachmentParameteriv(framebuffer_, a,
-                                               GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
-    glGetNamedFramebufferAttachmentParameteriv(framebuffer_, a,
-                                               GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &name);
-    glGetNamedFramebufferAttachmentParameteriv(framebuffer_, a,
+  attachment_ = describeDepthAttachment("ReductionSource", framebuffer_);
+  checkMultisample("ReductionSource", attachment_, camera);
+  const DepthAttachment& a = attachment_;
+  GLint level = 0, layered = 0;
+  if (framebuffer_ != 0 && a.object_type == GL_TEXTURE) {
+    glGetNamedFramebufferAttachmentParameteriv(framebuffer_, GL_DEPTH_ATTACHMENT,
                                                GL_FRAMEBUFFER_ATTACHMENT_TEXTURE_LEVEL, &level);
-    glGetNamedFramebufferAttachmentParameteriv(framebuffer_, a, GL_FRAMEBUFFER_ATTACHMENT_LAYERED,
-                                               &layered);
+    glGetNamedFramebufferAttachmentParameteriv(framebuffer_, GL_DEPTH_ATTACHMENT,
+                                               GL_FRAMEBUFFER_ATTACHMENT_LAYERED, &layered);
   }
-  GLint target = 0;
-  if (type == GL_TEXTURE) glGetTextureParameteriv(GLuint(name), GL_TEXTURE_TARGET, &target);
-  if (type != GL_TEXTURE || target != GL_TEXTURE_2D || layered) {
+  // A multisampled attachment is read through its resolve, a single-sample 2D texture.
+  const bool readable =
+      a.samples > 0 || (a.object_type == GL_TEXTURE && a.target == GL_TEXTURE_2D && !layered);
+  if (!readable) {
     std::ostringstream out;
     out << "ReductionSource: framebuffer " << framebuffer_
-        << " has no single-sample 2D depth texture attached (a compute shader cannot read "
-        << (framebuffer_ == 0                     ? "the default framebuffer's depth"
-            : type == GL_RENDERBUFFER             ? "a renderbuffer"
-            : target == GL_TEXTURE_2D_MULTISAMPLE ? "a multisample texture"
-                                                  : "this attachment")
+        << " has no 2D depth texture attached (a compute shader cannot read "
+        << (framebuffer_ == 0                  ? "the default framebuffer's depth"
+            : a.object_type == GL_RENDERBUFFER ? "a single-sample renderbuffer"
+                                               : "this attachment")
         << "); attach a GL_TEXTURE_2D depth texture or use the readpixels or pbo source";
     throw Error(ErrorCode::Unsupported, out.str());
   }
-  GLint mode = GL_DEPTH_COMPONENT;
-  glGetTextureParameteriv(GLuint(name), GL_DEPTH_STENCIL_TEXTURE_MODE, &mode);
-  if (mode != GL_DEPTH_COMPONENT) {
-    throw Error(ErrorCode::InvalidArgument,
-                "ReductionSource: the depth texture's GL_DEPTH_STENCIL_TEXTURE_MODE is "
-                "GL_STENCIL_INDEX, so a shader reads stencil, not depth; set it to "
-                "GL_DEPTH_COMPONENT before culling");
-  }
-  texture_ = GLuint(name);
-  texture_level_ = level;
+  texture_ = a.samples ? 0 : a.name;
+  texture_level_ = a.samples ? 0 : level;
   depth_ = camera.depth;
   width_ = camera.width;
   height_ = camera.height;
@@ -324,7 +262,7 @@ void ReductionSource::submit(const AreaRequest* requests, std::size_t count, Are
     counters_.pixels += std::uint64_t(q.rect.area());
   }
   glNamedBufferSubData(slot.requests, 0, GLsizeiptr(upload_.size()), upload_.data());
-  dispatch(slot, count);
+  dispatch(slot, requests, count);
   ++counters_.batches;
   counters_.reads += count;
   if (drawn_since_read_) {
@@ -334,21 +272,30 @@ void ReductionSource::submit(const AreaRequest* requests, std::size_t count, Are
   counters_.seconds += secondsSince(start);
 }
 
-void ReductionSource::dispatch(Slot& slot, std::size_t count) {
+void ReductionSource::dispatch(Slot& slot, const AreaRequest* requests, std::size_t count) {
   const Bindings b = bindings();
   {
-    const DispatchState saved(b);
+    GlStateGuard::Scope scope(guard_, "ReductionSource");
+    // A multisampled buffer: resolve the requested rectangles (farthest sample) first.
+    GLuint texture = texture_;
+    GLint level = texture_level_;
+    if (attachment_.samples) {
+      rects_.clear();
+      for (std::size_t i = 0; i < count; ++i) rects_.push_back(requests[i].rect);
+      if (!resolver_) resolver_ = std::make_unique<MultisampleResolver>();
+      resolver_->resolve(scope, attachment_, depth_.convention, rects_.data(), rects_.size());
+      texture = resolver_->depthTexture();
+      level = 0;
+    }
+    scope.prepareProgram();
+    scope.bindTexture(b.unit, GL_TEXTURE_2D, texture);
+    scope.bindStorageBuffer(b.requests, slot.requests, 0, GLsizeiptr(count * sizeof(GpuRequest)));
+    scope.bindStorageBuffer(b.answers, slot.answers, 0, GLsizeiptr(count * sizeof(GpuAnswer)));
     program_->use();
     glProgramUniform1ui(program_->handle(), program_->uniform("u_count"), GLuint(count));
     glProgramUniform1f(program_->handle(), program_->uniform("u_clear"),
                        depth_.convention == DepthConvention::Reversed ? 0.0f : 1.0f);
-    glProgramUniform1i(program_->handle(), program_->uniform("u_level"), texture_level_);
-    glBindTextureUnit(b.unit, texture_);
-    glBindSampler(b.unit, sampler_);
-    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, b.requests, slot.requests, 0,
-                      GLsizeiptr(count * sizeof(GpuRequest)));
-    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, b.answers, slot.answers, 0,
-                      GLsizeiptr(count * sizeof(GpuAnswer)));
+    glProgramUniform1i(program_->handle(), program_->uniform("u_level"), level);
     if (kernel_ == Kernel::PerRequest) {
       glDispatchCompute(GLuint((count + 31) / 32), 1, 1);
     } else {
@@ -356,8 +303,8 @@ void ReductionSource::dispatch(Slot& slot, std::size_t count) {
       glDispatchCompute(GLuint(x), GLuint((count + 65534) / 65535), 1);
     }
     glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
+    scope.check("glDispatchCompute");
   }
-  detail::checkReadError("ReductionSource", "glDispatchCompute");
   slot.fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
   glFlush();  // the fence must reach the renderer, or waiting on it could wait forever
 }
@@ -400,6 +347,7 @@ void ReductionSource::readKeys(const PixelRect& rect, float* keys) {
   camera.width = width_;
   camera.height = height_;
   camera.depth = depth_;
+  camera.multisample = attachment_.samples > 0;
   pixels.beginFrame(camera);
   pixels.readKeys(rect, keys);
   const ReadCounters& c = pixels.counters();

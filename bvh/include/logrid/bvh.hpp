@@ -48,6 +48,16 @@ class FlatHierarchy : public Hierarchy {
     return objects_[nodes_[node].first_object + i];
   }
 
+  // Triangles of an object (ObjectId), as setObjectTriangles() gave them; 0: unknown.
+  std::uint32_t objectTriangles(ObjectId object) const override {
+    return object < object_triangles_.size() ? object_triangles_[object] : 0;
+  }
+  // Triangles per object, indexed by ObjectId, for methods that weigh drawing against
+  // querying (nohc). The builders leave it empty (unknown). Node ids stay: no new revision.
+  void setObjectTriangles(std::vector<std::uint32_t> triangles) {
+    object_triangles_ = std::move(triangles);
+  }
+
   // Unique to each build: every FlatHierarchy gets a new value when built or mutated
   // (mutableNodes(), mutableObjects()), and copies keep their source's.
   std::uint64_t revision() const override { return revision_; }
@@ -63,6 +73,14 @@ class FlatHierarchy : public Hierarchy {
   // Throws logrid::Error, leaving the boxes unchanged, if an object id is out of range of
   // object_boxes or an object's box is not finite with min <= max (naming the first).
   void refit(const std::vector<Aabb>& object_boxes);
+  // Refits only the leaves holding the `moved` objects and their ancestors; every other
+  // object's box must be as at the last build or refit. Same checks as refit() for the
+  // moved objects (duplicates are fine). Returns the number of boxes recomputed.
+  std::size_t refit(const std::vector<Aabb>& object_boxes, const std::vector<ObjectId>& moved);
+  // The sum of the surface areas of all node boxes: the SAH cost of the tree with unit
+  // traversal and intersection costs, times the root's area. Grows as refitted boxes
+  // loosen; MotionHierarchy "refit" rebuilds on it (motion.hpp).
+  double surfaceAreaSum() const;
 
   // Construction (used by the builders; also for tests and adapters).
   std::vector<Node>& mutableNodes() {
@@ -76,9 +94,16 @@ class FlatHierarchy : public Hierarchy {
 
  private:
   static std::uint64_t nextRevision();
+  void buildLinks() const;
   std::vector<Node> nodes_;
   std::vector<ObjectId> objects_;
+  std::vector<std::uint32_t> object_triangles_;
   std::uint64_t revision_ = nextRevision();
+  // For the partial refit: parents and the leaf of each object, built on first use
+  // for the revision they describe.
+  mutable std::vector<std::uint32_t> parent_;
+  mutable std::vector<std::uint32_t> leaf_of_;
+  mutable std::uint64_t links_revision_ = 0;
 };
 
 // One leaf per at most max_leaf_size objects; object i has box boxes[i]. Boxes must be

@@ -36,7 +36,21 @@
 // known visible; then one batch reads every tile they need (DepthSource::submit, one
 // collect) and they are decided. The renderer is then waited for once per batch, not
 // once per tile. Every K is exact; K = 1 gives the answers and reads of the paper's
-// order.
+// order. CullerDesc::detect_colliding keeps boxes that overlap on screen out of one batch.
+//
+// Hardware occlusion queries (MethodInfo::box_queries: hwq, chc, stat, nohc, log+hwq):
+// these methods test boxes with queries the application's OcclusionQueries answers
+// (occlusion_queries.hpp; zread::BoxQuerySource over a GL framebuffer). Each walks the
+// hierarchy with its own schedule (log/src/query_*.cpp, settings in CullerDesc::queries)
+// and draws what it finds visible at once; they keep what they learn about each node
+// across frames and forget it when the hierarchy object or its revision() changes. A GL
+// application passes its query source:
+//
+//   logrid::zread::BoxQuerySource queries(framebuffer);            // once
+//   stats = culler.cullFrame(camera, hierarchy, queries, draw);    // hwq, chc, stat, nohc
+//   stats = culler.cullFrame(camera, hierarchy, depth, queries, draw);  // log+hwq: its
+//                                                     // grid reads through `depth`
+// CullerDesc::lookahead and temporal_coherence apply to the grid methods only.
 //
 // Temporal coherence (CullerDesc::temporal_coherence): the leaves found visible last
 // frame are drawn first, without tests, the grid's outdated tiles are refreshed in one
@@ -58,7 +72,9 @@
 #include "logrid/grid.hpp"
 #include "logrid/hierarchy.hpp"
 #include "logrid/method.hpp"
+#include "logrid/occlusion_queries.hpp"
 #include "logrid/projection.hpp"
+#include "logrid/query_schedule.hpp"
 #include "logrid/stats.hpp"
 
 namespace logrid {
@@ -91,6 +107,16 @@ struct CullerDesc {
   std::uint32_t lookahead = 1;
   // Draw last frame's visible leaves first, then refresh the grid in one batch.
   bool temporal_coherence = false;
+  // Detection of colliding queries (ternary-tree paper, §3.5): with lookahead > 1, a box
+  // whose pixel rectangle overlaps that of a box already set aside for the batch is not
+  // added to it; the batch is resolved first (and its visible nodes drawn or queued), so
+  // that what the nearer box holds can hide the farther one, which is then tested
+  // again. Fewer boxes found visible for more, smaller batches. Exact either way.
+  bool detect_colliding = false;
+
+  // The hardware-query methods' settings (query_schedule.hpp); nohc needs measured
+  // hardware parameters (zread::calibrateQueries).
+  QueryScheduleDesc queries = {};
 };
 
 // Returns an empty string if the descriptor is usable, else a message naming the field.
@@ -116,7 +142,9 @@ class CullObserver {
 
 namespace detail {
 class BoxTester;
-}
+class QuerySchedule;
+class GridPrefilter;
+}  // namespace detail
 
 class Culler {
  public:
@@ -136,6 +164,16 @@ class Culler {
   // are drawn and counted in FrameStats::invalid_boxes.
   FrameStats cullFrame(const Camera& camera, const Hierarchy& hierarchy, DepthSource& depth,
                        const DrawCallback& draw, const std::vector<DrawnArea>& drawn_before = {});
+  // The same for the hardware-query methods (MethodInfo::box_queries): `queries` answers
+  // their occlusion queries. hwq, chc, stat and nohc read no depth values and take the
+  // form without a DepthSource; log+hwq also reads its grid's tiles through `depth`. The
+  // form without `queries` throws logrid::Error for a query method, and the form without
+  // `depth` for a method that reads the depth buffer.
+  FrameStats cullFrame(const Camera& camera, const Hierarchy& hierarchy, OcclusionQueries& queries,
+                       const DrawCallback& draw, const std::vector<DrawnArea>& drawn_before = {});
+  FrameStats cullFrame(const Camera& camera, const Hierarchy& hierarchy, DepthSource& depth,
+                       OcclusionQueries& queries, const DrawCallback& draw,
+                       const std::vector<DrawnArea>& drawn_before = {});
 
   // For use inside the draw callback (outside cullFrame() they throw logrid::Error):
   // the application drew something more than the callback's own object, over `area`
@@ -153,8 +191,9 @@ class Culler {
   // The grid of the last frame (nullptr for methods without one), for overlays.
   const OcclusionGrid* grid() const;
   void setObserver(CullObserver* observer) { observer_ = observer; }
-  // Forget the leaves remembered for temporal coherence.
-  void forgetCoherence() { coherent_.clear(); }
+  // Forget the leaves remembered for temporal coherence, and what the query methods
+  // remember of each node.
+  void forgetCoherence();
 
  private:
   struct Entry {
@@ -162,11 +201,20 @@ class Culler {
     NodeId node;
     BoxProjection projection;
   };
+  FrameStats cull(const Camera& camera, const Hierarchy& hierarchy, DepthSource* depth,
+                  OcclusionQueries* queries, const DrawCallback& draw,
+                  const std::vector<DrawnArea>& drawn_before);
   void prepare(const Camera& camera, const DepthSource& depth);
+  // The grid methods' traversals (two-list or approximate front to back, lookahead).
+  void traverse(const Hierarchy& hierarchy, DepthSource& depth, const DrawCallback& draw);
+  // The query methods': their schedule, with log+hwq's grid as the pre-filter.
+  void runSchedule(const Hierarchy& hierarchy, DepthSource& depth, OcclusionQueries& queries,
+                   const DrawCallback& draw);
   void pushTest(const Hierarchy& hierarchy, NodeId node);
   // Decides what needs no occlusion test (view culled, invalid, crossing the near
   // plane, no occlusion test for this method); nothing if the box must be tested.
   bool forced(const Entry& entry, Visibility& result);
+  bool collidesWithPending(const PixelRect& rect) const;
   float thresholdFor(const Entry& entry);
   void finish(const Entry& entry, Visibility v, const Hierarchy& hierarchy, DepthSource& depth,
               const DrawCallback& draw);
@@ -183,7 +231,8 @@ class Culler {
   std::unique_ptr<detail::BoxTester> tester_;
   std::unique_ptr<Projector> projector_;
   CullObserver* observer_ = nullptr;
-  DepthSource* current_source_ = nullptr;  // set during cullFrame()
+  DepthSource* current_source_ = nullptr;        // set during cullFrame()
+  OcclusionQueries* current_queries_ = nullptr;  // set during cullFrame(), if given
   FrameStats stats_;
   GridTestCounts grid_counts_;
   float drawn_back_ = 0;  // farthest key + margin of what was drawn in order so far this
@@ -200,6 +249,13 @@ class Culler {
   std::vector<NodeId> drawn_first_;     // sorted: leaves drawn from coherent_
   const Hierarchy* coherent_hierarchy_ = nullptr;
   std::uint64_t coherent_revision_ = 0;
+  // Query methods: the schedule and its frame count, for which hierarchy; mid-frame
+  // depth clears (answers issued before one no longer hold).
+  std::unique_ptr<detail::QuerySchedule> schedule_;
+  std::uint32_t schedule_frame_ = 0;
+  const Hierarchy* schedule_hierarchy_ = nullptr;
+  std::uint64_t schedule_revision_ = 0;
+  std::uint64_t clear_epoch_ = 0;
 };
 
 }  // namespace logrid

@@ -157,6 +157,9 @@ class OcclusionGrid {
   // Every outdated tile, refreshed with one batch of whole-tile reads (submit and
   // collect). Used after drawing a known-visible set first (temporal coherence).
   void refreshOutdated(DepthSource& source, GridTestCounts& counts);
+  // The same for the outdated tiles that touch any of `rects` (clipped to the viewport).
+  void refreshOutdated(const PixelRect* rects, std::size_t count, DepthSource& source,
+                       GridTestCounts& counts);
 
   // Busy update (the paper's BOG): reads at once every tile under `rect` that is not
   // full, and leaves them up to date.
@@ -167,6 +170,12 @@ class OcclusionGrid {
   // the viewport. Reads only outdated or undecided tiles, in the order described above.
   Visibility test(const PixelRect& rect, float threshold, DepthSource& source,
                   GridTestCounts& counts);
+
+  // What the records alone decide (steps 1 and 2, and outdated tiles whose stale far key
+  // is still in front of the threshold): Visible or Occluded, or nothing where a tile
+  // would have to be read. Reads nothing; the grid as a pre-filter of hardware queries
+  // (log+hwq).
+  std::optional<Visibility> decide(const PixelRect& rect, float threshold, GridTestCounts& counts);
 
   // Batched tests. plan() decides from the records what they can (Visible or Occluded,
   // returned at once), and otherwise adds the test to `batch` with the reads that decide
@@ -187,6 +196,14 @@ class OcclusionGrid {
  private:
   enum class Decision : std::uint8_t { Occluded, Visible, Undecided };
   Decision decideFromRecord(std::size_t index, bool internal, float threshold) const;
+  // Steps 1 and 2 and the stale-far rule over the tiles of `rect`: Visible at the first
+  // tile that shows the box; Occluded if every tile hides it; otherwise nothing, after
+  // collecting the tiles a read must decide into *undecided (packed with kInternalBit),
+  // or at the first such tile when undecided is null.
+  std::optional<Visibility> decideFromRecords(const PixelRect& rect, float threshold,
+                                              GridTestCounts& counts,
+                                              std::vector<std::uint32_t>* undecided);
+  void refreshMarked(DepthSource& source, GridTestCounts& counts, const std::uint8_t* wanted);
   void applySummary(std::size_t index, const AreaDepth& area, std::uint32_t sampled);
   void applyCount(std::size_t index, std::uint32_t count, std::uint32_t sampled, float threshold);
   // Appends the requests of a read of `area` (the area itself, or every row_stride-th
@@ -244,6 +261,7 @@ class OcclusionGrid {
   std::vector<std::uint32_t> owners_;  // per entry of requests_: index into pending_
   std::vector<AreaAnswer> answers_;
   std::vector<std::uint32_t> undecided_;  // plan(): tiles steps 1 and 2 left open
+  std::vector<std::uint8_t> wanted_;      // refreshOutdated(rects): tiles under the rects
   GridBatch refresh_;                     // refreshOutdated()
 };
 

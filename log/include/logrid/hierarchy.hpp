@@ -34,6 +34,12 @@ class Hierarchy {
   // is dropped. Boxes may change without it (refitting). A hierarchy that never
   // reassigns its ids keeps the default.
   virtual std::uint64_t revision() const { return 0; }
+  // The triangles of an object, for methods that weigh drawing against querying (nohc);
+  // 0 when unknown (the default), which such methods replace by an assumed count.
+  virtual std::uint32_t objectTriangles(ObjectId object) const {
+    (void)object;
+    return 0;
+  }
 };
 
 }  // namespace logrid

@@ -18,6 +18,12 @@ enum class Method : std::uint8_t {
   Hzb,       // hierarchical z-buffer refreshed from the drawn box's area after each draw
   Pq,        // one pixel-level query over each tested box's whole rectangle
   Vfc,       // view-frustum culling only
+  // Hardware occlusion queries (occlusion_queries.hpp), one schedule each in log/src/query_*.cpp:
+  Hwq,     // stop and wait: one query per tested box, its answer waited for at once
+  Chc,     // coherent hierarchical culling, CHC++ (Mattausch, Bittner, Wimmer 2008)
+  Stat,    // statistically optimised queries (Kovalčík & Sochor 2005)
+  Nohc,    // near-optimal hierarchical culling (Guthe, Balázs, Klein 2006)
+  LogHwq,  // the lazy grid's records decide what they can; the rest is queried
 };
 
 // What the traversal and the command line need to know about a method.
@@ -36,6 +42,8 @@ struct MethodInfo {
   bool tests_occlusion;     // false: view-frustum culling only
   bool needs_depth_values;  // needs a source that answers Summary requests and readKeys()
   bool lookahead;           // tests can be batched across boxes (CullerDesc::lookahead)
+  bool uses_depth_source;   // reads the depth buffer through a DepthSource
+  bool box_queries;         // issues hardware occlusion queries through OcclusionQueries
   // The approximate knobs (GridApproximation) it takes.
   bool takes_visible_pixels;
   bool takes_full_fraction;

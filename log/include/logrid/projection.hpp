@@ -76,9 +76,42 @@
 //       the exact footprint does not: a box seen only through that column, the rest being
 //       behind an occluder, is culled. The default, 1/32 pixel, covers every rasteriser GL
 //       allows; llvmpipe (8 bits) needs 1/512.
+//
+// Query boxes (Projector::queryBox)
+// ---------------------------------
+// A hardware occlusion query draws a box's faces against the depth buffer and counts
+// the samples that pass (occlusion_queries.hpp). The faces are rasterised like any
+// geometry, so the same four errors apply to them as to the geometry inside, and the
+// query must show a sample wherever the geometry would show one:
+//   * coverage (4): the geometry's fragments lie within the box's exact footprint
+//     widened by (widen_x, widen_y) pixels, the box's own rasterised faces cover that
+//     footprint shrunk by as much. queryBox() widens the box in world space by delta on
+//     every axis, so that its exact footprint grows by at least r = 2 hypot(widen_x,
+//     widen_y) + kQueryWidenPixels around every point of the box's footprint. Derivation:
+//     with a, b the pixel-scaled x and y rows of the clip transform and d its w row, a
+//     world displacement v with d.v = 0 keeps w and moves the window position by
+//     (a.v, b.v) / w. Over |v| <= delta, v in the plane normal to d, those offsets fill an
+//     ellipse containing the disc of radius delta sigma / w, where sigma^2 is the smaller
+//     eigenvalue of the Gram matrix of a and b projected onto that plane. The widened box
+//     contains every such p + v (|v| <= delta on each axis), so
+//       delta = r * w_max / sigma,  w_max the largest clip w of the box's corners.
+//     (Orthographic projections have d = 0: the plane is all of space.)
+//   * depth (1)-(3): where the geometry's fragment shows, the widened box's faces have a
+//     fragment no farther than the geometry point p + v above; v changes the depth by at
+//     most depth_scale |c'| delta / w_min, c' the z row projected like a and b (0 for a
+//     perspective, whose z and w rows are parallel). Both the faces and the geometry are
+//     then rendered with errors bounded by the widened box's margin, so each face fragment
+//     is moved nearer by depth_bias = 2 margin + depth_scale |c'| delta / w_min.
+// A box whose biased faces would reach the near plane gets no query box (it is visible
+// without a query, as a box crossing the near plane is). kQueryWidenPixels is a safety
+// allowance beyond the proof's 1/32 pixel: a fragment extrapolated from a grazing
+// triangle just outside its edge lies in front of the box's side face by its slope times
+// that distance, which no depth margin bounds (docs/ANALYSIS.md, "Depth-extrapolation
+// artifacts"); half a pixel of widening moves the side faces nearer to cover it.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "logrid/camera.hpp"
@@ -88,6 +121,7 @@ namespace logrid {
 
 inline constexpr double kUnitRoundoff = 1.0 / 16777216.0;  // 2^-24
 inline constexpr double kRenderErrorUlps = 32.0;
+inline constexpr double kQueryWidenPixels = 0.5;  // see "Query boxes" above
 
 // One quantisation step of a depth format in window depth (see (1) above).
 inline constexpr double quantisationStep(DepthFormat format) {
@@ -126,10 +160,21 @@ struct BoxProjection {
   float near_key = 0;  // lower bound of the keys of the box's fragments (rounded down)
   float far_key = 0;   // upper bound of the keys of the box's fragments (rounded up)
   float margin = 0;    // depth margin for this box (see above)
+  // How far (pixels, per axis) a vertex of the box's geometry may land from its exact
+  // window position on a GL rasteriser: sub-pixel snapping plus the float error of (4)
+  // above. `rect` is the footprint widened by these.
+  float widen_x = 0;
+  float widen_y = 0;
 
   // The key a depth buffer value must reach for the box to show in front of it: a
   // pixel whose stored key is >= this may let the box's geometry through.
   float occlusionThreshold() const { return near_key - margin; }
+};
+
+// What a box query draws (see "Query boxes" above).
+struct QueryBox {
+  Aabb box;              // world space; contains the tested box
+  float depth_bias = 0;  // key units (>= 0) every fragment of the faces is moved nearer by
 };
 
 // Projects boxes for one camera. Construction validates the camera (throws
@@ -140,8 +185,14 @@ class Projector {
   explicit Projector(const Camera& camera, const ProjectionSettings& settings = {});
 
   BoxProjection project(const Aabb& box) const;
+  // The box a hardware occlusion query draws for `box`, or nothing where no query can
+  // answer conservatively (the box does not project Inside, or the widened, biased faces
+  // would reach the near plane): such a box is visible without a query.
+  std::optional<QueryBox> queryBox(const Aabb& box) const;
 
   const Camera& camera() const { return camera_; }
+  // Window depth = depthScale() * z_ndc + offset: 0.5 or 1 by the clip range.
+  double depthScale() const { return depth_scale_; }
   float clearKey() const { return clear_key_; }
   float nearKey() const { return near_key_; }
   PixelRect viewportRect() const {
@@ -150,6 +201,13 @@ class Projector {
   }
 
  private:
+  // What queryBox() needs beyond the projection: the pixel widening of the footprint
+  // and the range of clip w over the box's corners.
+  struct Extent {
+    double widen_x = 0, widen_y = 0, w_min = 0, w_max = 0;
+  };
+  BoxProjection projectWith(const Aabb& box, Extent* extent) const;
+
   Camera camera_;
   ProjectionSettings settings_;
   double render_[16];      // view_projection * translation(render_origin), column-major

@@ -18,6 +18,8 @@ struct FrameStats {
                                         // (children tested) instead of read (lookahead > 1)
   std::uint64_t order_fallbacks = 0;    // occlusion-state tests the two-list order could
                                         // not vouch for, done by depth instead
+  std::uint64_t colliding_waits = 0;    // boxes kept out of a batch because their rectangle
+                                        // overlaps one in it (CullerDesc::detect_colliding)
   std::uint64_t tiles_tested = 0;       // tiles (HZB: pyramid cells) examined by tests
   std::uint64_t tiles_read = 0;         // tiles whose pixels a test or refresh read
 
@@ -26,9 +28,17 @@ struct FrameStats {
   std::uint64_t pixels_read = 0;  // pixels read from the depth buffer
   std::uint64_t bytes_read = 0;   // bytes that crossed from the renderer
   std::uint64_t batches = 0;      // batches of requests submitted to the source
-  std::uint64_t queries = 0;      // hardware occlusion queries issued
-  std::uint64_t flushes = 0;      // times a read had to wait for the renderer
-  double read_seconds = 0;        // wall time inside the depth source
+  std::uint64_t queries = 0;      // hardware occlusion queries issued (by a source or a schedule)
+  std::uint64_t flushes = 0;      // times a read or query made the renderer start or finish work
+
+  // Query schedules (hwq, chc, stat, nohc, log+hwq; differences of OcclusionQueries'
+  // counters, and the schedules' own counts).
+  std::uint64_t query_waits = 0;      // query answers waited for (not there when asked)
+  std::uint64_t query_polls = 0;      // availability polls
+  std::uint64_t query_boxes = 0;      // boxes drawn by queries (a multi-query draws several)
+  std::uint64_t multi_queries = 0;    // chc: queries over more than one node
+  std::uint64_t records_decided = 0;  // log+hwq: tests the grid's records answered without a query
+  double read_seconds = 0;            // wall time inside the depth source
 
   // Drawing.
   std::uint64_t leaves_drawn = 0;     // nodes whose objects were drawn

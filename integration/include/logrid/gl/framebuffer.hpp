@@ -1,5 +1,6 @@
 // An off-screen framebuffer: RGBA8 colour, a depth buffer of 16, 24 or 32-bit float,
-// and optionally an R32UI object-ID buffer, set up for one depth convention.
+// and optionally an R32UI object-ID buffer, set up for one depth convention; single- or
+// multisampled (every attachment a multisampled texture with the same sample count).
 //
 // Conventions (DESIGN.md "Depth conventions"):
 //   standard  glClipControl(GL_LOWER_LEFT, clip range), cleared to 1, GL_LESS
@@ -8,9 +9,14 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "logrid/camera.hpp"
+
+namespace logrid::zread {
+class GlStateGuard;
+}
 
 namespace logrid::gl {
 
@@ -19,6 +25,10 @@ struct FramebufferDesc {
   std::uint32_t height = 0;
   DepthSetup depth;
   bool object_ids = false;  // add an R32UI attachment (colour attachment 1)
+  // Samples per pixel: 0 (or 1) single-sampled, else 2 to GL_MAX_SAMPLES (the driver may
+  // round up; samples() says what it gave). A multisampled framebuffer needs
+  // Camera::multisample set for culling (zread/multisample.hpp).
+  std::uint32_t samples = 0;
 };
 
 // Sets the depth state for a convention on the current context: clip control, depth
@@ -31,9 +41,9 @@ std::uint32_t depthInternalFormat(DepthFormat format);
 class Framebuffer {
  public:
   // Requires a current context. Throws logrid::Error when a side is 0 or exceeds the
-  // driver's limits, the depth set-up holds an unknown enum value, the format is not
-  // renderable, memory runs out or the framebuffer is incomplete, each with the value
-  // that failed.
+  // driver's limits, the sample count exceeds the driver's, the depth set-up holds an
+  // unknown enum value, the format is not renderable, memory runs out or the framebuffer
+  // is incomplete, each with the value that failed.
   explicit Framebuffer(const FramebufferDesc& desc);
   ~Framebuffer();
   Framebuffer(const Framebuffer&) = delete;
@@ -42,6 +52,8 @@ class Framebuffer {
   const FramebufferDesc& desc() const { return desc_; }
   std::uint32_t handle() const { return fbo_; }
   std::uint32_t depthTexture() const { return depth_; }
+  // Samples per pixel the driver allocated (0: single-sampled).
+  std::uint32_t samples() const { return samples_; }
 
   // Binds for drawing: framebuffer, viewport, draw buffers and the depth state.
   void bind() const;
@@ -52,6 +64,9 @@ class Framebuffer {
   // Draw only into the ID attachment (for the ID pass) or only into colour.
   void selectIdPass(bool id_pass) const;
 
+  // Read-backs, rows bottom-up. Depth and IDs of a multisampled framebuffer come per
+  // sample: samples() values per pixel, pixel (x, y)'s at ((y * width + x) * samples()).
+  // Colour is resolved (averaged) to one value per pixel.
   std::vector<std::uint8_t> readColor() const;       // width * height * 4, RGBA
   std::vector<float> readDepth() const;              // window depth as float
   std::vector<std::uint32_t> readObjectIds() const;  // requires object_ids
@@ -60,12 +75,18 @@ class Framebuffer {
 
  private:
   void release();
+  void readSamples(int kind, std::uint32_t texture, std::uint32_t values_per_pixel,
+                   void* dst) const;
+  struct SampleReader;
 
   FramebufferDesc desc_;
   std::uint32_t fbo_ = 0;
   std::uint32_t color_ = 0;
   std::uint32_t ids_ = 0;
   std::uint32_t depth_ = 0;
+  std::uint32_t samples_ = 0;
+  std::unique_ptr<zread::GlStateGuard> guard_;  // read-backs leave the app's state alone
+  mutable std::unique_ptr<SampleReader> sample_reader_;
 };
 
 }  // namespace logrid::gl

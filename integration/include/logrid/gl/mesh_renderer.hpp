@@ -1,6 +1,6 @@
 // A small OpenGL 4.5 core renderer for culling experiments: one vertex buffer, one
-// index buffer, one draw call per object with a flat colour (or colours per vertex), Lambert-shaded with
-// normals derived per pixel (no normals stored), and an object-ID pass that writes each
+// index buffer, one draw call per object with a flat colour (or colours per vertex), Lambert-shaded
+// with normals derived per pixel (no normals stored), and an object-ID pass that writes each
 // object's id into an R32UI attachment.
 //
 // Precision: positions are local to the scene; the renderer draws camera-relative. It
@@ -9,6 +9,16 @@
 //   u_vp = view_projection * translation(render_origin),  u_offset = -render_origin
 // so the shader's float math sees only small numbers: gl_Position = u_vp * (p + u_offset).
 // The culler gets the same camera, so its margins model exactly this transform.
+//
+// Moving objects: an object may have a rigid transform (setTransform): its vertices p
+// are drawn at rotation * p + translation (local scene coordinates), computed in the
+// shader as u_rotation * p + u_offset with u_offset = translation - render_origin taken
+// in double and rounded once to float; objects without one get the identity, whose
+// product is exact, so they are drawn exactly as without transforms. The box an
+// application gives the culler for a transformed object must hold the transformed
+// geometry with the float rounding of the rotation (a few ulps of the object's own size;
+// samples/scene/motion.cpp pads by it); the remaining rounding, relative to the distance
+// from the render origin, is what projection.hpp's render-error margin covers.
 #pragma once
 
 #include <cstdint>
@@ -27,16 +37,23 @@ struct RenderMesh {
     std::int32_t base_vertex = 0;
     std::uint32_t color = 0xFFFFFFFFu;  // RGBA8: r | g << 8 | b << 16 | a << 24
   };
-  std::vector<float> positions;           // xyz per vertex
-  std::vector<std::uint32_t> colors;      // optional RGBA8 per vertex (else Draw::color)
-  std::vector<std::uint16_t> indices16;   // used when non-empty (every draw < 65536 vertices)
-  std::vector<std::uint32_t> indices32;   // otherwise
-  std::vector<Draw> draws;                // one per object, indexed by ObjectId
+  std::vector<float> positions;          // xyz per vertex
+  std::vector<std::uint32_t> colors;     // optional RGBA8 per vertex (else Draw::color)
+  std::vector<std::uint16_t> indices16;  // used when non-empty (every draw < 65536 vertices)
+  std::vector<std::uint32_t> indices32;  // otherwise
+  std::vector<Draw> draws;               // one per object, indexed by ObjectId
 
   std::size_t triangleCount() const {
     return (indices16.empty() ? indices32.size() : indices16.size()) / 3;
   }
   std::size_t memoryBytes() const;
+};
+
+// A rigid transform of one object: rotation (3x3, column-major) about the local origin,
+// then translation, in the scene's local coordinates.
+struct ObjectTransform {
+  float rotation[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  DVec3 translation;
 };
 
 enum class Pass : std::uint8_t {
@@ -63,7 +80,14 @@ class MeshRenderer {
   void draw(ObjectId id);
   void end();
 
+  // Gives object `id` a transform (until cleared), or takes it away. Takes effect at the
+  // next draw; cheap (one uniform update per draw of a transformed object).
+  void setTransform(ObjectId id, const ObjectTransform& transform);
+  void clearTransform(ObjectId id);
+  bool hasTransform(ObjectId id) const { return id < moving_.size() && moving_[id]; }
+
  private:
+  void bindIdentity();
   struct Programs;
   std::unique_ptr<Programs> programs_;
   std::vector<RenderMesh::Draw> draws_;
@@ -77,6 +101,12 @@ class MeshRenderer {
   std::uint64_t gpu_bytes_ = 0;
   Pass pass_ = Pass::Shaded;
   std::int32_t id_location_ = -1;
+  std::int32_t rotation_location_ = -1;
+  std::int32_t offset_location_ = -1;
+  DVec3 origin_;                // this pass's render origin, rounded to float
+  bool identity_bound_ = true;  // the uniforms hold the identity transform
+  std::vector<ObjectTransform> transforms_;
+  std::vector<std::uint8_t> moving_;
 };
 
 }  // namespace logrid::gl

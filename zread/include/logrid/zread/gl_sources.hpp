@@ -22,7 +22,16 @@
 // The compute-shader tile reduction is in reduction_source.hpp.
 //
 // beginFrame() checks the framebuffer's depth attachment against Camera::depth.format
-// and throws logrid::Error if they differ.
+// and throws logrid::Error if they differ, or if it is multisampled and
+// Camera::multisample is false. The pixel readers read multisampled depth through
+// MultisampleResolver (multisample.hpp): the farthest sample of each pixel, as 32-bit
+// float; the query source counts samples.
+//
+// Every source sets the GL state its draws and reads depend on and restores the
+// application's exactly (GlStateGuard, gl_state.hpp); it refuses conditional rendering,
+// unpaused transform feedback and a GL error the application left pending, and reports a
+// GL error of its own calls as a logrid::Error naming the call. The query source also
+// refuses while the application has a GL_SAMPLES_PASSED query active.
 #pragma once
 
 #include <cstdint>
@@ -31,6 +40,8 @@
 
 #include "logrid/cpu/pixel_reader.hpp"
 #include "logrid/depth_source.hpp"
+#include "logrid/zread/gl_state.hpp"
+#include "logrid/zread/multisample.hpp"
 #include "logrid/zread/program.hpp"
 
 namespace logrid::zread {
@@ -48,6 +59,9 @@ class ReadPixelsSource : public cpu::PixelReader {
  private:
   std::uint32_t framebuffer_;
   std::uint32_t type_ = 0;  // GL type of the native read
+  DepthAttachment attachment_;
+  GlStateGuard guard_;
+  std::unique_ptr<MultisampleResolver> resolver_;
   std::vector<unsigned char> scratch_;
 };
 
@@ -81,6 +95,9 @@ class PboSource : public cpu::PixelReader {
 
   std::uint32_t framebuffer_;
   std::uint32_t type_ = 0;
+  DepthAttachment attachment_;
+  GlStateGuard guard_;
+  std::unique_ptr<MultisampleResolver> resolver_;
   std::vector<Slot> slots_;
   std::size_t next_slot_ = 0;
   // Per rectangle issued since the last fetch: where its values land.
@@ -111,6 +128,8 @@ class QuerySource : public DepthSource {
  private:
   std::uint32_t framebuffer_;
   DepthSetup depth_;
+  std::int32_t width_ = 0, height_ = 0;
+  GlStateGuard guard_;
   std::unique_ptr<Program> program_;
   std::int32_t depth_uniform_ = -1;
   std::uint32_t vao_ = 0;

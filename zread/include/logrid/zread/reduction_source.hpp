@@ -12,8 +12,12 @@
 //                 one for GPUs.
 // Kernel::Auto picks PerRequest on software renderers and PerWorkgroup elsewhere.
 //
-// Needs the framebuffer's depth attachment to be a single-sample 2D texture (a
-// renderbuffer cannot be read by a shader): beginFrame() throws logrid::Error otherwise.
+// Needs the framebuffer's depth attachment to be a 2D depth texture (a renderbuffer
+// cannot be read by a shader) or multisampled: beginFrame() throws logrid::Error
+// otherwise. A multisampled buffer (Camera::multisample set) is reduced from its resolve,
+// the farthest sample of each pixel (multisample.hpp). The application's texture and
+// sampler state do not matter: the dispatch binds its own sampler and sets the texture's
+// swizzle, depth-stencil mode and base level for its duration (GlStateGuard).
 // D16 and D24 values reach the shader as normalised floats; their answers are widened
 // by one float step (nearest key down, farthest up, counts at a threshold one step
 // nearer) so that the conversion's rounding never makes them less conservative than
@@ -25,6 +29,8 @@
 #include <vector>
 
 #include "logrid/depth_source.hpp"
+#include "logrid/zread/gl_state.hpp"
+#include "logrid/zread/multisample.hpp"
 #include "logrid/zread/program.hpp"
 
 namespace logrid::zread {
@@ -62,12 +68,15 @@ class ReductionSource : public DepthSource {
   };
   Slot& freeSlot(std::size_t count);
   void release(Slot& slot);
-  void dispatch(Slot& slot, std::size_t count);
+  void dispatch(Slot& slot, const AreaRequest* requests, std::size_t count);
 
   std::uint32_t framebuffer_;
   Kernel kernel_;
   std::unique_ptr<Program> program_;
-  std::uint32_t sampler_ = 0;
+  DepthAttachment attachment_;
+  GlStateGuard guard_;
+  std::unique_ptr<MultisampleResolver> resolver_;
+  std::vector<PixelRect> rects_;
   std::uint32_t texture_ = 0;  // the depth attachment, found in beginFrame()
   std::int32_t texture_level_ = 0;
   DepthSetup depth_;

@@ -1,0 +1,180 @@
+// A conservative CPU occlusion buffer: a depth source that needs no read from the
+// renderer at all. The application's draw callback tells it which object it drew
+// (drawObject), it rasterises that object's triangles (or a simpler occluder model,
+// occluder_mesh.hpp) into a depth buffer in memory, and the grid reads that buffer
+// instead of the GPU's. Everything is lazy, as the grid is: drawObject() only notes the
+// object; a request sets up the triangles of the objects that may cover its rectangle,
+// bins them by tile, and rasterises only the tiles it touches.
+//
+// What the buffer holds: per pixel a depth key (types.hpp) that is never nearer than
+// the key GL stores there after drawing the same objects, and the clear key wherever GL
+// might not have drawn. The grid's answers from it are therefore answers about a depth
+// buffer that is everywhere at or behind GL's, and every box it finds occluded is
+// occluded in GL's buffer too. Where GL might not cover a pixel, the buffer stays clear.
+//
+// Coverage (which pixel centres GL surely covers)
+// ------------------------------------------------
+// A GL rasteriser snaps each window-space vertex to a sub-pixel grid (at least 4 bits,
+// so a vertex moves by up to s = 2^-4 pixel per axis if it truncates; ProjectionSettings::
+// subpixel_bits), after a float vertex transform whose error the buffer bounds as
+// projection.hpp does (kRenderErrorUlps, per object box, per axis), and covers a pixel
+// centre by the top-left rule. The buffer computes the triangles exactly (double) and
+// claims a centre q for triangle T only when, for the set D of T and the neighbours of
+// T across the edges q lies within s of:
+//   * every triangle of D has a nonzero area and is counted with the orientation that
+//     makes it counter-clockwise on screen; two triangles are neighbours when they share
+//     an edge between the same two welded vertices and lie on opposite sides of it on
+//     screen (so the edge cancels in the boundary of D);
+//   * q lies on the inner side of every edge of D's boundary (and of the near-plane clip
+//     line of a triangle that crosses the near plane) by more than s, measured in the
+//     max-norm: E(q) > s_x |a| + s_y |b| for an edge E = a x + b y + c.
+// Then the winding number of D's boundary around q is at least 1 (q is to the left of
+// every boundary edge), and it stays so while every vertex moves by at most s, because q
+// never meets a moved boundary edge. So GL, after snapping, covers q with a triangle of
+// D in its original orientation: GL draws it (logrid's renderer draws both faces). This
+// closes the cracks a per-triangle rule would leave along every shared edge, and stays
+// clear on silhouettes and folds, where GL might indeed leave a centre uncovered.
+//
+// Depth (never nearer than GL)
+// ----------------------------
+// GL stores at q at most the depth of any fragment it wrote there (the depth test keeps
+// the nearer), hence at most the depth of the triangle T'' of D that covers q. A GPU
+// interpolates T''s depth from its snapped vertices, i.e. T''s exact depth plane at a
+// point within s of q; Mesa's llvmpipe evaluates the plane of the unsnapped float
+// vertices at q itself (docs/ANALYSIS.md). Both are at most
+//   plane_T''(q) + |dz/dx| s_x + |dz/dy| s_y.
+// For T'' = T that is the stored key's plane plus that slack. For a neighbour B across
+// an edge q lies within s of, the two planes agree on the edge, so plane_B(q) exceeds
+// plane_T(q) by at most (g_T + g_B) s (g = |dz/dx| + |dz/dy|); the buffer adds it, and
+// B's own slack, only to such centres. On top: the object box's depth margin
+// (projection.hpp: quantisation step, render error of GL's vertex depths), and the
+// float error of the buffer's own plane evaluation. Keys at or beyond the clear key
+// leave the pixel clear; triangles with a vertex beyond the far plane are left out.
+//
+// Resolution
+// ----------
+// Full: one buffer pixel per viewport pixel. Half and quarter: one per 2x2 or 4x4 block.
+// A block is covered only if every pixel centre in it is, and holds the farthest key of
+// them: the rules above are applied to the square spanned by the block's centres (its
+// half-width r = 0.5 or 1.5 pixel is added to every slack and to the depth terms). A
+// request about viewport pixels is answered as if each held its block's key.
+//
+// Models inside the object (OccluderObject::inside_solid): a triangle inside a closed
+// convex solid S that GL draws is hidden by S wherever its claims hold: the claimed
+// centre lies inside the model's projection by more than s, hence inside S's by more
+// than s, so S's front faces cover it; and every front face's plane is a supporting
+// plane of the convex S, so GL's depth there is at most S's, which is at most the
+// model's. Valid only while the eye is outside S and S is not clipped: the buffer uses
+// the model only when the object box lies wholly beyond the near plane (it contains the
+// eye otherwise), and the fallback (or nothing) else.
+//
+// Threads: with OcclusionBufferDesc::threads > 0, drawObject() hands the object to worker
+// threads, which set up each object and rasterise it at once into every tile it touches
+// (each tile under its own lock) while the application goes on drawing; a request (and
+// beginFrame, endFrame) first waits until every object handed over is done (the time it
+// waits is counted as wait_seconds). Without workers, everything runs lazily inside the
+// requests: objects are set up only when a request touches their rectangle, and only
+// the requested tiles are rasterised.
+//
+// One frame: beginFrame(camera) after the application cleared its depth buffer;
+// drawObject(id) for every object drawn (Culler: from the draw callback); requests
+// through the DepthSource interface; endFrame(). Not thread-safe: one caller at a time.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "logrid/camera.hpp"
+#include "logrid/cpu/occluder_mesh.hpp"
+#include "logrid/depth_source.hpp"
+#include "logrid/projection.hpp"
+
+namespace logrid::cpu {
+
+enum class Resolution : std::uint8_t { Full = 1, Half = 2, Quarter = 4 };
+
+// The SIMD kernel. Auto picks the widest the CPU runs (AVX2, then SSE4.1, then scalar);
+// every kernel writes bit-identical buffers (same operations in the same order).
+enum class Isa : std::uint8_t { Auto, Scalar, Sse41, Avx2 };
+
+const char* toString(Resolution);
+const char* toString(Isa);
+// Parse "full" / "half" / "quarter" and "auto" / "scalar" / "sse4.1" / "avx2".
+bool parseResolution(const std::string& text, Resolution& out);
+bool parseIsa(const std::string& text, Isa& out);
+// Whether this CPU runs a kernel (Auto and Scalar always).
+bool isaSupported(Isa isa);
+
+struct OcclusionBufferDesc {
+  Resolution resolution = Resolution::Full;
+  Isa isa = Isa::Auto;
+  std::uint32_t threads = 0;  // worker threads (0: everything in the caller, lazily)
+  // The same settings the culler projects boxes with: sub-pixel bits (coverage slack),
+  // render error and quantisation (depth margins). The defaults are the safe ones.
+  ProjectionSettings projection;
+  // Closed surfaces (OccluderMeshes::closed()) are rasterised with only the triangles
+  // that face the eye (counter-clockwise on screen): the others cover nothing more and
+  // lie behind them. Set to rasterise every triangle.
+  bool closed_back_faces = false;
+  // Test aids that break the conservative rules on purpose (tests show what each rule
+  // prevents): no coverage slack at all (exact edges, as if GL did not snap), and no
+  // depth slack (the exact plane, no margin, no snapping term).
+  bool unsafe_exact_coverage = false;
+  bool unsafe_exact_depth = false;
+};
+
+// Returns an empty string if the descriptor is usable, else a message naming the field.
+std::string validateOcclusionBufferDesc(const OcclusionBufferDesc& desc);
+
+// What the buffer did, accumulated since construction (take differences per frame).
+struct OcclusionBufferStats {
+  std::uint64_t objects_drawn = 0;         // drawObject() calls
+  std::uint64_t objects_set_up = 0;        // objects whose triangles were set up
+  std::uint64_t objects_fallback = 0;      // models replaced by their fallback
+  std::uint64_t objects_skipped = 0;       // models without a usable fallback, empty objects
+  std::uint64_t triangles_set_up = 0;      // triangles transformed and set up
+  std::uint64_t triangles_rasterized = 0;  // triangle-tile pairs rasterised
+  std::uint64_t tiles_rasterized = 0;      // tiles brought up to date
+  double seconds = 0;         // CPU time of the caller inside the buffer (drawObject, requests)
+  double wait_seconds = 0;    // of which waiting for workers
+  double worker_seconds = 0;  // time the workers spent on objects (summed over workers)
+};
+
+class OcclusionBuffer final : public DepthSource {
+ public:
+  // `meshes` must outlive the buffer. Throws logrid::Error for an invalid descriptor or
+  // an ISA this CPU does not run.
+  explicit OcclusionBuffer(const OccluderMeshes& meshes, const OcclusionBufferDesc& desc = {});
+  ~OcclusionBuffer() override;
+  OcclusionBuffer(const OcclusionBuffer&) = delete;
+  OcclusionBuffer& operator=(const OcclusionBuffer&) = delete;
+
+  const OcclusionBufferDesc& desc() const { return desc_; }
+  Isa isa() const;  // the kernel in use (never Auto)
+
+  DepthSourceTraits traits() const override {
+    return {"cpu", true, false};
+  }  // reads depth, synchronous
+  // Throws logrid::Error for an invalid camera (validateCamera) or projection settings.
+  void beginFrame(const Camera& camera) override;
+  void endFrame() override;
+
+  // The application drew object `id` of the meshes this frame (its depth is in GL's
+  // buffer). Throws logrid::Error for an id outside the meshes or outside a frame.
+  void drawObject(std::uint32_t id);
+
+  // Synchronous: every answer is written inside submit(). Summary and Count requests
+  // describe the buffer's keys (never nearer than GL's, see above).
+  void submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) override;
+  void readKeys(const PixelRect& rect, float* keys) override;
+
+  const OcclusionBufferStats& stats() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  OcclusionBufferDesc desc_;
+};
+
+}  // namespace logrid::cpu

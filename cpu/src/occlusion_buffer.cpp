@@ -1,0 +1,564 @@
+#include "logrid/cpu/occlusion_buffer.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <optional>
+#include <sstream>
+#include <thread>
+#include <utility>
+
+#include "logrid/error.hpp"
+#include "raster/raster_triangle.hpp"
+#include "triangle_setup.hpp"
+
+namespace logrid::cpu {
+
+const char* toString(Resolution r) {
+  switch (r) {
+    case Resolution::Full: return "full";
+    case Resolution::Half: return "half";
+    case Resolution::Quarter: return "quarter";
+  }
+  return "?";
+}
+
+const char* toString(Isa isa) {
+  switch (isa) {
+    case Isa::Auto: return "auto";
+    case Isa::Scalar: return "scalar";
+    case Isa::Sse41: return "sse4.1";
+    case Isa::Avx2: return "avx2";
+  }
+  return "?";
+}
+
+bool parseResolution(const std::string& text, Resolution& out) {
+  for (Resolution r : {Resolution::Full, Resolution::Half, Resolution::Quarter}) {
+    if (text == toString(r)) {
+      out = r;
+      return true;
+    }
+  }
+  return false;
+}
+
+bool parseIsa(const std::string& text, Isa& out) {
+  for (Isa i : {Isa::Auto, Isa::Scalar, Isa::Sse41, Isa::Avx2}) {
+    if (text == toString(i)) {
+      out = i;
+      return true;
+    }
+  }
+  return false;
+}
+
+bool isaSupported(Isa isa) { return isa == Isa::Auto || detail::kernels(isa).raster != nullptr; }
+
+std::string validateOcclusionBufferDesc(const OcclusionBufferDesc& d) {
+  std::ostringstream out;
+  if (d.resolution != Resolution::Full && d.resolution != Resolution::Half &&
+      d.resolution != Resolution::Quarter) {
+    out << "OcclusionBuffer: resolution " << int(d.resolution)
+        << " is unknown; use full, half or quarter";
+  } else if (d.isa != Isa::Auto && d.isa != Isa::Scalar && d.isa != Isa::Sse41 &&
+             d.isa != Isa::Avx2) {
+    out << "OcclusionBuffer: ISA " << int(d.isa) << " is unknown; use auto, scalar, sse4.1 or avx2";
+  } else if (!isaSupported(d.isa)) {
+    out << "OcclusionBuffer: this CPU does not run the " << toString(d.isa)
+        << " kernel; use auto (picks the widest it runs) or scalar";
+  } else if (d.threads > 64) {
+    out << "OcclusionBuffer: " << d.threads << " worker threads is too many; use 0 to 64";
+  } else {
+    const std::string p = validateProjectionSettings(d.projection);
+    if (!p.empty()) out << "OcclusionBuffer: " << p;
+  }
+  return out.str();
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Bins are tiles of the buffer, kBinViewport viewport pixels on a side at full resolution
+// (a grid tile of the default size), never narrower than one 8-wide store.
+constexpr std::int32_t kBinViewport = 32;
+
+bool overlaps(const PixelRect& a, const PixelRect& b) {
+  return a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1;
+}
+
+}  // namespace
+
+struct OcclusionBuffer::Impl {
+  struct Bin {
+    std::uint32_t stamp = 0;       // frame whose clear this bin has had
+    std::vector<float> block_max;  // per 8 x 8 block: an upper bound of its keys
+    std::vector<std::uint32_t> pending;
+  };
+  struct PendingObject {
+    detail::SetupObject object;
+    PixelRect rect;  // viewport pixels the object may cover
+  };
+
+  // A worker thread: sets up each object it takes from the queue with its own set-up
+  // and triangle store, and rasterises it at once into the bins it touches (each bin
+  // under its lock). What it counted is added to `stats` when the caller drains.
+  struct Worker {
+    detail::TriangleSetup setup;
+    std::vector<detail::RasterTriangle> tris;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> bin_tris;  // (bin, triangle)
+    std::vector<std::uint32_t> list;
+    OcclusionBufferStats counted;
+    std::thread thread;
+  };
+
+  Impl(const OccluderMeshes& m, const OcclusionBufferDesc& d) : meshes(m), desc(d) {
+    isa = d.isa == Isa::Auto ? detail::bestIsa() : d.isa;
+    kernels = detail::kernels(isa);
+    workers.resize(d.threads);
+    for (Worker& w : workers) w.thread = std::thread([this, &w] { work(w); });
+  }
+  ~Impl() {
+    {
+      std::lock_guard<std::mutex> lock(queue_mutex);
+      stop = true;
+    }
+    queue_cv.notify_all();
+    for (Worker& w : workers) w.thread.join();
+  }
+
+  const OccluderMeshes& meshes;
+  OcclusionBufferDesc desc;
+  Isa isa;
+  detail::Kernels kernels;
+  OcclusionBufferStats stats;
+
+  bool in_frame = false;
+  std::optional<Projector> projector;
+  detail::SetupFrame frame;
+  double snap_half = 0;  // the other half of a sub-pixel step (projection.hpp widens by half)
+  std::int32_t scale = 1;
+  std::int32_t width = 0, height = 0;  // viewport
+  std::int32_t bw = 0, bh = 0;         // buffer
+  std::size_t stride = 0;
+  std::int32_t bin = 32;  // buffer pixels per bin side
+  std::int32_t bins_x = 0, bins_y = 0;
+  float clear_key = 1;
+  std::uint32_t stamp = 0;
+  std::vector<float> keys;
+  std::vector<Bin> bins;
+  std::vector<PendingObject> pending;
+  std::vector<detail::RasterTriangle> tris;  // [0, tri_count) this frame (never shrunk)
+  std::size_t tri_count = 0;
+  detail::TriangleSetup setup;
+
+  // Workers (desc.threads > 0): objects wait in `queue`; `queued` counts those handed
+  // over, `finished` those done. The caller reads keys only after drain(), when every
+  // object handed over is done and no worker touches the buffer.
+  std::vector<Worker> workers;
+  std::unique_ptr<std::mutex[]> bin_locks;
+  std::mutex queue_mutex;
+  std::condition_variable queue_cv, done_cv;
+  std::deque<PendingObject> queue;
+  std::uint64_t queued = 0, finished = 0;
+  bool stop = false;
+
+  void work(Worker& w);
+  void rasterizeObject(Worker& w, const PendingObject& p);
+  void drain();
+  void clearBinIfStale(Bin& b, std::int32_t bx, std::int32_t by);
+
+  void begin(const Camera& camera);
+  void draw(std::uint32_t id);
+  // Brings every buffer pixel under the viewport rectangle up to date.
+  void ensure(const PixelRect& rect);
+  void setUpObject(const PendingObject& p);
+  void rasterizeBin(std::int32_t bx, std::int32_t by);
+  PixelRect bufferRect(const PixelRect& r) const {
+    return {r.x0 / scale, r.y0 / scale, (r.x1 + scale - 1) / scale, (r.y1 + scale - 1) / scale};
+  }
+  // Viewport pixels of `r` that buffer column i (row j) covers.
+  std::int32_t spanX(const PixelRect& r, std::int32_t i) const {
+    return std::min(r.x1, (i + 1) * scale) - std::max(r.x0, i * scale);
+  }
+  std::int32_t spanY(const PixelRect& r, std::int32_t j) const {
+    return std::min(r.y1, (j + 1) * scale) - std::max(r.y0, j * scale);
+  }
+  AreaDepth summary(const PixelRect& r);
+  std::uint32_t count(const PixelRect& r, float threshold);
+};
+
+void OcclusionBuffer::Impl::begin(const Camera& camera) {
+  drain();                                     // workers leave the buffer alone from here
+  projector.emplace(camera, desc.projection);  // validates the camera
+  const Mat4d& m = camera.view_projection;
+  for (int i = 0; i < 16; ++i) frame.m[i] = m.m[i];
+  const Mat4d render = multiply(camera.view_projection, translation(camera.render_origin));
+  for (int i = 0; i < 16; ++i) frame.render_abs[i] = std::fabs(render.m[i]);
+  frame.origin[0] = camera.render_origin.x;
+  frame.origin[1] = camera.render_origin.y;
+  frame.origin[2] = camera.render_origin.z;
+  frame.render_k = desc.projection.render_error_ulps * kUnitRoundoff;
+  frame.quantisation = quantisationStep(camera.depth.format) * desc.projection.quantisation_scale;
+  frame.half_w = 0.5 * camera.width;
+  frame.half_h = 0.5 * camera.height;
+  const bool reversed = camera.depth.convention == DepthConvention::Reversed;
+  const bool zero_to_one = camera.depth.clip_range == ClipDepthRange::ZeroToOne;
+  const double sign = reversed ? -1.0 : 1.0;
+  frame.key_scale = sign * (zero_to_one ? 1.0 : 0.5);
+  frame.key_offset = sign * (zero_to_one ? 0.0 : 0.5);
+  frame.near_key = projector->nearKey();
+  frame.clear_key = projector->clearKey();
+  clear_key = projector->clearKey();
+  scale = std::int32_t(desc.resolution);
+  frame.scale = scale;
+  frame.inv_scale = 1.0 / scale;
+  frame.radius = 0.5 * (scale - 1);
+  frame.skip_closed_back_faces = !desc.closed_back_faces;
+  frame.exact_coverage = desc.unsafe_exact_coverage;
+  frame.exact_depth = desc.unsafe_exact_depth;
+  // A vertex snaps by up to one sub-pixel step per axis if the rasteriser truncates
+  // (projection.hpp widens box rectangles by half a step, for rounding).
+  const int bits = desc.projection.subpixel_bits;
+  snap_half = bits >= 16 ? 0.0 : std::ldexp(0.5, -bits);
+  frame.snap = 2 * snap_half;
+
+  width = std::int32_t(camera.width);
+  height = std::int32_t(camera.height);
+  const std::int32_t new_bw = (width + scale - 1) / scale, new_bh = (height + scale - 1) / scale;
+  bin = std::max(8, kBinViewport / scale);
+  if (new_bw != bw || new_bh != bh) {
+    bw = new_bw;
+    bh = new_bh;
+    bins_x = (bw + bin - 1) / bin;
+    bins_y = (bh + bin - 1) / bin;
+    stride = std::size_t(bins_x) * std::size_t(bin);  // whole bins: 8-wide stores stay inside
+    keys.assign(stride * std::size_t(bins_y) * std::size_t(bin), clear_key);
+    bins.assign(std::size_t(bins_x) * std::size_t(bins_y), Bin{});
+    if (!workers.empty()) bin_locks.reset(new std::mutex[bins.size()]);
+    stamp = 0;
+  }
+  frame.buffer_w = bw;
+  frame.buffer_h = bh;
+  ++stamp;
+  if (stamp == 0) {  // wrapped: every bin must be cleared again
+    for (Bin& b : bins) b.stamp = 0;
+    stamp = 1;
+  }
+  for (Bin& b : bins) b.pending.clear();
+  pending.clear();
+  tri_count = 0;
+  in_frame = true;
+}
+
+void OcclusionBuffer::Impl::draw(std::uint32_t id) {
+  ++stats.objects_drawn;
+  // A model inside its object holds only while the object lies wholly beyond the near
+  // plane (the eye is then outside it and GL does not clip it).
+  BoxProjection p = projector->project(meshes.object(id).box);
+  const bool model = meshes.object(id).inside_solid;
+  for (int hops = 0; meshes.object(id).inside_solid && p.cls != ProjectionClass::Inside; ++hops) {
+    const std::uint32_t fallback = meshes.object(id).fallback;
+    if (fallback == kNoOccluder || hops > 8) {
+      ++stats.objects_skipped;
+      return;
+    }
+    ++stats.objects_fallback;
+    id = fallback;
+    p = projector->project(meshes.object(id).box);
+  }
+  if (p.cls == ProjectionClass::Outside || p.cls == ProjectionClass::Invalid ||
+      meshes.object(id).triangle_count == 0) {
+    ++stats.objects_skipped;
+    return;
+  }
+  PendingObject po;
+  po.object.occluder = id;
+  if (model && meshes.object(id).inside_solid) {
+    // GL draws the object's vertices, not the model's: bound them by the object's box.
+    po.object.s_x = double(p.widen_x) + snap_half;
+    po.object.s_y = double(p.widen_y) + snap_half;
+    po.object.margin = p.margin;
+  }
+  po.rect = p.rect;
+  if (workers.empty()) {
+    pending.push_back(po);
+    return;
+  }
+  {
+    std::lock_guard<std::mutex> lock(queue_mutex);
+    queue.push_back(po);
+    ++queued;
+  }
+  queue_cv.notify_one();
+}
+
+void OcclusionBuffer::Impl::work(Worker& w) {
+  std::unique_lock<std::mutex> lock(queue_mutex);
+  for (;;) {
+    queue_cv.wait(lock, [&] { return stop || !queue.empty(); });
+    if (queue.empty()) return;  // stopping, nothing left
+    const PendingObject p = queue.front();
+    queue.pop_front();
+    lock.unlock();
+    const auto start = Clock::now();
+    rasterizeObject(w, p);
+    w.counted.worker_seconds += secondsSince(start);
+    lock.lock();
+    if (++finished == queued) done_cv.notify_all();
+  }
+}
+
+void OcclusionBuffer::Impl::rasterizeObject(Worker& w, const PendingObject& p) {
+  std::size_t n = 0;  // the worker's store holds one object at a time
+  w.counted.triangles_set_up += w.setup.run(frame, meshes, p.object, w.tris, n);
+  ++w.counted.objects_set_up;
+  w.bin_tris.clear();
+  for (std::size_t t = 0; t < n; ++t) {
+    const detail::RasterTriangle& rt = w.tris[t];
+    for (std::int32_t by = rt.y0 / bin; by <= (rt.y1 - 1) / bin; ++by) {
+      for (std::int32_t bx = rt.x0 / bin; bx <= (rt.x1 - 1) / bin; ++bx) {
+        w.bin_tris.emplace_back(std::uint32_t(by * bins_x + bx), std::uint32_t(t));
+      }
+    }
+  }
+  std::sort(w.bin_tris.begin(), w.bin_tris.end());
+  for (std::size_t i = 0; i < w.bin_tris.size();) {
+    const std::uint32_t index = w.bin_tris[i].first;
+    w.list.clear();
+    for (; i < w.bin_tris.size() && w.bin_tris[i].first == index; ++i) {
+      w.list.push_back(w.bin_tris[i].second);
+    }
+    const std::int32_t bx = std::int32_t(index) % bins_x, by = std::int32_t(index) / bins_x;
+    std::lock_guard<std::mutex> lock(bin_locks[index]);
+    Bin& b = bins[index];
+    clearBinIfStale(b, bx, by);
+    detail::RasterTarget target;
+    target.keys = keys.data();
+    target.stride = stride;
+    target.x0 = bx * bin;
+    target.y0 = by * bin;
+    target.x1 = std::min(target.x0 + bin, bw);
+    target.y1 = std::min(target.y0 + bin, bh);
+    target.scale = float(scale);
+    target.half = 0.5f * float(scale);
+    target.block_max = b.block_max.data();
+    kernels.raster(w.tris.data(), w.list.data(), w.list.size(), target);
+    w.counted.triangles_rasterized += w.list.size();
+    ++w.counted.tiles_rasterized;
+  }
+}
+
+void OcclusionBuffer::Impl::drain() {
+  if (workers.empty()) return;
+  const auto start = Clock::now();
+  std::unique_lock<std::mutex> lock(queue_mutex);
+  done_cv.wait(lock, [&] { return finished == queued; });
+  for (Worker& w : workers) {
+    stats.objects_set_up += w.counted.objects_set_up;
+    stats.triangles_set_up += w.counted.triangles_set_up;
+    stats.triangles_rasterized += w.counted.triangles_rasterized;
+    stats.tiles_rasterized += w.counted.tiles_rasterized;
+    stats.worker_seconds += w.counted.worker_seconds;
+    w.counted = OcclusionBufferStats{};
+  }
+  stats.wait_seconds += secondsSince(start);
+}
+
+void OcclusionBuffer::Impl::setUpObject(const PendingObject& p) {
+  const std::size_t first = tri_count;
+  stats.triangles_set_up += setup.run(frame, meshes, p.object, tris, tri_count);
+  ++stats.objects_set_up;
+  for (std::size_t t = first; t < tri_count; ++t) {
+    const detail::RasterTriangle& rt = tris[t];
+    const std::int32_t bx0 = rt.x0 / bin, bx1 = (rt.x1 - 1) / bin;
+    const std::int32_t by0 = rt.y0 / bin, by1 = (rt.y1 - 1) / bin;
+    for (std::int32_t by = by0; by <= by1; ++by) {
+      for (std::int32_t bx = bx0; bx <= bx1; ++bx) {
+        bins[std::size_t(by) * std::size_t(bins_x) + std::size_t(bx)].pending.push_back(
+            std::uint32_t(t));
+      }
+    }
+  }
+}
+
+void OcclusionBuffer::Impl::clearBinIfStale(Bin& b, std::int32_t bx, std::int32_t by) {
+  const std::int32_t x0 = bx * bin, y0 = by * bin;
+  if (b.stamp != stamp) {
+    for (std::int32_t y = y0; y < y0 + bin; ++y) {
+      std::fill_n(keys.begin() + std::ptrdiff_t(std::size_t(y) * stride + std::size_t(x0)), bin,
+                  clear_key);
+    }
+    b.stamp = stamp;
+    const std::size_t side = std::size_t(bin / detail::kBlockSide);
+    b.block_max.assign(side * side, clear_key);
+  }
+}
+
+void OcclusionBuffer::Impl::rasterizeBin(std::int32_t bx, std::int32_t by) {
+  Bin& b = bins[std::size_t(by) * std::size_t(bins_x) + std::size_t(bx)];
+  const std::int32_t x0 = bx * bin, y0 = by * bin;
+  clearBinIfStale(b, bx, by);
+  if (b.pending.empty()) return;
+  detail::RasterTarget target;
+  target.keys = keys.data();
+  target.stride = stride;
+  target.x0 = x0;
+  target.y0 = y0;
+  target.x1 = std::min(x0 + bin, bw);
+  target.y1 = std::min(y0 + bin, bh);
+  target.scale = float(scale);
+  target.half = 0.5f * float(scale);
+  target.block_max = b.block_max.data();
+  kernels.raster(tris.data(), b.pending.data(), b.pending.size(), target);
+  stats.triangles_rasterized += b.pending.size();
+  ++stats.tiles_rasterized;
+  b.pending.clear();
+}
+
+void OcclusionBuffer::Impl::ensure(const PixelRect& rect) {
+  drain();
+  for (std::size_t i = 0; i < pending.size();) {
+    if (overlaps(pending[i].rect, rect)) {
+      const PendingObject p = pending[i];
+      pending[i] = pending.back();
+      pending.pop_back();
+      setUpObject(p);
+    } else {
+      ++i;
+    }
+  }
+  const PixelRect b = bufferRect(rect);
+  for (std::int32_t by = b.y0 / bin; by <= (b.y1 - 1) / bin; ++by) {
+    for (std::int32_t bx = b.x0 / bin; bx <= (b.x1 - 1) / bin; ++bx) rasterizeBin(bx, by);
+  }
+}
+
+AreaDepth OcclusionBuffer::Impl::summary(const PixelRect& r) {
+  ensure(r);
+  const PixelRect b = bufferRect(r);
+  const detail::KeyRange range =
+      kernels.range(keys.data(), stride, b.x0, b.y0, b.x1, b.y1, clear_key);
+  AreaDepth out;
+  out.min_key = range.min_key;
+  out.max_key = range.max_key;
+  if (scale == 1 || range.at_or_beyond == 0) {
+    out.free_pixels = range.at_or_beyond;
+    return out;
+  }
+  // Coarse: weigh each free block by the viewport pixels of `r` it covers.
+  std::uint64_t free_pixels = 0;
+  for (std::int32_t j = b.y0; j < b.y1; ++j) {
+    const float* row = keys.data() + std::size_t(j) * stride;
+    for (std::int32_t i = b.x0; i < b.x1; ++i) {
+      if (!(row[i] < clear_key)) {
+        free_pixels += std::uint64_t(spanX(r, i)) * std::uint64_t(spanY(r, j));
+      }
+    }
+  }
+  out.free_pixels = std::uint32_t(free_pixels);
+  return out;
+}
+
+std::uint32_t OcclusionBuffer::Impl::count(const PixelRect& r, float threshold) {
+  ensure(r);
+  const PixelRect b = bufferRect(r);
+  if (scale == 1) {
+    return kernels.range(keys.data(), stride, b.x0, b.y0, b.x1, b.y1, threshold).at_or_beyond;
+  }
+  std::uint64_t n = 0;
+  for (std::int32_t j = b.y0; j < b.y1; ++j) {
+    const float* row = keys.data() + std::size_t(j) * stride;
+    std::uint64_t in_row = 0;
+    for (std::int32_t i = b.x0; i < b.x1; ++i) {
+      // NaN never occurs (the setup drops non-finite triangles); count it if it did.
+      if (!(row[i] < threshold)) in_row += std::uint64_t(spanX(r, i));
+    }
+    n += in_row * std::uint64_t(spanY(r, j));
+  }
+  return std::uint32_t(n);
+}
+
+OcclusionBuffer::OcclusionBuffer(const OccluderMeshes& meshes, const OcclusionBufferDesc& desc)
+    : desc_(desc) {
+  const std::string problem = validateOcclusionBufferDesc(desc);
+  if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
+  impl_ = std::make_unique<Impl>(meshes, desc);
+}
+
+OcclusionBuffer::~OcclusionBuffer() = default;
+
+Isa OcclusionBuffer::isa() const { return impl_->isa; }
+
+const OcclusionBufferStats& OcclusionBuffer::stats() const { return impl_->stats; }
+
+void OcclusionBuffer::beginFrame(const Camera& camera) {
+  const auto start = Clock::now();
+  impl_->begin(camera);
+  impl_->stats.seconds += secondsSince(start);
+}
+
+void OcclusionBuffer::endFrame() {
+  impl_->drain();  // the workers' counts belong to this frame
+  impl_->in_frame = false;
+}
+
+void OcclusionBuffer::drawObject(std::uint32_t id) {
+  if (!impl_->in_frame) {
+    throw Error(ErrorCode::InvalidArgument,
+                "OcclusionBuffer::drawObject: call it between beginFrame() and endFrame()");
+  }
+  if (id >= impl_->meshes.objectCount()) {
+    std::ostringstream out;
+    out << "OcclusionBuffer::drawObject: object " << id << " is not in the occluder meshes ("
+        << impl_->meshes.objectCount() << " objects)";
+    throw Error(ErrorCode::InvalidArgument, out.str());
+  }
+  const auto start = Clock::now();
+  impl_->draw(id);
+  impl_->stats.seconds += secondsSince(start);
+}
+
+void OcclusionBuffer::submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) {
+  const auto start = Clock::now();
+  for (std::size_t i = 0; i < count; ++i) {
+    const AreaRequest& r = requests[i];
+    if (r.ask == AreaAsk::Summary) {
+      answers[i].depth = impl_->summary(r.rect);
+    } else {
+      answers[i].count = impl_->count(r.rect, r.threshold);
+    }
+    counters_.pixels += std::uint64_t(r.rect.area());
+  }
+  counters_.reads += count;
+  counters_.batches += count > 0;
+  const double s = secondsSince(start);
+  counters_.seconds += s;
+  impl_->stats.seconds += s;
+}
+
+void OcclusionBuffer::readKeys(const PixelRect& rect, float* keys) {
+  const auto start = Clock::now();
+  Impl& m = *impl_;
+  m.ensure(rect);
+  std::size_t o = 0;
+  for (std::int32_t y = rect.y0; y < rect.y1; ++y) {
+    const float* row = m.keys.data() + std::size_t(y / m.scale) * m.stride;
+    for (std::int32_t x = rect.x0; x < rect.x1; ++x) keys[o++] = row[x / m.scale];
+  }
+  counters_.reads += 1;
+  counters_.pixels += std::uint64_t(rect.area());
+  const double s = secondsSince(start);
+  counters_.seconds += s;
+  m.stats.seconds += s;
+}
+
+}  // namespace logrid::cpu

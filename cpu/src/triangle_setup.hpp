@@ -1,0 +1,90 @@
+// Internal to logrid::cpu: from an object's welded mesh to the triangles the raster
+// kernels read (raster/raster_triangle.hpp), following the rules documented in
+// logrid/cpu/occlusion_buffer.hpp. Double precision throughout; floats only at the end.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "logrid/cpu/occluder_mesh.hpp"
+#include "raster/raster_triangle.hpp"
+
+namespace logrid::cpu::detail {
+
+// What every object of a frame shares.
+struct SetupFrame {
+  double m[16] = {};  // view_projection: local coordinates to clip space
+  // GL's float error model (projection.hpp): the renderer transforms q = p - origin with
+  // the matrix `render` = view_projection * translation(origin); |render| bounds the
+  // magnitudes of the terms it sums.
+  double render_abs[16] = {};
+  double origin[3] = {};
+  double render_k = 0;      // kRenderErrorUlps * u, as configured
+  double quantisation = 0;  // one step of the depth format, as configured
+  double snap = 0;          // how far snapping may move a vertex, per axis (pixels)
+  double half_w = 0, half_h = 0;
+  double key_scale = 0, key_offset = 0;  // key = (key_scale z + key_offset w) / w
+  double near_key = 0, clear_key = 1;
+  int scale = 1;  // viewport pixels per buffer pixel
+  double inv_scale = 1;
+  double radius = 0;  // half the spread of a buffer pixel's samples: (scale - 1) / 2
+  std::int32_t buffer_w = 0, buffer_h = 0;
+  bool skip_closed_back_faces = true;
+  bool exact_coverage = false;  // test aids (OcclusionBufferDesc::unsafe_*)
+  bool exact_depth = false;
+};
+
+// One object to set up. Each triangle's bounds come from its own vertices; these are
+// floors under them (for a model inside an object: the object box's, since GL draws the
+// object's vertices, not the model's).
+struct SetupObject {
+  std::uint32_t occluder = 0;  // index into the meshes
+  double s_x = 0, s_y = 0;     // how far GL may move a vertex, per axis (viewport pixels)
+  double margin = 0;           // depth margin (projection.hpp)
+};
+
+class TriangleSetup {
+ public:
+  // Writes the object's usable triangles to out[count, ...) (neighbours refer to indices
+  // in `out`), growing `out` where needed but never clearing it (a frame reuses it),
+  // advances `count`, and returns how many triangles of the object it looked at.
+  std::size_t run(const SetupFrame& frame, const OccluderMeshes& meshes, const SetupObject& object,
+                  std::vector<RasterTriangle>& out, std::size_t& count);
+
+ private:
+  struct Vertex {
+    double x, y, w, k;      // homogeneous window x, y, clip w, homogeneous key
+    double sx, sy, sz, sw;  // magnitudes of the terms of GL's clip x, y, z, w
+    bool front;             // w > 0 and not beyond the near plane
+    bool beyond_far;
+    double wx, wy, key;  // window position and key (where front)
+    double ex, ey, ez;   // GL's float error there, before the ulps factor
+  };
+  struct Work {
+    double a[kTriangleEdges], b[kTriangleEdges], c[kTriangleEdges];
+    double slack[kTriangleEdges], err[kTriangleEdges];
+    double za, zb, zc;  // key plane (at the reference once finished)
+    double s_x, s_y;    // how far GL may move the vertices, per axis
+    double margin;      // depth margin
+    double key_min;     // the nearest key of its (clipped) vertices
+    double g;           // |dz/dx| + |dz/dy| of the key plane
+    double z_err;       // float error of the kernels' evaluation of the plane
+    double rx, ry;
+    std::int32_t x0, y0, x1, y1;
+    bool clipped;
+    std::uint32_t out;  // index in the output, kNoNeighbour when unusable
+  };
+  void transform(const SetupFrame& frame, const float* positions, std::uint32_t count);
+  bool setUp(const SetupFrame& frame, const SetupObject& object, const std::uint32_t* corners,
+             std::uint32_t first_vertex, std::uint8_t closed, Work& work) const;
+  bool setUpClipped(const SetupFrame& frame, const SetupObject& object, const Vertex* const* v,
+                    Work& work) const;
+  bool pixelBounds(const SetupFrame& frame, double x_min, double x_max, double y_min, double y_max,
+                   Work& work) const;
+  void finish(const SetupFrame& frame, Work& work) const;
+
+  std::vector<Vertex> vertices_;
+  std::vector<Work> work_;
+};
+
+}  // namespace logrid::cpu::detail

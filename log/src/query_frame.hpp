@@ -1,0 +1,146 @@
+// What a hardware-query schedule works with (log/src/query_*.cpp, one file per method):
+// nodes projected for the frame, the decisions that need no query, queries issued and
+// answered through the application's OcclusionQueries, draws through the culler, and a
+// per-node memory that lasts across frames. Internal to logrid::core.
+//
+// The schedules decide *when* to query and what to do with the answers; everything that
+// makes an answer conservative is here: boxes that cross the near plane (or whose widened,
+// biased query box would) are visible without a query, a query draws the box that
+// Projector::queryBox() widened, and an answer issued before a mid-frame depth clear
+// counts as visible.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <unordered_map>
+#include <vector>
+
+#include "logrid/culler.hpp"
+#include "logrid/hierarchy.hpp"
+#include "logrid/occlusion_queries.hpp"
+#include "logrid/projection.hpp"
+#include "logrid/query_schedule.hpp"
+#include "logrid/stats.hpp"
+#include "testers.hpp"
+
+namespace logrid::detail {
+
+// A node as a schedule handles it in one frame.
+struct QueryNode {
+  NodeId id = kNoNode;
+  Aabb bounds;
+  BoxProjection projection;
+  float order = 0;              // nearest key - margin: the front-to-back order
+  std::optional<QueryBox> box;  // set by QueryFrame::withoutQuery() when a query must decide
+};
+
+// Comparator for std::push_heap / pop_heap: the nearest node on top.
+inline bool fartherFirst(const QueryNode& a, const QueryNode& b) { return a.order > b.order; }
+
+// What a schedule remembers of each node across frames, by NodeId: a dense array for the
+// small ids a flat hierarchy uses, a hash map beyond. Forgotten with the hierarchy.
+template <typename Record>
+class NodeMemory {
+ public:
+  Record& operator[](NodeId id) {
+    if (id < kDense) {
+      if (id >= dense_.size()) dense_.resize(std::max<std::size_t>(id + 1, dense_.size() * 2));
+      return dense_[id];
+    }
+    return sparse_[id];
+  }
+  void clear() {
+    dense_.clear();
+    sparse_.clear();
+  }
+
+ private:
+  static constexpr NodeId kDense = NodeId{1} << 20;
+  std::vector<Record> dense_;
+  std::unordered_map<NodeId, Record> sparse_;
+};
+
+// log+hwq (query_prefilter.cpp): the lazy grid's records decide what they can.
+class GridPrefilter;
+
+class QueryFrame {
+ public:
+  struct Wiring {
+    const Hierarchy* hierarchy = nullptr;
+    const Projector* projector = nullptr;
+    OcclusionQueries* queries = nullptr;
+    GridPrefilter* prefilter = nullptr;  // log+hwq only
+    QueryShape shape = QueryShape::Box;
+    FrameStats* stats = nullptr;
+    const std::uint64_t* clear_epoch = nullptr;  // advanced by each mid-frame depth clear
+    std::function<void(const QueryNode&)> draw;  // the culler's draw of a node's objects
+    std::function<void(const QueryNode&, Visibility)> observe;  // CullObserver::onTested
+  };
+  QueryFrame(const Wiring& wiring, std::uint32_t frame);
+
+  // 1, 2, ...: the frame count of the schedule (stamps in its node memory).
+  std::uint32_t frame() const { return frame_; }
+  const Hierarchy& hierarchy() const { return *w_.hierarchy; }
+  bool isLeaf(NodeId node) const { return w_.hierarchy->childCount(node) == 0; }
+  std::uint32_t viewportPixels() const { return pixels_; }
+
+  // A node projected for this frame (counts nothing).
+  QueryNode project(NodeId node) const;
+  // The root, unless the hierarchy is empty or the root lies outside the frustum.
+  std::optional<QueryNode> root();
+  // Appends the children of `node` that are not view-culled, nearest first; counts the
+  // others in FrameStats::boxes_view_culled (their subtrees are never visited).
+  void children(NodeId node, std::vector<QueryNode>& out);
+
+  // What needs no query, for a node taken up by the traversal (counted as visited):
+  // ViewCulled outside the frustum; Visible for a box that crosses the near plane, is
+  // invalid, or has no query box; Visible or Occluded where log+hwq's records decide
+  // (counted as a test). Nothing if a query must decide; then n.box is set.
+  std::optional<Visibility> withoutQuery(QueryNode& n);
+
+  // Issues one query over the given nodes (each with its box set by withoutQuery()).
+  QueryHandle issue(const QueryNode* const* nodes, std::size_t count);
+  QueryHandle issue(const QueryNode& n) {
+    const QueryNode* p = &n;
+    return issue(&p, 1);
+  }
+  bool ready(QueryHandle handle);
+  // The answer, waited for if needed: Visible where any sample passed, or where the
+  // depth buffer was cleared after the query was issued (its answer no longer holds).
+  Visibility answer(QueryHandle handle);
+
+  // Draws the node's objects (culler: callback, statistics, drawn area).
+  void draw(const QueryNode& n) { w_.draw(n); }
+  // A test's outcome: FrameStats::boxes_tested and boxes_occluded, and the observer.
+  void tested(const QueryNode& n, Visibility v);
+
+ private:
+  Wiring w_;
+  std::uint32_t frame_;
+  std::uint32_t pixels_;
+  std::uint64_t epoch_at_start_;
+  // Issue epochs of the queries in flight, only once a clear has happened this frame.
+  std::unordered_map<QueryHandle, std::uint64_t> issued_epoch_;
+  std::vector<QueryBox> boxes_;
+  std::vector<RectQuery> rects_;
+};
+
+// A query method's traversal. One object per Culler; it keeps its node memory across
+// frames.
+class QuerySchedule {
+ public:
+  virtual ~QuerySchedule() = default;
+  virtual void run(QueryFrame& frame) = 0;
+  // The hierarchy changed (another object or revision): forget every node.
+  virtual void forget() = 0;
+};
+
+// The schedule of a query method (log+hwq: of CullerDesc::queries.schedule), nullptr for
+// the grid methods. The one switch on the query methods.
+std::unique_ptr<QuerySchedule> makeQuerySchedule(const CullerDesc& desc);
+
+}  // namespace logrid::detail

@@ -1,0 +1,37 @@
+#include "cli/cpu_reader.hpp"
+
+namespace logrid::samples {
+
+CpuFrameReader::CpuFrameReader(const PreparedScene& scene, const CpuReaderOptions& options,
+                               const ProjectionSettings& projection)
+    : static_objects_(scene.static_objects) {
+  cpu::OcclusionBufferDesc desc;
+  desc.resolution = options.resolution;
+  desc.isa = options.isa;
+  desc.threads = options.threads;
+  desc.projection = projection;
+  buffer_ = std::make_unique<cpu::OcclusionBuffer>(sceneOccluders(scene, options.occluders), desc);
+  last_ = buffer_->stats();
+}
+
+CpuFrameStats CpuFrameReader::takeFrameStats() {
+  const cpu::OcclusionBufferStats& now = buffer_->stats();
+  CpuFrameStats f;
+  f.ms = (now.seconds - last_.seconds) * 1e3;
+  f.wait_ms = (now.wait_seconds - last_.wait_seconds) * 1e3;
+  f.worker_ms = (now.worker_seconds - last_.worker_seconds) * 1e3;
+  f.objects = now.objects_set_up - last_.objects_set_up;
+  f.triangles = now.triangles_set_up - last_.triangles_set_up;
+  f.tile_triangles = now.triangles_rasterized - last_.triangles_rasterized;
+  f.tiles = now.tiles_rasterized - last_.tiles_rasterized;
+  f.fallbacks = now.objects_fallback - last_.objects_fallback;
+  last_ = now;
+  return f;
+}
+
+std::unique_ptr<FrameReader> makeCpuReader(const ReaderContext& c) {
+  return std::make_unique<CpuFrameReader>(c.scene, c.cpu ? *c.cpu : CpuReaderOptions{},
+                                          c.projection);
+}
+
+}  // namespace logrid::samples

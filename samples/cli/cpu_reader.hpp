@@ -1,0 +1,58 @@
+// The `cpu` reader (readers.cpp): the conservative CPU occlusion buffer
+// (logrid/cpu/occlusion_buffer.hpp) fed, for each object the renderer draws, with its
+// occluder (scene/occluders.hpp), so the grid culls without reading the GL depth buffer.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "cli/readers.hpp"
+#include "logrid/cpu/occlusion_buffer.hpp"
+#include "scene/occluders.hpp"
+
+namespace logrid::samples {
+
+struct CpuReaderOptions {
+  cpu::Resolution resolution = cpu::Resolution::Full;
+  OccluderChoice occluders = OccluderChoice::Mesh;
+  std::uint32_t threads = 0;  // worker threads of the buffer
+  cpu::Isa isa = cpu::Isa::Auto;
+};
+
+// What the buffer did in one frame.
+struct CpuFrameStats {
+  double ms = 0;                     // caller's time inside the buffer (draw notes, requests)
+  double wait_ms = 0;                // of which waiting for workers
+  double worker_ms = 0;              // workers' time
+  std::uint64_t objects = 0;         // objects whose triangles were set up
+  std::uint64_t triangles = 0;       // triangles set up
+  std::uint64_t tile_triangles = 0;  // triangle-tile pairs rasterised
+  std::uint64_t tiles = 0;           // tiles rasterised
+  std::uint64_t fallbacks = 0;       // models replaced by their object's mesh
+};
+
+class CpuFrameReader final : public FrameReader {
+ public:
+  // Throws logrid::Error for options this machine cannot run.
+  CpuFrameReader(const PreparedScene& scene, const CpuReaderOptions& options,
+                 const ProjectionSettings& projection);
+  DepthSource& source() override { return *buffer_; }
+  // Moving objects (ids from PreparedScene::static_objects on) are not rasterised: the
+  // occluder meshes hold them where they stand at time 0, not where the frame draws
+  // them. Leaving them out only loses occlusion, never hides what is visible.
+  void objectDrawn(ObjectId id) override {
+    if (id < static_objects_) buffer_->drawObject(id);
+  }
+  // The counts since the previous call.
+  CpuFrameStats takeFrameStats();
+
+ private:
+  std::unique_ptr<cpu::OcclusionBuffer> buffer_;
+  cpu::OcclusionBufferStats last_;
+  ObjectId static_objects_;
+};
+
+std::unique_ptr<FrameReader> makeCpuReader(const ReaderContext& context);
+
+}  // namespace logrid::samples

@@ -1,0 +1,27 @@
+// What the CPU occlusion buffer (logrid/cpu/occlusion_buffer.hpp) rasterises for each
+// object of a prepared scene: the object's own mesh, or the scene's occluder model of it
+// (Scene::occluder_models: the forest's trees as trunk and inner crown hulls), with the
+// mesh as the fallback where the model cannot be used. Objects without a model use their
+// mesh either way. Built on first use and kept with the scene.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "logrid/cpu/occluder_mesh.hpp"
+#include "scene/prepare.hpp"
+
+namespace logrid::samples {
+
+enum class OccluderChoice : std::uint8_t {
+  Mesh,   // every object's own triangles
+  Model,  // the scene's occluder models where it has them
+};
+
+const char* toString(OccluderChoice choice);
+std::optional<OccluderChoice> parseOccluderChoice(const std::string& name);
+
+// Object i of the result is ObjectId i of the scene; fallbacks follow them.
+const cpu::OccluderMeshes& sceneOccluders(const PreparedScene& scene, OccluderChoice choice);
+
+}  // namespace logrid::samples

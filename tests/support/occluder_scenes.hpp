@@ -1,0 +1,173 @@
+// Meshes and cameras for the CPU occlusion buffer's tests (tests/unit/occlusion_buffer_test.cpp,
+// tests/gl/occlusion_buffer_gl_test.cpp): closed meshes with shared vertices (boxes, UV
+// spheres), open ones (height fields), meshes with seams that share positions but not
+// indices, sliver fans, triangle soups, and a ground quad reaching behind the eye.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "logrid/camera.hpp"
+#include "logrid/cpu/software_rasterizer.hpp"
+
+namespace logrid::test {
+
+struct TestMesh {
+  std::vector<float> positions;  // xyz
+  std::vector<std::uint32_t> indices;
+};
+
+inline void addVertex(TestMesh& m, double x, double y, double z) {
+  m.positions.push_back(float(x));
+  m.positions.push_back(float(y));
+  m.positions.push_back(float(z));
+}
+
+inline std::uint32_t vertexCount(const TestMesh& m) {
+  return std::uint32_t(m.positions.size() / 3);
+}
+
+// A UV sphere (or ellipsoid) with shared vertices: closed, consistently wound.
+inline TestMesh sphere(double cx, double cy, double cz, double rx, double ry, double rz, int slices,
+                       int stacks) {
+  TestMesh m;
+  addVertex(m, cx, cy + ry, cz);
+  for (int k = 1; k < stacks; ++k) {
+    const double phi = M_PI * k / stacks;
+    for (int s = 0; s < slices; ++s) {
+      const double a = 2 * M_PI * s / slices;
+      addVertex(m, cx + rx * std::sin(phi) * std::cos(a), cy + ry * std::cos(phi),
+                cz + rz * std::sin(phi) * std::sin(a));
+    }
+  }
+  addVertex(m, cx, cy - ry, cz);
+  const std::uint32_t bottom = vertexCount(m) - 1;
+  auto ring = [&](int k, int s) { return std::uint32_t(1 + k * slices + (s % slices)); };
+  for (int s = 0; s < slices; ++s) {
+    m.indices.insert(m.indices.end(), {0u, ring(0, s + 1), ring(0, s)});
+    for (int k = 0; k + 1 < stacks - 1; ++k) {
+      m.indices.insert(m.indices.end(), {ring(k, s), ring(k, s + 1), ring(k + 1, s + 1)});
+      m.indices.insert(m.indices.end(), {ring(k, s), ring(k + 1, s + 1), ring(k + 1, s)});
+    }
+    m.indices.insert(m.indices.end(), {bottom, ring(stacks - 2, s), ring(stacks - 2, s + 1)});
+  }
+  return m;
+}
+
+inline TestMesh box(const Aabb& b) {
+  TestMesh m;
+  cpu::appendBox(b, m.positions, m.indices);
+  return m;
+}
+
+// A height field of n x n cells (open surface, shared vertices).
+inline TestMesh heightField(double x0, double z0, double size, int n, double y, double bump,
+                            std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> h(-bump, bump);
+  TestMesh m;
+  for (int j = 0; j <= n; ++j) {
+    for (int i = 0; i <= n; ++i) addVertex(m, x0 + size * i / n, y + h(rng), z0 + size * j / n);
+  }
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const std::uint32_t a = std::uint32_t(j * (n + 1) + i), b = a + 1,
+                          c = a + std::uint32_t(n + 1), d = c + 1;
+      m.indices.insert(m.indices.end(), {a, c, d, a, d, b});
+    }
+  }
+  return m;
+}
+
+// A wall of quads that share positions but not indices (each quad has its own four
+// vertices, as the city's window bays do): the buffer must weld them.
+inline TestMesh seamedWall(double x0, double y0, double z, double size, int n) {
+  TestMesh m;
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const std::uint32_t base = vertexCount(m);
+      const double xa = x0 + size * i / n, xb = x0 + size * (i + 1) / n;
+      const double ya = y0 + size * j / n, yb = y0 + size * (j + 1) / n;
+      addVertex(m, xa, ya, z);
+      addVertex(m, xb, ya, z);
+      addVertex(m, xb, yb, z);
+      addVertex(m, xa, yb, z);
+      m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+    }
+  }
+  return m;
+}
+
+// A fan of thin slivers around a centre: steep depth gradients and tiny areas.
+inline TestMesh sliverFan(double cx, double cy, double cz, double r, int n) {
+  TestMesh m;
+  addVertex(m, cx, cy, cz);
+  for (int i = 0; i <= n; ++i) {
+    const double a = 0.3 + 0.02 * i;
+    addVertex(m, cx + r * std::cos(a), cy + r * std::sin(a), cz - r * 0.7 * std::sin(3 * a));
+  }
+  for (int i = 0; i < n; ++i) {
+    m.indices.insert(m.indices.end(), {0u, std::uint32_t(i + 1), std::uint32_t(i + 2)});
+  }
+  return m;
+}
+
+// Random triangles with no shared vertices.
+inline TestMesh soup(std::uint32_t seed, int n, double spread) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> c(-spread, spread), d(-1.5, 1.5);
+  TestMesh m;
+  for (int i = 0; i < n; ++i) {
+    const double x = c(rng), y = c(rng), z = c(rng);
+    for (int k = 0; k < 3; ++k) addVertex(m, x + d(rng), y + d(rng), z + d(rng));
+    const std::uint32_t b = vertexCount(m) - 3;
+    m.indices.insert(m.indices.end(), {b, b + 1, b + 2});
+  }
+  return m;
+}
+
+// The meshes of a random test scene around the origin.
+inline std::vector<TestMesh> randomScene(std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> p(-4, 4), s(0.4, 2.5);
+  std::vector<TestMesh> out;
+  for (int i = 0; i < 3; ++i) {
+    const double x = p(rng), y = p(rng), z = p(rng);
+    out.push_back(box({{float(x), float(y), float(z)},
+                       {float(x + s(rng)), float(y + s(rng)), float(z + s(rng))}}));
+  }
+  for (int i = 0; i < 2; ++i) {
+    out.push_back(sphere(p(rng), p(rng), p(rng), s(rng), s(rng), s(rng), 7 + int(rng() % 12),
+                         4 + int(rng() % 8)));
+  }
+  out.push_back(heightField(p(rng) - 3, p(rng) - 3, 6, 9, p(rng), 0.4, seed));
+  out.push_back(seamedWall(p(rng) - 2, p(rng) - 2, p(rng), 4, 5));
+  out.push_back(sliverFan(p(rng), p(rng), p(rng), 3, 12));
+  out.push_back(soup(seed, 12, 4));
+  // A wide ground that reaches behind the eye of most cameras (crossing the near plane).
+  out.push_back(heightField(-40, -40, 80, 12, -4 + p(rng) * 0.5, 0.6, seed + 1));
+  return out;
+}
+
+// A camera looking at the origin from a random direction (distance 6..14), or, with
+// `ground`, from just above a ground plane at y = -5 that reaches behind the eye.
+inline Camera randomCamera(std::uint32_t seed, std::uint32_t w, std::uint32_t h,
+                           DepthConvention convention, ClipDepthRange range, DepthFormat format) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> a(0, 2 * M_PI), e(-1.2, 1.2), d(6, 14);
+  Camera cam;
+  cam.width = w;
+  cam.height = h;
+  cam.depth = {convention, range, format};
+  const double yaw = a(rng), pitch = e(rng), dist = d(rng);
+  const DVec3 eye{dist * std::cos(pitch) * std::cos(yaw), dist * std::sin(pitch),
+                  dist * std::cos(pitch) * std::sin(yaw)};
+  cam.view_projection = multiply(perspective(0.9, double(w) / h, 0.5, 60, cam.depth),
+                                 lookAt(eye, {0, 0, 0}, {0, 1, 0}));
+  cam.render_origin = eye;
+  return cam;
+}
+
+}  // namespace logrid::test

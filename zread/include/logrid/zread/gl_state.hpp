@@ -1,0 +1,179 @@
+// GL-state independence for the GL depth sources: whatever state the application left
+// on the context, a source's own draws and reads produce the fragments and pixels the
+// source means, and the application finds its state as it left it.
+//
+// A source owns one GlStateGuard and opens a GlStateGuard::Scope around each piece of
+// GL work (a submit, a collect, a resolve). The scope saves only what it is asked to set,
+// sets it, and restores it exactly when it ends (also when an exception leaves the scope):
+//
+//   prepareDraw()   for the source's own draws (occlusion queries, resolves):
+//                   face culling and winding, polygon mode, stencil test, depth test,
+//                   function and write mask, depth clamp, depth range and viewport (index
+//                   0), clip distances, sample mask, sample coverage, alpha to coverage
+//                   and to one, multisampling, rasterizer discard, polygon offset (fill,
+//                   line, point), scissor test and box (index 0), colour write masks (every
+//                   draw buffer), the draw framebuffer, program, program pipeline and vertex
+//                   array; and, where the driver has them, the depth bounds test
+//                   (EXT_depth_bounds_test), the representative fragment test
+//                   (NV_representative_fragment_test) and the exclusive scissor
+//                   (NV_scissor_exclusive).
+//   prepareRead()   for glReadPixels: the read framebuffer, the pixel-pack buffer, every
+//                   pack parameter (alignment, row length, skip pixels, rows and images,
+//                   image height, swap bytes, LSB first) and GL_CLAMP_READ_COLOR.
+//   prepareProgram() for compute dispatches: program, program pipeline.
+//   bindTexture()   a texture on a texture unit for the source's shaders to fetch from:
+//                   the active texture unit, the unit's binding for the target and its
+//                   sampler object (replaced by a nearest, no-compare sampler), and the
+//                   texture's swizzle, depth-stencil mode and base and maximum level.
+//   bindStorageBuffer() a buffer range on an indexed shader-storage binding point: the
+//                   point's buffer, offset and size, and the generic binding.
+//
+// What cannot be saved is refused, with a logrid::Error that says what to change, before
+// anything is set:
+//   * conditional rendering (there is no glGet for it; it is detected with a probe:
+//     glBeginConditionalRender fails with GL_INVALID_OPERATION only while it is active);
+//   * transform feedback that is active and not paused (a program cannot be changed then);
+//   * a GL error pending from the application's own calls (it would be taken for the
+//     source's, and glGetError cannot put it back): the scope's constructor throws it.
+// After its GL calls a source calls check(), which throws a logrid::Error naming the
+// call if GL reported an error.
+//
+// One thing is restored as GL allows and not exactly: a program the application deleted
+// while it was current ceases to exist once the source switches away from it, so the
+// program binding is restored to 0 in that case (as if the application had unbound it).
+#pragma once
+
+#include <cstdint>
+
+#include "logrid/types.hpp"
+
+namespace logrid::zread {
+
+class GlStateGuard {
+ public:
+  // Upper bounds of the per-index state saved (drivers report 8, 8 and 1).
+  static constexpr int kMaxClipDistances = 32;
+  static constexpr int kMaxDrawBuffers = 32;
+  static constexpr int kMaxSampleMaskWords = 4;
+  static constexpr int kMaxTextures = 2;
+  static constexpr int kMaxStorageBuffers = 2;
+
+  // Needs a current GL 4.5 context; creates the query object of the conditional-rendering
+  // probe. Not copyable: the query belongs to this context.
+  GlStateGuard();
+  ~GlStateGuard();
+  GlStateGuard(const GlStateGuard&) = delete;
+  GlStateGuard& operator=(const GlStateGuard&) = delete;
+
+  class Scope;
+
+ private:
+  friend class Scope;
+  std::uint32_t probe_query_ = 0;
+  std::uint32_t sampler_ = 0;
+  std::int32_t clip_distances_ = 0;
+  std::int32_t draw_buffers_ = 0;
+  std::int32_t sample_mask_words_ = 0;
+  bool depth_bounds_ = false;
+  bool representative_fragment_ = false;
+  bool scissor_exclusive_ = false;
+};
+
+class GlStateGuard::Scope {
+ public:
+  // `who` names the source and call in every message (e.g. "QuerySource::submit").
+  // Throws logrid::Error if a GL error is pending (nothing is changed then).
+  Scope(GlStateGuard& guard, const char* who);
+  // Restores everything the prepare and bind calls saved, in reverse order.
+  ~Scope();
+  Scope(const Scope&) = delete;
+  Scope& operator=(const Scope&) = delete;
+
+  // Sets the neutral raster state listed above for draws into `framebuffer`, with the
+  // viewport and the scissor box at [0, width) x [0, height), the scissor test on, depth
+  // range [0, 1], the depth test on with `depth_func` and `depth_write`, colour writes
+  // off unless `color_write`, and no program or vertex array change (bind your own
+  // afterwards: they are saved here). Throws logrid::Error, before setting anything, if
+  // conditional rendering or unpaused transform feedback is active.
+  void prepareDraw(std::uint32_t framebuffer, std::int32_t width, std::int32_t height,
+                   std::uint32_t depth_func, bool depth_write, bool color_write = false);
+  // Moves the scissor box (index 0) after prepareDraw().
+  void scissor(const PixelRect& rect);
+  // Sets the read framebuffer, the pixel-pack buffer (0: client memory), tightly packed
+  // rows with alignment 1 and no skips, and no read clamping.
+  void prepareRead(std::uint32_t framebuffer, std::uint32_t pack_buffer);
+  // Saves program and program pipeline for a compute dispatch; throws like prepareDraw()
+  // if conditional rendering or unpaused transform feedback is active.
+  void prepareProgram();
+  // Binds `texture` (of `target`, e.g. GL_TEXTURE_2D_MULTISAMPLE) to texture unit `unit`
+  // with a nearest, no-compare sampler, identity swizzle, base level 0 (texelFetch's
+  // level is then the texture's level) and, for depth-stencil formats, depth (not
+  // stencil) sampling. At most kMaxTextures textures per scope, on different
+  // units; binding the same texture to the same unit again does nothing.
+  void bindTexture(std::uint32_t unit, std::uint32_t target, std::uint32_t texture);
+
+  // Binds [offset, offset + size) of `buffer` to shader-storage binding point `index`
+  // (size 0: the whole buffer). At most kMaxStorageBuffers per scope.
+  void bindStorageBuffer(std::uint32_t index, std::uint32_t buffer, std::int64_t offset,
+                         std::int64_t size);
+
+  // Throws logrid::Error naming `call` if GL reported an error since the last check.
+  void check(const char* call);
+
+  // Is conditional rendering active? (The probe; exposed for tests.)
+  static bool conditionalRenderingActive(std::uint32_t probe_query);
+
+ private:
+  void refuseUnsavable();
+  void restore();
+
+  GlStateGuard& guard_;
+  const char* who_;
+  bool draw_saved_ = false;
+  bool read_saved_ = false;
+  bool program_saved_ = false;
+  int textures_saved_ = 0;
+  int storage_saved_ = 0;
+
+  struct DrawState {
+    std::uint8_t cull_face = 0, depth_test = 0, stencil_test = 0, depth_clamp = 0,
+                 rasterizer_discard = 0, offset_fill = 0, offset_line = 0, offset_point = 0,
+                 scissor_test = 0, sample_mask = 0, sample_coverage = 0, alpha_to_coverage = 0,
+                 alpha_to_one = 0, multisample = 0, depth_bounds = 0, representative = 0,
+                 scissor_exclusive = 0, depth_mask = 0, coverage_invert = 0;
+    std::int32_t cull_mode = 0, front_face = 0, polygon_mode = 0, depth_func = 0;
+    double depth_range[2] = {0, 1};
+    double depth_bounds_range[2] = {0, 1};
+    float viewport[4] = {};
+    std::int32_t scissor_box[4] = {};
+    float coverage_value = 1, offset_factor = 0, offset_units = 0;
+    std::int32_t draw_framebuffer = 0;
+    std::uint8_t clip_distances[kMaxClipDistances] = {};
+    std::uint8_t color_masks[4 * kMaxDrawBuffers] = {};  // RGBA per draw buffer
+    std::int32_t sample_mask_words[kMaxSampleMaskWords] = {};
+  } draw_;
+  struct ProgramState {
+    std::int32_t program = 0, pipeline = 0, vertex_array = 0;
+  } program_;
+  struct ReadState {
+    std::int32_t read_framebuffer = 0, pack_buffer = 0, alignment = 4, row_length = 0,
+                 skip_pixels = 0, skip_rows = 0, image_height = 0, skip_images = 0, swap_bytes = 0,
+                 lsb_first = 0, clamp_read_color = 0;
+  } read_;
+  struct TextureState {
+    std::uint32_t unit = 0, target = 0, texture = 0;
+    std::int32_t active = 0, bound = 0, sampler = 0;
+    std::int32_t swizzle[4] = {};
+    std::int32_t depth_stencil_mode = 0;
+    std::int32_t base_level = 0, max_level = 1000;
+    bool has_depth_stencil_mode = false;
+    bool has_levels = false;
+  } textures_[kMaxTextures];
+  struct StorageState {
+    std::uint32_t index = 0;
+    std::int32_t generic = 0, buffer = 0;
+    std::int64_t start = 0, size = 0;
+  } storage_[kMaxStorageBuffers];
+};
+
+}  // namespace logrid::zread

@@ -1,0 +1,485 @@
+#include "logrid/zread/gl_state.hpp"
+
+#include <epoxy/gl.h>
+
+#include <sstream>
+#include <string>
+
+#include "logrid/error.hpp"
+
+namespace logrid::zread {
+namespace {
+
+std::string errorName(GLenum e) {
+  switch (e) {
+    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
+    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
+    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
+    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
+    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
+    case GL_STACK_OVERFLOW: return "GL_STACK_OVERFLOW";
+    case GL_STACK_UNDERFLOW: return "GL_STACK_UNDERFLOW";
+    default: {
+      std::ostringstream out;
+      out << "0x" << std::hex << e;
+      return out.str();
+    }
+  }
+}
+
+// Every error flag GL holds (an implementation may hold several), as one string.
+std::string drainErrors() {
+  std::string errors;
+  for (int i = 0; i < 16; ++i) {
+    const GLenum e = glGetError();
+    if (e == GL_NO_ERROR) break;
+    if (!errors.empty()) errors += ", ";
+    errors += errorName(e);
+  }
+  return errors;
+}
+
+std::uint8_t enabled(GLenum cap) { return glIsEnabled(cap) ? 1 : 0; }
+void setEnabled(GLenum cap, bool on) { on ? glEnable(cap) : glDisable(cap); }
+GLint integer(GLenum name) {
+  GLint v = 0;
+  glGetIntegerv(name, &v);
+  return v;
+}
+
+// `name` if it still names an object (glIs* says so), else 0.
+template <typename IsFunction>
+GLuint exists(IsFunction is, GLint name) {
+  return name != 0 && is(GLuint(name)) ? GLuint(name) : 0;
+}
+
+GLenum textureBinding(GLenum target) {
+  switch (target) {
+    case GL_TEXTURE_2D: return GL_TEXTURE_BINDING_2D;
+    case GL_TEXTURE_2D_ARRAY: return GL_TEXTURE_BINDING_2D_ARRAY;
+    case GL_TEXTURE_2D_MULTISAMPLE: return GL_TEXTURE_BINDING_2D_MULTISAMPLE;
+    case GL_TEXTURE_2D_MULTISAMPLE_ARRAY: return GL_TEXTURE_BINDING_2D_MULTISAMPLE_ARRAY;
+    case GL_TEXTURE_RECTANGLE: return GL_TEXTURE_BINDING_RECTANGLE;
+    case GL_TEXTURE_CUBE_MAP: return GL_TEXTURE_BINDING_CUBE_MAP;
+    case GL_TEXTURE_CUBE_MAP_ARRAY: return GL_TEXTURE_BINDING_CUBE_MAP_ARRAY;
+    case GL_TEXTURE_1D: return GL_TEXTURE_BINDING_1D;
+    case GL_TEXTURE_1D_ARRAY: return GL_TEXTURE_BINDING_1D_ARRAY;
+    case GL_TEXTURE_3D: return GL_TEXTURE_BINDING_3D;
+    default: return 0;
+  }
+}
+
+}  // namespace
+
+GlStateGuard::GlStateGuard() {
+  glGetIntegerv(GL_MAX_CLIP_DISTANCES, &clip_distances_);
+  glGetIntegerv(GL_MAX_DRAW_BUFFERS, &draw_buffers_);
+  glGetIntegerv(GL_MAX_SAMPLE_MASK_WORDS, &sample_mask_words_);
+  if (clip_distances_ > kMaxClipDistances || draw_buffers_ > kMaxDrawBuffers ||
+      sample_mask_words_ > kMaxSampleMaskWords) {
+    std::ostringstream out;
+    out << "GlStateGuard: the driver reports " << clip_distances_ << " clip distances, "
+        << draw_buffers_ << " draw buffers and " << sample_mask_words_
+        << " sample-mask words; logrid saves at most " << kMaxClipDistances << ", "
+        << kMaxDrawBuffers << " and " << kMaxSampleMaskWords
+        << " (raise GlStateGuard::kMax* and rebuild)";
+    throw Error(ErrorCode::Unsupported, out.str());
+  }
+  depth_bounds_ = epoxy_has_gl_extension("GL_EXT_depth_bounds_test");
+  representative_fragment_ = epoxy_has_gl_extension("GL_NV_representative_fragment_test");
+  scissor_exclusive_ = epoxy_has_gl_extension("GL_NV_scissor_exclusive");
+  glCreateQueries(GL_SAMPLES_PASSED, 1, &probe_query_);
+  glCreateSamplers(1, &sampler_);
+  glSamplerParameteri(sampler_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glSamplerParameteri(sampler_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glSamplerParameteri(sampler_, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+  glSamplerParameteri(sampler_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glSamplerParameteri(sampler_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+}
+
+GlStateGuard::~GlStateGuard() {
+  if (probe_query_) glDeleteQueries(1, &probe_query_);
+  if (sampler_) glDeleteSamplers(1, &sampler_);
+}
+
+// ---------------------------------------------------------------------------
+// Scope
+// ---------------------------------------------------------------------------
+
+GlStateGuard::Scope::Scope(GlStateGuard& guard, const char* who) : guard_(guard), who_(who) {
+  const std::string pending = drainErrors();
+  if (!pending.empty()) {
+    throw Error(ErrorCode::Runtime,
+                std::string(who_) + ": a GL error (" + pending +
+                    ") was pending before logrid's depth source ran, from an earlier GL call "
+                    "of the application; find it with glGetError() or a debug context before "
+                    "culling (logrid cannot tell it from its own errors)");
+  }
+}
+
+GlStateGuard::Scope::~Scope() { restore(); }
+
+bool GlStateGuard::Scope::conditionalRenderingActive(std::uint32_t probe_query) {
+  // GL has no query for conditional rendering, but BeginConditionalRender fails with
+  // GL_INVALID_OPERATION while it is active (GL 4.5 §10.9) and otherwise begins it on
+  // the probe, which is ended at once: nothing is drawn in between, so nothing changes.
+  // The probe query is never in progress and was created for GL_SAMPLES_PASSED, so that
+  // error has no other cause. Callers make sure no error is pending.
+  glBeginConditionalRender(probe_query, GL_QUERY_NO_WAIT);
+  const GLenum e = glGetError();
+  if (e == GL_INVALID_OPERATION) return true;
+  if (e != GL_NO_ERROR) {
+    throw Error(ErrorCode::Runtime, "GlStateGuard: the conditional-rendering probe failed with " +
+                                        errorName(e) + "; the driver does not follow GL 4.5 here");
+  }
+  glEndConditionalRender();
+  return false;
+}
+
+void GlStateGuard::Scope::refuseUnsavable() {
+  if (conditionalRenderingActive(guard_.probe_query_)) {
+    throw Error(ErrorCode::InvalidArgument,
+                std::string(who_) +
+                    ": conditional rendering is active (glBeginConditionalRender without "
+                    "glEndConditionalRender), so the depth source's own draws could be "
+                    "discarded and GL offers no way to save and restore it; end conditional "
+                    "rendering before culling, or begin it only inside the draw callback "
+                    "around the application's own draws");
+  }
+  GLint feedback = 0, active = 0, paused = 0;
+  glGetIntegerv(GL_TRANSFORM_FEEDBACK_BINDING, &feedback);
+  glGetTransformFeedbackiv(GLuint(feedback), GL_TRANSFORM_FEEDBACK_ACTIVE, &active);
+  glGetTransformFeedbackiv(GLuint(feedback), GL_TRANSFORM_FEEDBACK_PAUSED, &paused);
+  if (active && !paused) {
+    throw Error(ErrorCode::InvalidArgument,
+                std::string(who_) +
+                    ": transform feedback is active and not paused, so GL forbids the depth "
+                    "source to change programs; pause it (glPauseTransformFeedback) or end "
+                    "it before culling");
+  }
+}
+
+void GlStateGuard::Scope::prepareDraw(std::uint32_t framebuffer, std::int32_t width,
+                                      std::int32_t height, std::uint32_t depth_func,
+                                      bool depth_write, bool color_write) {
+  if (!draw_saved_) {
+    refuseUnsavable();
+    DrawState& s = draw_;
+    s.cull_face = enabled(GL_CULL_FACE);
+    s.depth_test = enabled(GL_DEPTH_TEST);
+    s.stencil_test = enabled(GL_STENCIL_TEST);
+    s.depth_clamp = enabled(GL_DEPTH_CLAMP);
+    s.rasterizer_discard = enabled(GL_RASTERIZER_DISCARD);
+    s.offset_fill = enabled(GL_POLYGON_OFFSET_FILL);
+    s.offset_line = enabled(GL_POLYGON_OFFSET_LINE);
+    s.offset_point = enabled(GL_POLYGON_OFFSET_POINT);
+    s.scissor_test = glIsEnabledi(GL_SCISSOR_TEST, 0) ? 1 : 0;
+    s.sample_mask = enabled(GL_SAMPLE_MASK);
+    s.sample_coverage = enabled(GL_SAMPLE_COVERAGE);
+    s.alpha_to_coverage = enabled(GL_SAMPLE_ALPHA_TO_COVERAGE);
+    s.alpha_to_one = enabled(GL_SAMPLE_ALPHA_TO_ONE);
+    s.multisample = enabled(GL_MULTISAMPLE);
+    if (guard_.depth_bounds_) {
+      s.depth_bounds = enabled(GL_DEPTH_BOUNDS_TEST_EXT);
+      glGetDoublev(GL_DEPTH_BOUNDS_EXT, s.depth_bounds_range);
+    }
+    if (guard_.representative_fragment_) {
+      s.representative = enabled(GL_REPRESENTATIVE_FRAGMENT_TEST_NV);
+    }
+    if (guard_.scissor_exclusive_) s.scissor_exclusive = enabled(GL_SCISSOR_TEST_EXCLUSIVE_NV);
+    GLboolean mask = GL_TRUE, invert = GL_FALSE;
+    glGetBooleanv(GL_DEPTH_WRITEMASK, &mask);
+    glGetBooleanv(GL_SAMPLE_COVERAGE_INVERT, &invert);
+    s.depth_mask = mask ? 1 : 0;
+    s.coverage_invert = invert ? 1 : 0;
+    s.cull_mode = integer(GL_CULL_FACE_MODE);
+    s.front_face = integer(GL_FRONT_FACE);
+    GLint polygon_mode[2] = {GL_FILL, GL_FILL};  // core profile: front and back are equal
+    glGetIntegerv(GL_POLYGON_MODE, polygon_mode);
+    s.polygon_mode = polygon_mode[0];
+    s.depth_func = integer(GL_DEPTH_FUNC);
+    glGetDoublei_v(GL_DEPTH_RANGE, 0, s.depth_range);
+    glGetFloati_v(GL_VIEWPORT, 0, s.viewport);
+    glGetIntegeri_v(GL_SCISSOR_BOX, 0, s.scissor_box);
+    glGetFloatv(GL_SAMPLE_COVERAGE_VALUE, &s.coverage_value);
+    glGetFloatv(GL_POLYGON_OFFSET_FACTOR, &s.offset_factor);
+    glGetFloatv(GL_POLYGON_OFFSET_UNITS, &s.offset_units);
+    s.draw_framebuffer = integer(GL_DRAW_FRAMEBUFFER_BINDING);
+    for (int i = 0; i < guard_.clip_distances_; ++i) {
+      s.clip_distances[i] = enabled(GLenum(GL_CLIP_DISTANCE0 + i));
+    }
+    for (int i = 0; i < guard_.draw_buffers_; ++i) {
+      GLboolean rgba[4] = {GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE};
+      glGetBooleani_v(GL_COLOR_WRITEMASK, GLuint(i), rgba);
+      for (int c = 0; c < 4; ++c) s.color_masks[4 * i + c] = rgba[c] ? 1 : 0;
+    }
+    for (int i = 0; i < guard_.sample_mask_words_; ++i) {
+      glGetIntegeri_v(GL_SAMPLE_MASK_VALUE, GLuint(i), &s.sample_mask_words[i]);
+    }
+    draw_saved_ = true;
+  }
+  prepareProgram();
+
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer);
+  glDisable(GL_CULL_FACE);
+  glFrontFace(GL_CCW);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  glDisable(GL_STENCIL_TEST);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(depth_func);
+  glDepthMask(depth_write ? GL_TRUE : GL_FALSE);
+  glDisable(GL_DEPTH_CLAMP);
+  glDepthRangeIndexed(0, 0.0, 1.0);
+  glViewportIndexedf(0, 0.0f, 0.0f, float(width), float(height));
+  glEnablei(GL_SCISSOR_TEST, 0);
+  glScissorIndexed(0, 0, 0, width, height);
+  for (int i = 0; i < guard_.clip_distances_; ++i) glDisable(GLenum(GL_CLIP_DISTANCE0 + i));
+  glDisable(GL_SAMPLE_MASK);
+  glDisable(GL_SAMPLE_COVERAGE);
+  glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+  glDisable(GL_SAMPLE_ALPHA_TO_ONE);
+  glEnable(GL_MULTISAMPLE);
+  glDisable(GL_RASTERIZER_DISCARD);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  glDisable(GL_POLYGON_OFFSET_LINE);
+  glDisable(GL_POLYGON_OFFSET_POINT);
+  if (guard_.depth_bounds_) glDisable(GL_DEPTH_BOUNDS_TEST_EXT);
+  if (guard_.representative_fragment_) glDisable(GL_REPRESENTATIVE_FRAGMENT_TEST_NV);
+  if (guard_.scissor_exclusive_) glDisable(GL_SCISSOR_TEST_EXCLUSIVE_NV);
+  const GLboolean c = color_write ? GL_TRUE : GL_FALSE;
+  for (int i = 0; i < guard_.draw_buffers_; ++i) glColorMaski(GLuint(i), c, c, c, c);
+}
+
+void GlStateGuard::Scope::scissor(const PixelRect& rect) {
+  glScissorIndexed(0, rect.x0, rect.y0, rect.x1 - rect.x0, rect.y1 - rect.y0);
+}
+
+void GlStateGuard::Scope::prepareProgram() {
+  if (program_saved_) return;
+  if (!draw_saved_) refuseUnsavable();
+  program_.program = integer(GL_CURRENT_PROGRAM);
+  program_.pipeline = integer(GL_PROGRAM_PIPELINE_BINDING);
+  program_.vertex_array = integer(GL_VERTEX_ARRAY_BINDING);
+  program_saved_ = true;
+}
+
+void GlStateGuard::Scope::prepareRead(std::uint32_t framebuffer, std::uint32_t pack_buffer) {
+  if (!read_saved_) {
+    ReadState& s = read_;
+    s.read_framebuffer = integer(GL_READ_FRAMEBUFFER_BINDING);
+    s.pack_buffer = integer(GL_PIXEL_PACK_BUFFER_BINDING);
+    s.alignment = integer(GL_PACK_ALIGNMENT);
+    s.row_length = integer(GL_PACK_ROW_LENGTH);
+    s.skip_pixels = integer(GL_PACK_SKIP_PIXELS);
+    s.skip_rows = integer(GL_PACK_SKIP_ROWS);
+    s.image_height = integer(GL_PACK_IMAGE_HEIGHT);
+    s.skip_images = integer(GL_PACK_SKIP_IMAGES);
+    s.swap_bytes = integer(GL_PACK_SWAP_BYTES);
+    s.lsb_first = integer(GL_PACK_LSB_FIRST);
+    s.clamp_read_color = integer(GL_CLAMP_READ_COLOR);
+    read_saved_ = true;
+  }
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer);
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, pack_buffer);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+  glPixelStorei(GL_PACK_SKIP_PIXELS, 0);
+  glPixelStorei(GL_PACK_SKIP_ROWS, 0);
+  glPixelStorei(GL_PACK_IMAGE_HEIGHT, 0);
+  glPixelStorei(GL_PACK_SKIP_IMAGES, 0);
+  glPixelStorei(GL_PACK_SWAP_BYTES, GL_FALSE);
+  glPixelStorei(GL_PACK_LSB_FIRST, GL_FALSE);
+  glClampColor(GL_CLAMP_READ_COLOR, GL_FALSE);
+}
+
+void GlStateGuard::Scope::bindTexture(std::uint32_t unit, std::uint32_t target,
+                                      std::uint32_t texture) {
+  const GLenum binding = textureBinding(target);
+  bool unit_taken = false;
+  for (int i = 0; i < textures_saved_; ++i) {
+    const TextureState& t = textures_[i];
+    if (t.unit == unit && t.target == target && t.texture == texture) return;  // bound already
+    unit_taken |= t.unit == unit;
+  }
+  if (binding == 0 || textures_saved_ == kMaxTextures || unit_taken) {
+    throw Error(
+        ErrorCode::InvalidArgument,
+        std::string(who_) + ": bindTexture: " +
+            (binding == 0 ? "unknown texture target " + errorName(target)
+             : unit_taken
+                 ? "texture unit " + std::to_string(unit) + " is already bound in this scope"
+                 : "more than " + std::to_string(kMaxTextures) + " textures in one scope"));
+  }
+  TextureState& s = textures_[textures_saved_];
+  s.unit = unit;
+  s.target = target;
+  s.texture = texture;
+  s.active = integer(GL_ACTIVE_TEXTURE);
+  glActiveTexture(GL_TEXTURE0 + unit);
+  s.bound = integer(binding);
+  s.sampler = integer(GL_SAMPLER_BINDING);
+  glGetTextureParameteriv(texture, GL_TEXTURE_SWIZZLE_RGBA, s.swizzle);
+  GLint format = 0;
+  glGetTextureLevelParameteriv(texture, 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
+  s.has_depth_stencil_mode = format == GL_DEPTH24_STENCIL8 || format == GL_DEPTH32F_STENCIL8;
+  if (s.has_depth_stencil_mode) {
+    glGetTextureParameteriv(texture, GL_DEPTH_STENCIL_TEXTURE_MODE, &s.depth_stencil_mode);
+  }
+  s.has_levels = target != GL_TEXTURE_2D_MULTISAMPLE && target != GL_TEXTURE_2D_MULTISAMPLE_ARRAY &&
+                 target != GL_TEXTURE_RECTANGLE;
+  if (s.has_levels) {
+    glGetTextureParameteriv(texture, GL_TEXTURE_BASE_LEVEL, &s.base_level);
+    glGetTextureParameteriv(texture, GL_TEXTURE_MAX_LEVEL, &s.max_level);
+  }
+  ++textures_saved_;
+  glBindTexture(target, texture);
+  glBindSampler(unit, guard_.sampler_);
+  const GLint identity[4] = {GL_RED, GL_GREEN, GL_BLUE, GL_ALPHA};
+  glTextureParameteriv(texture, GL_TEXTURE_SWIZZLE_RGBA, identity);
+  if (s.has_depth_stencil_mode) {
+    glTextureParameteri(texture, GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
+  }
+  if (s.has_levels) {
+    glTextureParameteri(texture, GL_TEXTURE_BASE_LEVEL, 0);
+    glTextureParameteri(texture, GL_TEXTURE_MAX_LEVEL, 1000);
+  }
+}
+
+void GlStateGuard::Scope::bindStorageBuffer(std::uint32_t index, std::uint32_t buffer,
+                                            std::int64_t offset, std::int64_t size) {
+  int slot = storage_saved_;
+  for (int i = 0; i < storage_saved_; ++i) {
+    if (storage_[i].index == index) slot = i;
+  }
+  if (slot == kMaxStorageBuffers) {
+    throw Error(ErrorCode::InvalidArgument, std::string(who_) + ": bindStorageBuffer: more than " +
+                                                std::to_string(kMaxStorageBuffers) +
+                                                " binding points in one scope");
+  }
+  if (slot == storage_saved_) {
+    StorageState& s = storage_[slot];
+    s.index = index;
+    s.generic = integer(GL_SHADER_STORAGE_BUFFER_BINDING);
+    glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, index, &s.buffer);
+    glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_START, index, &s.start);
+    glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_SIZE, index, &s.size);
+    ++storage_saved_;
+  }
+  if (size > 0) {
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, index, buffer, GLintptr(offset), GLsizeiptr(size));
+  } else {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, index, buffer);
+  }
+}
+
+void GlStateGuard::Scope::check(const char* call) {
+  const std::string errors = drainErrors();
+  if (!errors.empty()) {
+    throw Error(ErrorCode::Runtime, std::string(who_) + ": " + call + " failed with " + errors +
+                                        "; the depth values could not be read (a debug "
+                                        "context's messages say more)");
+  }
+}
+
+void GlStateGuard::Scope::restore() {
+  // Nothing here may throw; errors are left for the next check (there is none after
+  // this, so a failed restore shows in the application's own glGetError).
+  for (int i = storage_saved_ - 1; i >= 0; --i) {
+    const StorageState& s = storage_[i];
+    const GLuint buffer = exists(glIsBuffer, s.buffer);
+    if (buffer && s.size > 0) {
+      glBindBufferRange(GL_SHADER_STORAGE_BUFFER, s.index, buffer, GLintptr(s.start),
+                        GLsizeiptr(s.size));
+    } else {
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, s.index, buffer);
+    }
+    // Binding an indexed point also sets the generic binding.
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, exists(glIsBuffer, s.generic));
+  }
+  for (int i = textures_saved_ - 1; i >= 0; --i) {
+    const TextureState& s = textures_[i];
+    glTextureParameteriv(s.texture, GL_TEXTURE_SWIZZLE_RGBA, s.swizzle);
+    if (s.has_depth_stencil_mode) {
+      glTextureParameteri(s.texture, GL_DEPTH_STENCIL_TEXTURE_MODE, s.depth_stencil_mode);
+    }
+    if (s.has_levels) {
+      glTextureParameteri(s.texture, GL_TEXTURE_BASE_LEVEL, s.base_level);
+      glTextureParameteri(s.texture, GL_TEXTURE_MAX_LEVEL, s.max_level);
+    }
+    glBindSampler(s.unit, exists(glIsSampler, s.sampler));
+    glBindTexture(s.target, exists(glIsTexture, s.bound));
+    glActiveTexture(GLenum(s.active));
+  }
+  if (read_saved_) {
+    const ReadState& s = read_;
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, exists(glIsFramebuffer, s.read_framebuffer));
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, exists(glIsBuffer, s.pack_buffer));
+    glPixelStorei(GL_PACK_ALIGNMENT, s.alignment);
+    glPixelStorei(GL_PACK_ROW_LENGTH, s.row_length);
+    glPixelStorei(GL_PACK_SKIP_PIXELS, s.skip_pixels);
+    glPixelStorei(GL_PACK_SKIP_ROWS, s.skip_rows);
+    glPixelStorei(GL_PACK_IMAGE_HEIGHT, s.image_height);
+    glPixelStorei(GL_PACK_SKIP_IMAGES, s.skip_images);
+    glPixelStorei(GL_PACK_SWAP_BYTES, s.swap_bytes);
+    glPixelStorei(GL_PACK_LSB_FIRST, s.lsb_first);
+    glClampColor(GL_CLAMP_READ_COLOR, GLenum(s.clamp_read_color));
+  }
+  if (program_saved_) {
+    const ProgramState& s = program_;
+    // Names are rebound only if they still exist. A program deleted while current is
+    // gone once another was used (see the header); and Mesa 22 keeps reporting a program
+    // pipeline that was deleted while bound (with a program current) as bound, although
+    // GL says deleting it unbinds it: rebinding that name would be an error.
+    glBindVertexArray(exists(glIsVertexArray, s.vertex_array));
+    glBindProgramPipeline(exists(glIsProgramPipeline, s.pipeline));
+    glUseProgram(exists(glIsProgram, s.program));
+  }
+  if (draw_saved_) {
+    const DrawState& s = draw_;
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, exists(glIsFramebuffer, s.draw_framebuffer));
+    setEnabled(GL_CULL_FACE, s.cull_face);
+    glCullFace(GLenum(s.cull_mode));
+    glFrontFace(GLenum(s.front_face));
+    glPolygonMode(GL_FRONT_AND_BACK, GLenum(s.polygon_mode));
+    setEnabled(GL_STENCIL_TEST, s.stencil_test);
+    setEnabled(GL_DEPTH_TEST, s.depth_test);
+    glDepthFunc(GLenum(s.depth_func));
+    glDepthMask(s.depth_mask ? GL_TRUE : GL_FALSE);
+    setEnabled(GL_DEPTH_CLAMP, s.depth_clamp);
+    glDepthRangeIndexed(0, s.depth_range[0], s.depth_range[1]);
+    glViewportIndexedfv(0, s.viewport);
+    s.scissor_test ? glEnablei(GL_SCISSOR_TEST, 0) : glDisablei(GL_SCISSOR_TEST, 0);
+    glScissorIndexedv(0, s.scissor_box);
+    for (int i = 0; i < guard_.clip_distances_; ++i) {
+      setEnabled(GLenum(GL_CLIP_DISTANCE0 + i), s.clip_distances[i]);
+    }
+    setEnabled(GL_SAMPLE_MASK, s.sample_mask);
+    for (int i = 0; i < guard_.sample_mask_words_; ++i) {
+      glSampleMaski(GLuint(i), GLbitfield(s.sample_mask_words[i]));
+    }
+    setEnabled(GL_SAMPLE_COVERAGE, s.sample_coverage);
+    glSampleCoverage(s.coverage_value, s.coverage_invert ? GL_TRUE : GL_FALSE);
+    setEnabled(GL_SAMPLE_ALPHA_TO_COVERAGE, s.alpha_to_coverage);
+    setEnabled(GL_SAMPLE_ALPHA_TO_ONE, s.alpha_to_one);
+    setEnabled(GL_MULTISAMPLE, s.multisample);
+    setEnabled(GL_RASTERIZER_DISCARD, s.rasterizer_discard);
+    setEnabled(GL_POLYGON_OFFSET_FILL, s.offset_fill);
+    setEnabled(GL_POLYGON_OFFSET_LINE, s.offset_line);
+    setEnabled(GL_POLYGON_OFFSET_POINT, s.offset_point);
+    glPolygonOffset(s.offset_factor, s.offset_units);
+    if (guard_.depth_bounds_) {
+      setEnabled(GL_DEPTH_BOUNDS_TEST_EXT, s.depth_bounds);
+      glDepthBoundsEXT(s.depth_bounds_range[0], s.depth_bounds_range[1]);
+    }
+    if (guard_.representative_fragment_) {
+      setEnabled(GL_REPRESENTATIVE_FRAGMENT_TEST_NV, s.representative);
+    }
+    if (guard_.scissor_exclusive_) setEnabled(GL_SCISSOR_TEST_EXCLUSIVE_NV, s.scissor_exclusive);
+    for (int i = 0; i < guard_.draw_buffers_; ++i) {
+      const std::uint8_t* m = s.color_masks + 4 * i;
+      glColorMaski(GLuint(i), m[0], m[1], m[2], m[3]);
+    }
+  }
+}
+
+}  // namespace logrid::zread
