@@ -331,7 +331,7 @@ FrameRecord FrameRunner::renderFrame(std::size_t frame) {
   if (config_.method.ddo == DdoUse::Occluders) {
     // Occluders first, into the depth buffer only; they are no object of the scene.
     selector_->select(camera, {}, selection, config_.culler.projection);
-    occluder_renderer_->draw(selector_->occluders());
+    occluder_renderer_->draw(selector_->occluders(), camera, framebuffer_->handle());
     rec.occluders = std::int64_t(selector_->occluders().size());
   }
   renderer_.begin(gl::Pass::Shaded, camera);

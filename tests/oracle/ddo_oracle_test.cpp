@@ -8,7 +8,9 @@
 
 #include <cstdio>
 #include <map>
+#include <random>
 
+#include "gl_state_probe.hpp"
 #include "logrid/error.hpp"
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/gl/occluder_renderer.hpp"
@@ -184,7 +186,7 @@ TEST_P(DdoOccluderPixels, DrawingOccludersFirstChangesNoPixel) {
     framebuffer.clear(background);
     ddo::SelectionStats stats;
     selector.select(camera, {}, stats);
-    occluders.draw(selector.occluders());
+    occluders.draw(selector.occluders(), camera, framebuffer.handle());
     const std::vector<float> occluder_depth = framebuffer.readDepth();
     drawAll();
     const std::vector<std::uint8_t> with = framebuffer.readColor();
@@ -236,6 +238,81 @@ std::vector<DdoCase> pixelCases() {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, DdoOccluderPixels, testing::ValuesIn(pixelCases()), caseName);
+
+// ddo+log under the application's GL state: after each clear the "application" leaves
+// random draw-shaping state (face culling and winding, stencil, sample state, rasterizer
+// discard, scissor; tests/support/gl_state_probe.hpp), which the occluders are drawn
+// under and the frame is drawn with (the ID pass too, so that "visible" means what the
+// application sees). The occluders must land as under GL's defaults (no visible object
+// missed) and leave that state as they found it.
+class DdoGlStateWalk : public testing::TestWithParam<DdoCase> {};
+
+TEST_P(DdoGlStateWalk, NoMissesAndTheApplicationStateIsKept) {
+  LOGRID_REQUIRE_GL();
+  const DdoCase& c = GetParam();
+  if (c.scene == "office-file" && !samples::sceneFilesSupported()) {
+    GTEST_SKIP() << "built without assimp: no scene from a file";
+  }
+  LoadedScene& scene = ddoScene(c.scene);
+  View v;
+  v.convention = c.convention;
+  v.format = c.format;
+  RunConfig config = makeConfig(scene.prepared, Method::LogState, "readpixels", v, kFrames);
+  config.method = *samples::parseMethodChoice(c.method);
+  const int w = int(config.view.width), h = int(config.view.height);
+  test::AppObjects objects;
+  std::uint32_t seed = 0;
+  std::string what, changed;
+  test::GlSnapshot after_clear;
+  // The occluders were drawn between the two hooks, and then the runner's renderer bound
+  // its program and vertex array (the GL test occluder_renderer_test checks those too).
+  auto snapshot = [] {
+    test::GlSnapshot s = test::snapshotGlState();
+    s.erase("GL_CURRENT_PROGRAM");
+    s.erase("GL_VERTEX_ARRAY_BINDING");
+    return s;
+  };
+  config.hooks.after_clear = [&] {
+    GLint bound = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound);
+    std::mt19937 rng(seed);
+    what = test::setRandomGlState(rng, objects, test::kDrawShaping, GLuint(bound), w, h);
+    after_clear = snapshot();
+  };
+  config.hooks.before_cull = [&] { changed = test::diffGlState(after_clear, snapshot()); };
+  config.hooks.after_cull = [&] { test::setDefaultGlState(w, h); };
+  FrameRunner runner(scene.prepared, *scene.renderer, config);
+  std::uint64_t occluders = 0, visible = 0;
+  for (std::size_t f = 0; f < config.frames; ++f) {
+    seed = 0x51ED270Bu * std::uint32_t(f + 1) + (c.convention == DepthConvention::Reversed);
+    test::setDefaultGlState(w, h);
+    changed = "(the culled frame did not run)";
+    const FrameRecord r = runner.renderFrame(f);
+    test::setDefaultGlState(w, h);
+    occluders += std::uint64_t(std::max<std::int64_t>(r.occluders, 0));
+    visible += std::uint64_t(std::max<std::int64_t>(r.visible, 0));
+    EXPECT_EQ(r.missed, 0) << c.scene << " frame " << f << " under state {" << what << "}; "
+                           << reproduce(c.scene, config);
+    EXPECT_EQ(changed, "") << c.scene << " frame " << f
+                           << ": drawing the occluders changed the application's state {" << what
+                           << "}";
+  }
+  std::printf("[ oracle ] %s %s under random state: %llu visible, %llu occluders\n",
+              c.scene.c_str(), c.method.c_str(), (unsigned long long)visible,
+              (unsigned long long)occluders);
+  EXPECT_GT(visible, 0u);
+  EXPECT_GT(occluders, 0u) << "no occluder was drawn; the walk tests nothing";
+}
+
+std::vector<DdoCase> glStateCases() {
+  std::vector<DdoCase> out;
+  for (const DdoCase& c : pixelCases()) {
+    if (c.scene != "forest") out.push_back(c);  // the forest's trail selects no occluder
+  }
+  return out;
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, DdoGlStateWalk, testing::ValuesIn(glStateCases()), caseName);
 
 // A scene with moving objects: the octree holds the static objects only (its occluders
 // hold whatever the movers do), ddo draws every mover in the view frustum, and ddo+log
