@@ -455,11 +455,13 @@ void addBenchCommand(CLI::App& app) {
   auto o = std::make_shared<BenchOptions>();
   o->walk.frames = 40;
   CLI::App* bench = app.add_subcommand("bench", "every method on the same frames, side by side");
-  bench->add_option("--scenes", o->scenes, "comma-separated: forest, city, model files");
+  bench->add_option("--scenes", o->scenes, "comma-separated: forest, city, office, model files");
   bench->add_option("--sizes", o->sizes, "comma-separated viewport sizes WIDTHxHEIGHT");
-  bench->add_option("--methods", o->methods,
-                    "comma-separated: " + methodNames() +
-                        ", oracle; each may take :K or :all and :tc (e.g. log-state:16:tc)");
+  bench->add_option(
+      "--methods", o->methods,
+      "comma-separated: " + methodNames() +
+          ", ddo, ddo+log, oracle; each but ddo and oracle may take :K or :all and "
+          ":tc (e.g. log-state:16:tc, ddo+log:16), log+hwq its schedule (log+hwq:chc)");
   bench->add_option("--readers", o->readers,
                     "log-state again with these depth readers (comma-separated: " + readerNames() +
                         "; '' for none)");

@@ -48,7 +48,8 @@ void addWalkthroughOptions(CLI::App& app, WalkOptions& o) {
                  "DDO: view-direction regions per octree face, 32 or 64");
   app.add_option("--ddo-leaf", o.ddo_leaf, "DDO: triangles per octree leaf at most");
   app.add_option("--ddo-file", o.ddo_file,
-                 "DDO: octree file to load or save (auto: FILE.ddo beside a model file; none)");
+                 "DDO: octree file to load or save (auto: FILE.ddo beside a model file, "
+                 "FILE+ANIMATION.ddo with --animate; none)");
   app.add_flag("--ddo-rebuild", o.ddo_rebuild, "DDO: build again and overwrite the file");
   app.add_option("--ddo-threads", o.ddo_threads, "DDO: preprocessing threads (0: all cores)");
   app.add_option("--lp-threads", o.lp_threads,
