@@ -82,6 +82,14 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 
 constexpr float kNothingDrawn = -std::numeric_limits<float>::infinity();
 
+// Areas drawn out of order that occlusion-state tests check one by one (a few hundred
+// occluders or coherent leaves); further ones count for every box.
+constexpr std::size_t kMaxUnorderedAreas = 256;
+
+bool overlaps(const PixelRect& a, const PixelRect& b) {
+  return a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1;
+}
+
 // Stands in for the depth source of a query method that reads none.
 class NoDepthSource final : public DepthSource {
  public:
@@ -173,7 +181,8 @@ FrameStats Culler::cull(const Camera& camera, const Hierarchy& hierarchy, DepthS
     }
   } reset{current_source_, current_queries_};
 
-  for (const DrawnArea& area : drawn_before) noteDrawnWith(area, depth);
+  unordered_.clear();
+  for (const DrawnArea& area : drawn_before) noteDrawnWith(area, depth, false);
   if (schedule_) {
     runSchedule(hierarchy, depth, *queries, draw);
   } else {
@@ -365,7 +374,14 @@ float Culler::thresholdFor(const Entry& entry) {
   // rounding of margins between parent and child boxes and for what the application
   // announced with a depth; where it does not, test by depth, which holds in any order.
   if (methodInfo(desc_.method).state_semantics) {
-    if (drawn_back_ < entry.order) return projector_->clearKey();
+    bool in_front = drawn_back_ < entry.order;
+    for (std::size_t i = 0; in_front && i < unordered_.size(); ++i) {
+      // NaN (unknown) is not in front; an area that shares no pixel with the box's
+      // rectangle stores nothing the test looks at.
+      const DrawnArea& a = unordered_[i];
+      in_front = a.far_key < entry.order || !overlaps(a.rect, entry.projection.rect);
+    }
+    if (in_front) return projector_->clearKey();
     ++stats_.order_fallbacks;
   }
   return entry.projection.occlusionThreshold();
@@ -424,7 +440,8 @@ void Culler::drawEntry(const Entry& entry, const Hierarchy& hierarchy, DepthSour
   for (std::uint32_t i = 0; i < n; ++i) draw(hierarchy.object(entry.node, i));
   stats_.objects_drawn += n;
   ++stats_.leaves_drawn;
-  noteDrawnWith({entry.projection.rect, entry.projection.far_key + entry.projection.margin}, depth);
+  noteDrawnWith({entry.projection.rect, entry.projection.far_key + entry.projection.margin}, depth,
+                true);
   if (observer_) observer_->onDrawn(entry.node, entry.projection);
 }
 
@@ -443,21 +460,25 @@ void Culler::drawCoherent(const Hierarchy& hierarchy, DepthSource& depth,
     ++stats_.coherent_leaves;
     drawn_first_.push_back(node);
     // Drawn out of order: later occlusion-state tests of boxes in front of it go by depth.
-    noteDrawnWith({p.rect, p.far_key + p.margin}, depth);
+    noteDrawnWith({p.rect, p.far_key + p.margin}, depth, false);
     if (observer_) observer_->onDrawn(node, p);
   }
   std::sort(drawn_first_.begin(), drawn_first_.end());
   if (!drawn_first_.empty()) tester_->refreshOutdated(depth, grid_counts_);
 }
 
-void Culler::noteDrawnWith(const DrawnArea& area, DepthSource& depth) {
-  // NaN is "unknown" as well.
-  drawn_back_ = area.far_key >= drawn_back_  ? area.far_key
-                : area.far_key < drawn_back_ ? drawn_back_
-                                             : std::numeric_limits<float>::infinity();
+void Culler::noteDrawnWith(const DrawnArea& area, DepthSource& depth, bool ordered) {
   const PixelRect r{std::max(area.rect.x0, 0), std::max(area.rect.y0, 0),
                     std::min(area.rect.x1, std::int32_t(projector_->camera().width)),
                     std::min(area.rect.y1, std::int32_t(projector_->camera().height))};
+  if (!ordered && !r.empty() && unordered_.size() < kMaxUnorderedAreas) {
+    unordered_.push_back({r, area.far_key});
+  } else {
+    // NaN is "unknown" as well.
+    drawn_back_ = area.far_key >= drawn_back_  ? area.far_key
+                  : area.far_key < drawn_back_ ? drawn_back_
+                                               : std::numeric_limits<float>::infinity();
+  }
   if (r.empty()) return;
   depth.noteDraw();
   if (current_queries_) current_queries_->noteDraw();
@@ -473,7 +494,9 @@ DepthSource& Culler::currentSource(const char* who) const {
   return *current_source_;
 }
 
-void Culler::noteDrawn(const DrawnArea& area) { noteDrawnWith(area, currentSource("noteDrawn")); }
+void Culler::noteDrawn(const DrawnArea& area) {
+  noteDrawnWith(area, currentSource("noteDrawn"), false);
+}
 
 void Culler::noteDrawn(const Aabb& box) {
   DepthSource& depth = currentSource("noteDrawn");
@@ -481,7 +504,7 @@ void Culler::noteDrawn(const Aabb& box) {
   if (p.cls == ProjectionClass::Outside) return;  // draws no pixel
   noteDrawnWith({p.rect, p.cls == ProjectionClass::Inside ? p.far_key + p.margin
                                                           : std::numeric_limits<float>::infinity()},
-                depth);
+                depth, false);
 }
 
 void Culler::noteDepthCleared() {
@@ -502,6 +525,7 @@ void Culler::noteDepthCleared(float window_depth) {
   // What was drawn before is gone. A clear to a nearer value is itself "drawn" at that
   // depth: occlusion-state tests of boxes in front of it must go by depth.
   drawn_back_ = key < projector_->clearKey() ? key : kNothingDrawn;
+  unordered_.clear();
 }
 
 void Culler::forgetCoherence() {

@@ -93,6 +93,7 @@ struct Row {
   double tiles_per_box = 0;
   double read_share = 0;
   double flushes = 0;
+  double occluders = -1;     // DDO methods: occluders per frame
   bool box_queries = false;  // a hardware-query method (MethodInfo::box_queries)
   double queries = 0, query_waits = 0, query_boxes = 0;
   std::int64_t missed = -1;
@@ -119,6 +120,7 @@ Row makeRow(const std::string& label, const ConfigResult& r, const nlohmann::jso
   double flushes = 0;
   for (const FrameRecord& f : r.records) flushes += double(f.stats.flushes);
   row.flushes = r.records.empty() ? 0 : flushes / double(r.records.size());
+  if (s.contains("avg_occluders")) row.occluders = s["avg_occluders"];
   if (r.config.method.method && methodInfo(*r.config.method.method).box_queries) {
     row.box_queries = true;
     row.queries = s["avg_queries"];
@@ -190,6 +192,16 @@ void writeCell(std::ostream& md, const std::string& scene, std::uint32_t width,
        << " |\n";
   }
 
+  for (const Row& r : rows) {
+    if (r.occluders >= 0) {
+      md << "\n"
+         << r.label << ": " << formatFixed(r.occluders, 1)
+         << (r.label == "ddo" ? " octree faces entered into the occlusion map"
+                              : " occluder quads drawn before the grid")
+         << " per frame.\n";
+    }
+  }
+
   writeQueryTable(md, rows);
 
   const Row* log = findRow(rows, "log-state");
@@ -237,6 +249,16 @@ void writeCell(std::ostream& md, const std::string& scene, std::uint32_t width,
   if (const Row* oracle = findRow(rows, "oracle")) {
     target(log->ms <= 1.15 * oracle->ms,
            "LOG within 1.15× of the oracle: " + ratio(log->ms, oracle->ms));
+  }
+  if (const Row* both = findRow(rows, "ddo+log")) {
+    target(both->flushes < log->flushes,
+           "ddo+log makes fewer flushes than log-state: " + formatFixed(both->flushes, 1) + " vs " +
+               formatFixed(log->flushes, 1));
+    target(both->objects <= log->objects,
+           "ddo+log draws no more objects than log-state: " + formatFixed(both->objects, 1) +
+               " vs " + formatFixed(log->objects, 1));
+    target(both->ms < log->ms, "ddo+log faster than log-state: " + formatFixed(both->ms) + " vs " +
+                                   formatFixed(log->ms) + " ms (" + ratio(both->ms, log->ms) + ")");
   }
   if (paper && paper->tiles_per_box > 0) {
     target(log->tiles_per_box <= paper->tiles_per_box, "tiles tested per box at most the paper's " +
@@ -319,7 +341,9 @@ int runBench(const BenchOptions& o) {
   bool any_missed = false;
   for (const std::string& scene_name : scenes) {
     const WalkOptions so = optionsForScene(o.walk, scene_name, o.forest_scale, o.city_scale);
-    LoadedScene scene = loadScene(so);
+    bool with_ddo = false;
+    for (const std::string& m : methods) with_ddo = with_ddo || needsDdo(m);
+    LoadedScene scene = loadScene(so, true, with_ddo);
     const nlohmann::json described = scene.describe();
     md << "\n## " << scene.prepared.name << "\n\n"
        << grouped(double(scene.prepared.triangles)) << " triangles in "
@@ -328,6 +352,17 @@ int runBench(const BenchOptions& o) {
        << " nodes built in " << formatFixed(scene.prepared.bvh_build_ms, 0) << " ms; generated in "
        << formatFixed(scene.generate_ms, 0) << " ms; peak memory "
        << formatFixed(double(scene.peak_rss_bytes) / double(1 << 20), 0) << " MiB.\n";
+    if (scene.ddo) {
+      const ddo::Octree& octree = *scene.ddo->octree;
+      md << "DDO octree: " << octree.nodes().size() << " nodes, " << octree.params().regions
+         << " regions a face, "
+         << (scene.ddo->loaded
+                 ? "loaded from " + scene.ddo->file + " in " + formatFixed(scene.ddo->load_ms, 0) +
+                       " ms"
+                 : "built in " + formatFixed(scene.ddo->report.total_ms / 1000, 1) + " s with " +
+                       std::to_string(scene.ddo->report.threads) + " threads")
+         << "; masks " << formatFixed(double(octree.maskBytes()) / double(1 << 20), 1) << " MiB.\n";
+    }
 
     for (const std::string& size : sizes) {
       std::vector<RunConfig> configs;
@@ -420,11 +455,13 @@ void addBenchCommand(CLI::App& app) {
   auto o = std::make_shared<BenchOptions>();
   o->walk.frames = 40;
   CLI::App* bench = app.add_subcommand("bench", "every method on the same frames, side by side");
-  bench->add_option("--scenes", o->scenes, "comma-separated: forest, city, model files");
+  bench->add_option("--scenes", o->scenes, "comma-separated: forest, city, office, model files");
   bench->add_option("--sizes", o->sizes, "comma-separated viewport sizes WIDTHxHEIGHT");
-  bench->add_option("--methods", o->methods,
-                    "comma-separated: " + methodNames() +
-                        ", oracle; each may take :K or :all and :tc (e.g. log-state:16:tc)");
+  bench->add_option(
+      "--methods", o->methods,
+      "comma-separated: " + methodNames() +
+          ", ddo, ddo+log, oracle; each but ddo and oracle may take :K or :all and "
+          ":tc (e.g. log-state:16:tc, ddo+log:16), log+hwq its schedule (log+hwq:chc)");
   bench->add_option("--readers", o->readers,
                     "log-state again with these depth readers (comma-separated: " + readerNames() +
                         "; '' for none)");

@@ -11,6 +11,8 @@ void addCommands(CLI::App& app) {
   addBenchCommand(app);
   addTuneCommand(app);
   addCalibrateCommand(app);
+  addDdoCommand(app);
+  addExportCommand(app);
 }
 
 }  // namespace logrid::samples

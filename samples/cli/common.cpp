@@ -19,7 +19,8 @@
 namespace logrid::samples {
 
 void addSceneOptions(CLI::App& app, WalkOptions& o) {
-  app.add_option("--scene", o.scene, "forest, city, or a model file assimp reads")->required();
+  app.add_option("--scene", o.scene, "forest, city, office, or a model file assimp reads")
+      ->required();
   addWalkthroughOptions(app, o);
 }
 
@@ -43,6 +44,14 @@ void addWalkthroughOptions(CLI::App& app, WalkOptions& o) {
   app.add_option("--animate", o.motion_file,
                  "a scene from a file: JSON paths its meshes move along (see docs/MOTION.md)");
   app.add_option("--platform", o.platform, "EGL platform: auto, surfaceless or device");
+  app.add_option("--ddo-regions", o.ddo_regions,
+                 "DDO: view-direction regions per octree face, 32 or 64");
+  app.add_option("--ddo-leaf", o.ddo_leaf, "DDO: triangles per octree leaf at most");
+  app.add_option("--ddo-file", o.ddo_file,
+                 "DDO: octree file to load or save (auto: FILE.ddo beside a model file, "
+                 "FILE+ANIMATION.ddo with --animate; none)");
+  app.add_flag("--ddo-rebuild", o.ddo_rebuild, "DDO: build again and overwrite the file");
+  app.add_option("--ddo-threads", o.ddo_threads, "DDO: preprocessing threads (0: all cores)");
   app.add_option("--lp-threads", o.lp_threads,
                  "llvmpipe raster threads (sets LP_NUM_THREADS; 0 makes each depth read's flush "
                  "~10x cheaper but big frames slower)")
@@ -185,7 +194,8 @@ nlohmann::json LoadedScene::describe() const {
           {"gpu_bytes", renderer ? renderer->gpuBytes() : 0},
           {"peak_rss_bytes", peak_rss_bytes},
           {"prepare_peak_rss_bytes", prepare_peak_rss_bytes},
-          {"bytes_per_triangle", p.triangles ? double(peak_rss_bytes) / double(p.triangles) : 0.0}};
+          {"bytes_per_triangle", p.triangles ? double(peak_rss_bytes) / double(p.triangles) : 0.0},
+          {"ddo", ddo ? describeDdo(*ddo) : nlohmann::json()}};
 }
 
 WalkOptions optionsForScene(const WalkOptions& base, const std::string& scene, double forest_scale,
@@ -197,7 +207,69 @@ WalkOptions optionsForScene(const WalkOptions& base, const std::string& scene, d
   return o;
 }
 
-LoadedScene loadScene(const WalkOptions& o) {
+bool needsDdo(const std::string& method) {
+  const auto choice = parseMethodChoice(method);
+  return choice && choice->ddo != DdoUse::None;
+}
+
+DdoOptions ddoOptions(const WalkOptions& o) {
+  DdoOptions d;
+  d.regions = o.ddo_regions;
+  d.leaf_triangles = o.ddo_leaf;
+  d.threads = o.ddo_threads;
+  d.rebuild = o.ddo_rebuild;
+  d.file = o.ddo_file == "auto"   ? defaultDdoFile(o.scene, o.motion_file)
+           : o.ddo_file == "none" ? ""
+                                  : o.ddo_file;
+  return d;
+}
+
+nlohmann::json describeDdo(const DdoScene& d) {
+  const ddo::Octree& o = *d.octree;
+  const ddo::BuildReport& r = d.report;
+  const double nodes = double(o.nodes().size());
+  std::uint64_t valid_faces = 0;
+  for (std::uint64_t m : o.masks()) valid_faces += m != 0;
+  return {{"file", d.file},
+          {"loaded", d.loaded},
+          {"regions", o.params().regions},
+          {"leaf_triangles", o.params().leaf_triangles},
+          {"nodes", o.nodes().size()},
+          {"depth", o.depth()},
+          {"faces", o.nodes().size() * ddo::kFaces},
+          {"valid_faces", valid_faces},
+          {"mask_bytes", o.maskBytes()},
+          {"mask_bytes_per_node", nodes > 0 ? double(o.maskBytes()) / nodes : 0.0},
+          {"file_mask_bytes_per_face", o.params().regions / 8},
+          {"octree_bytes", o.memoryBytes()},
+          {"octree_bytes_per_node", nodes > 0 ? double(o.memoryBytes()) / nodes : 0.0},
+          {"file_bytes", d.file_bytes},
+          {"checksum_ms", d.checksum_ms},
+          {"load_ms", d.load_ms},
+          {"save_ms", d.save_ms},
+          {"build",
+           {{"threads", r.threads},
+            {"octree_ms", r.octree_ms},
+            {"topology_ms", r.topology_ms},
+            {"index_ms", r.index_ms},
+            {"faces_ms", r.faces_ms},
+            {"total_ms", r.total_ms},
+            {"leaves", r.leaves},
+            {"faces_nothing_behind", r.faces_nothing_behind},
+            {"faces_valid", r.faces_valid},
+            {"regions_tested", r.regions_tested},
+            {"regions_valid", r.regions_valid},
+            {"regions_degenerate", r.regions_degenerate},
+            {"pieces_followed", r.pieces_followed},
+            {"pieces_abandoned", r.pieces_abandoned},
+            {"pieces_open", r.pieces_open},
+            {"corner_misses", r.corner_misses},
+            {"pieces_closed_even", r.pieces_closed_even},
+            {"piece_triangles", r.piece_triangles},
+            {"temporary_bytes", r.temporary_bytes}}}};
+}
+
+LoadedScene loadScene(const WalkOptions& o, bool upload, bool with_ddo) {
   LoadedScene out;
   const auto start = std::chrono::steady_clock::now();
   Scene scene;
@@ -205,6 +277,8 @@ LoadedScene loadScene(const WalkOptions& o) {
     scene = makeForest({o.scale, o.seed, parseTreeParts(o.tree_parts)});
   } else if (o.scene == "city") {
     scene = makeCity({o.scale, o.seed});
+  } else if (o.scene == "office") {
+    scene = makeOffice({o.scale, o.seed});
   } else {
     scene = loadSceneFile(o.scene);
   }
@@ -216,7 +290,11 @@ LoadedScene loadScene(const WalkOptions& o) {
   if (o.leaf) args.max_leaf_size = o.leaf;
   out.prepared = prepareScene(std::move(scene), args);
   out.prepare_peak_rss_bytes = peakRssBytes();
-  out.renderer = std::make_unique<gl::MeshRenderer>(out.prepared.mesh);
+  if (with_ddo) {
+    out.ddo = prepareDdo(out.prepared, ddoOptions(o));
+    out.prepared.ddo = out.ddo->octree;
+  }
+  if (upload) out.renderer = std::make_unique<gl::MeshRenderer>(out.prepared.mesh);
   out.peak_rss_bytes = peakRssBytes();
   return out;
 }
@@ -227,9 +305,9 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
   if (!method) {
     throw Error(ErrorCode::InvalidArgument,
                 "method '" + o.method + "' is unknown; use " + methodNames() +
-                    " or oracle, optionally followed by :K or :all (lookahead) and :tc "
-                    "(temporal coherence), e.g. log-state:16:tc; log+hwq also by its query "
-                    "schedule :hwq, :chc, :stat or :nohc");
+                    ", ddo, ddo+log or oracle, optionally followed by :K or :all (lookahead) "
+                    "and :tc (temporal coherence), e.g. log-state:16:tc (not after ddo or "
+                    "oracle); log+hwq also by its query schedule :hwq, :chc, :stat or :nohc");
   }
   c.method = *method;
   if (!findReader(o.reader)) {

@@ -6,11 +6,13 @@
 #include <nlohmann/json.hpp>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "cli/frame_runner.hpp"
 #include "logrid/gl/context.hpp"
+#include "scene/ddo_scene.hpp"
 #include "scene/generators.hpp"
 #include "scene/prepare.hpp"
 
@@ -62,7 +64,17 @@ struct WalkOptions {
   std::uint32_t chc_interval = 5;
   std::uint32_t stat_in_flight = 20;
   std::uint32_t stat_base = 20;
+  // Directional discretized occluders (methods ddo and ddo+log, scene/ddo_scene.hpp).
+  std::uint32_t ddo_regions = 64;
+  std::uint32_t ddo_leaf = 2048;
+  std::string ddo_file = "auto";  // auto: FILE.ddo next to a model file, none for the
+                                  // procedural scenes; none: never; else a path
+  bool ddo_rebuild = false;
+  std::uint32_t ddo_threads = 0;
 };
+
+// Whether a method name needs the DDO octree.
+bool needsDdo(const std::string& method);
 
 // Adds the options every walkthrough command has (--scene ... --platform).
 void addSceneOptions(CLI::App& app, WalkOptions& o);
@@ -85,6 +97,7 @@ std::uint32_t parseLookahead(const std::string& text);
 struct LoadedScene {
   PreparedScene prepared;
   std::unique_ptr<gl::MeshRenderer> renderer;
+  std::optional<DdoScene> ddo;               // when a method needs it (then also prepared.ddo)
   double generate_ms = 0;                    // generating or loading
   std::uint64_t peak_rss_bytes = 0;          // after uploading to GL
   std::uint64_t prepare_peak_rss_bytes = 0;  // after generating and preparing, before GL
@@ -96,8 +109,13 @@ struct LoadedScene {
 WalkOptions optionsForScene(const WalkOptions& base, const std::string& scene, double forest_scale,
                             double city_scale);
 
-// Creates (or loads) the scene named by the options and uploads it. Needs a context.
-LoadedScene loadScene(const WalkOptions& o);
+// Creates (or loads) the scene named by the options and, with `upload`, uploads it
+// (needs a context then). With `with_ddo`, also builds or loads its DDO octree.
+LoadedScene loadScene(const WalkOptions& o, bool upload = true, bool with_ddo = false);
+
+// The DDO options the walkthrough options ask for (the file resolved).
+DdoOptions ddoOptions(const WalkOptions& o);
+nlohmann::json describeDdo(const DdoScene& d);
 
 // The run configuration from the options (method, view, tile, reader, depth ...).
 RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene);

@@ -17,7 +17,10 @@
 namespace logrid::samples {
 
 std::string MethodChoice::name() const {
-  std::string out = method ? toString(*method) : "oracle";
+  std::string out = ddo == DdoUse::Culler      ? "ddo"
+                    : ddo == DdoUse::Occluders ? "ddo+log"
+                    : method                   ? toString(*method)
+                                               : "oracle";
   if (lookahead) {
     out +=
         ":" + (*lookahead == kUnlimitedLookahead ? std::string("all") : std::to_string(*lookahead));
@@ -35,12 +38,18 @@ std::optional<MethodChoice> parseMethodChoice(const std::string& name) {
   }
   parts.push_back(name.substr(start));
   MethodChoice choice;
-  if (parts[0] != "oracle") {
+  if (parts[0] == "oracle" || parts[0] == "ddo") {
+    if (parts.size() > 1) return std::nullopt;  // no logrid culler: no traversal settings
+    if (parts[0] == "ddo") choice.ddo = DdoUse::Culler;
+    return choice;
+  }
+  if (parts[0] == "ddo+log") {
+    choice.method = Method::LogState;
+    choice.ddo = DdoUse::Occluders;
+  } else {
     const auto m = parseMethod(parts[0]);
     if (!m) return std::nullopt;
     choice.method = *m;
-  } else if (parts.size() > 1) {
-    return std::nullopt;  // the oracle takes no traversal settings
   }
   for (std::size_t i = 1; i < parts.size(); ++i) {
     const auto schedule = parseMethod(parts[i]);
@@ -162,7 +171,7 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
   fb.height = config.view.height;
   fb.depth = config.view.depth;
   fb.samples = config.view.samples;
-  fb.object_ids = config.verify || !config.method.method;
+  fb.object_ids = config.verify || config.method.oracle();
   framebuffer_ = std::make_unique<gl::Framebuffer>(fb);
 
   if (config.method.method) {
@@ -196,6 +205,27 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
     }
     reader_ = reader->make({scene, framebuffer_->handle(), fb.width, fb.height, fb.depth, &motion_,
                             &config.cpu, desc.projection});
+  }
+  if (config.method.ddo != DdoUse::None) {
+    if (!scene.ddo) {
+      throw Error(ErrorCode::InvalidArgument,
+                  "method " + config.method.name() +
+                      " needs the scene's DDO octree (samples/scene/ddo_scene.hpp, prepareDdo)");
+    }
+    selector_ = std::make_unique<ddo::Selector>(*scene.ddo);
+  }
+  if (config.method.ddo == DdoUse::Occluders) {
+    const ReaderInfo* reader = findReader(config.reader);
+    if (reader && !reader->reads_framebuffer) {
+      std::string readers;
+      for (const ReaderInfo& r : readerTable()) {
+        if (r.reads_framebuffer) readers += std::string(readers.empty() ? "" : ", ") + r.name;
+      }
+      throw Error(ErrorCode::InvalidArgument,
+                  "method ddo+log draws its occluders with GL, which reader " + config.reader +
+                      " does not see; use --reader " + readers);
+    }
+    occluder_renderer_ = std::make_unique<gl::OccluderRenderer>();
   }
   CullerDesc vfc;
   vfc.method = Method::Vfc;
@@ -289,7 +319,7 @@ FrameRecord FrameRunner::render(const CameraPose& pose, std::size_t frame, bool 
   rec.moved = motion_.moved.size();
   const Camera camera = cameraAt(pose);
   gl::OracleFrame oracle;
-  if (!config_.method.method) oracle = visibleSet(cache_key, camera);  // not timed
+  if (config_.method.oracle()) oracle = visibleSet(cache_key, camera);  // not timed
   for (ObjectId id : drawn_list_) drawn_[id] = 0;
   drawn_list_.clear();
   missed_.clear();
@@ -308,6 +338,13 @@ FrameRecord FrameRunner::render(const CameraPose& pose, std::size_t frame, bool 
   framebuffer_->bind();
   framebuffer_->clear(kBackground);
   if (config_.hooks.after_clear) config_.hooks.after_clear();
+  ddo::SelectionStats selection;
+  if (config_.method.ddo == DdoUse::Occluders) {
+    // Occluders first, into the depth buffer only; they are no object of the scene.
+    selector_->select(camera, {}, selection, config_.culler.projection);
+    occluder_renderer_->draw(selector_->occluders(), camera, framebuffer_->handle());
+    rec.occluders = std::int64_t(selector_->occluders().size());
+  }
   renderer_.begin(gl::Pass::Shaded, camera);
   const FrameHooks& hooks = config_.hooks;
   auto draw = [&](ObjectId id) {
@@ -325,16 +362,45 @@ FrameRecord FrameRunner::render(const CameraPose& pose, std::size_t frame, bool 
     }
     if (reader_) reader_->objectDrawn(id);
   };
-  if (!config_.method.method) {
+  if (config_.method.oracle()) {
     for (ObjectId id : oracle.visible) draw(id);
     for (ObjectId id : oracle.artifacts) draw(id);  // the full render shows them
     rec.stats.objects_drawn = oracle.visible.size() + oracle.artifacts.size();
+  } else if (config_.method.ddo == DdoUse::Culler) {
+    selector_->select(camera, draw, selection, config_.culler.projection);
+    rec.stats.nodes_visited = selection.nodes_visited;
+    rec.stats.boxes_tested = selection.map_tests;
+    rec.stats.boxes_occluded = selection.nodes_occluded;
+    rec.stats.boxes_view_culled = selection.nodes_view_culled;
+    rec.stats.boxes_near = selection.nodes_near;
+    rec.stats.leaves_drawn = selection.leaves_visible;
+    rec.stats.objects_drawn = selection.objects;
+    rec.stats.seconds = selection.seconds;
+    rec.occluders = std::int64_t(selection.faces_selected);
+    // Moving objects are in no octree: each one in the view frustum is drawn, untested.
+    const Projector frustum(camera, config_.culler.projection);
+    for (ObjectId id = scene_.static_objects; id < motion_.boxes.size(); ++id) {
+      if (frustum.project(motion_.boxes[id]).cls == ProjectionClass::Outside) continue;
+      draw(id);
+      ++rec.stats.objects_drawn;
+    }
   } else {
     reader_->beginFrame(camera);
     if (hooks.before_cull) hooks.before_cull();
-    rec.stats = queries_
-                    ? culler_->cullFrame(camera, hierarchy(), reader_->source(), *queries_, draw)
-                    : culler_->cullFrame(camera, hierarchy(), reader_->source(), draw);
+    // ddo+log: the occluders drawn above are announced, each with its pixels and its
+    // farthest depth key, so that the grid reads those tiles and the occlusion-state order
+    // knows how far back they lie.
+    occluder_areas_.clear();
+    if (selector_) {
+      for (const ddo::Occluder& o : selector_->occluders()) {
+        occluder_areas_.push_back({o.rect, o.far_key});
+      }
+    }
+    rec.stats = queries_ ? culler_->cullFrame(camera, hierarchy(), reader_->source(), *queries_,
+                                              draw, occluder_areas_)
+                         : culler_->cullFrame(camera, hierarchy(), reader_->source(), draw,
+                                              occluder_areas_);
+    if (selector_) rec.stats.seconds += selection.seconds;
     if (auto* cpu = dynamic_cast<CpuFrameReader*>(reader_.get())) rec.cpu = cpu->takeFrameStats();
     if (hooks.after_cull) hooks.after_cull();
   }
@@ -346,8 +412,8 @@ FrameRecord FrameRunner::render(const CameraPose& pose, std::size_t frame, bool 
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
   if (!config_.images_dir.empty()) writeImages(frame, camera);
-  if (config_.verify || !config_.method.method) {
-    if (config_.method.method) oracle = visibleSet(cache_key, camera);
+  if (config_.verify || config_.method.oracle()) {
+    if (!config_.method.oracle()) oracle = visibleSet(cache_key, camera);
     rec.visible = std::int64_t(oracle.visible.size());
     missed_ = oracle.missedBy(drawn_list_);
     rec.missed = std::int64_t(missed_.size());
@@ -367,6 +433,23 @@ void FrameRunner::writeImages(std::size_t frame, const Camera& camera) {
   std::snprintf(stem, sizeof stem, "%s/%s_%s_%04zu", config_.images_dir.c_str(),
                 scene_.name.c_str(), config_.method.name().c_str(), frame);
   writePng(std::string(stem) + ".png", color, camera.width, camera.height);
+  if (config_.overlay && selector_) {
+    // The DDO occlusion map: pixels an occluder claims, tinted magenta over the frame.
+    std::vector<std::uint8_t> tinted = color;
+    const ddo::OcclusionMap& map = selector_->map();
+    if (map.width() == camera.width && map.height() == camera.height) {
+      const float clear = Projector(camera).clearKey();
+      for (std::uint32_t y = 0; y < camera.height; ++y) {
+        for (std::uint32_t x = 0; x < camera.width; ++x) {
+          if (!(map.key(x, y) < clear)) continue;
+          std::uint8_t* p = &tinted[(std::size_t(y) * camera.width + x) * 4];
+          p[0] = std::uint8_t((p[0] + 255) / 2), p[1] = std::uint8_t(p[1] / 2);
+          p[2] = std::uint8_t((p[2] + 255) / 2);
+        }
+      }
+    }
+    writePng(std::string(stem) + "_ddo_map.png", tinted, camera.width, camera.height);
+  }
   if (config_.overlay && culler_) {
     writePng(std::string(stem) + "_overlay.png", drawOverlay(color, camera, overlayData()),
              camera.width, camera.height);

@@ -16,30 +16,48 @@
 #include "cli/images.hpp"
 #include "cli/readers.hpp"
 #include "logrid/culler.hpp"
+#include "logrid/ddo/selector.hpp"
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
 #include "logrid/gl/object_id_oracle.hpp"
+#include "logrid/gl/occluder_renderer.hpp"
 #include "logrid/motion.hpp"
 #include "scene/prepare.hpp"
 #include "scene/view.hpp"
 
 namespace logrid::samples {
 
-// A method as the commands name it: one of logrid::Method's names, or "oracle" (draws
-// exactly the visible set found by an ID pass that is not timed: the floor no culling
-// method can beat), optionally followed by traversal settings that override the
-// command's --lookahead and --coherence: ":K" (a lookahead, or ":all") and ":tc"
-// (temporal coherence), e.g. "log-state:16:tc".
+// How a run uses the directional discretized occluders (DDO; scene/ddo_scene.hpp,
+// logrid/ddo/selector.hpp).
+enum class DdoUse : std::uint8_t {
+  None,
+  // "ddo": the paper's culler (§4): octree walk, occlusion map, no depth reads; moving
+  // objects (in no octree) are drawn whenever they are in the view frustum.
+  Culler,
+  // "ddo+log": the selected occluders drawn first (depth only), then log-state (over the
+  // motion hierarchy when objects move; the occluders come from the static scene).
+  Occluders,
+};
+
+// A method as the commands name it: one of logrid::Method's names, "ddo", "ddo+log", or
+// "oracle" (draws exactly the visible set found by an ID pass that is not timed: the floor
+// no culling method can beat), optionally followed by traversal settings that override
+// the command's --lookahead and --coherence: ":K" (a lookahead, or ":all") and ":tc"
+// (temporal coherence), e.g. "log-state:16:tc" or "ddo+log:16"; log+hwq also takes its
+// query schedule (log+hwq:chc). ddo and the oracle run no logrid culler and take no
+// settings.
 struct MethodChoice {
   MethodChoice() = default;
   MethodChoice(std::optional<Method> m) : method(m) {}  // NOLINT: implicit on purpose
 
-  std::optional<Method> method;  // empty: oracle
+  std::optional<Method> method;  // the logrid culler's method, if one runs
   std::optional<std::uint32_t> lookahead;
   bool coherence = false;
   // log+hwq: the schedule of the boxes the grid leaves undecided (hwq, chc, stat or
   // nohc), from a suffix (log+hwq:chc); empty: RunConfig::culler.queries.schedule.
   std::optional<Method> schedule;
+  DdoUse ddo = DdoUse::None;
+  bool oracle() const { return !method && ddo == DdoUse::None; }
   std::string name() const;
 };
 std::optional<MethodChoice> parseMethodChoice(const std::string& name);
@@ -106,6 +124,7 @@ struct FrameRecord {
   std::int64_t missed_artifacts = -1;  // of those, not drawn (reported apart, see
                                        // logrid/gl/object_id_oracle.hpp)
   std::vector<ObjectId> missed_ids;    // the first few (all of them: missedObjects())
+  std::int64_t occluders = -1;         // DDO: quads drawn first (ddo+log) or faces in the map (ddo)
   std::optional<CpuFrameStats> cpu;    // with --reader cpu
 };
 
@@ -171,7 +190,10 @@ class FrameRunner {
   std::unique_ptr<FrameReader> reader_;
   std::unique_ptr<OcclusionQueries> queries_;  // query methods
   std::unique_ptr<Culler> culler_;
-  std::unique_ptr<Culler> vfc_;  // for the ID pass
+  std::unique_ptr<Culler> vfc_;                              // for the ID pass
+  std::unique_ptr<ddo::Selector> selector_;                  // ddo and ddo+log
+  std::unique_ptr<gl::OccluderRenderer> occluder_renderer_;  // ddo+log
+  std::vector<DrawnArea> occluder_areas_;                    // ddo+log, this frame's
   struct Observer;
   std::unique_ptr<Observer> observer_;
   struct FanOut;

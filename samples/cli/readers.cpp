@@ -74,26 +74,26 @@ class SoftwareReader final : public FrameReader {
 
 const std::vector<ReaderInfo>& readerTable() {
   static const std::vector<ReaderInfo> table = {
-      {"readpixels", "glReadPixels, synchronous, one read per rectangle (the default)", true,
+      {"readpixels", "glReadPixels, synchronous, one read per rectangle (the default)", true, true,
        [](const ReaderContext& c) {
          return std::make_unique<GlReader<zread::ReadPixelsSource>>(c.framebuffer);
        }},
-      {"pbo", "a ring of pixel-buffer objects with fences: one wait per batch", true,
+      {"pbo", "a ring of pixel-buffer objects with fences: one wait per batch", true, true,
        [](const ReaderContext& c) {
          return std::make_unique<GlReader<zread::PboSource>>(c.framebuffer);
        }},
-      {"reduce", "a compute shader reduces each rectangle to 16 bytes on the GPU", true,
+      {"reduce", "a compute shader reduces each rectangle to 16 bytes on the GPU", true, true,
        [](const ReaderContext& c) {
          return std::make_unique<GlReader<zread::ReductionSource>>(c.framebuffer);
        }},
-      {"query", "hardware occlusion queries (GL_SAMPLES_PASSED), counts only", false,
+      {"query", "hardware occlusion queries (GL_SAMPLES_PASSED), counts only", false, true,
        [](const ReaderContext& c) {
          return std::make_unique<GlReader<zread::QuerySource>>(c.framebuffer);
        }},
-      {"software", "a scalar CPU depth buffer fed with the drawn triangles", true,
+      {"software", "a scalar CPU depth buffer fed with the drawn triangles", true, false,
        [](const ReaderContext& c) { return std::make_unique<SoftwareReader>(c); }},
       {"cpu", "the conservative CPU occlusion buffer fed with each drawn object's occluder", true,
-       [](const ReaderContext& c) { return makeCpuReader(c); }},
+       false, [](const ReaderContext& c) { return makeCpuReader(c); }},
   };
   return table;
 }

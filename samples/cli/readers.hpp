@@ -46,6 +46,7 @@ struct ReaderInfo {
   const char* name;
   const char* description;  // one line
   bool reads_depth;         // answers Summary requests (else counts only)
+  bool reads_framebuffer;   // reads the GL framebuffer (else a CPU buffer it is fed)
   std::function<std::unique_ptr<FrameReader>(const ReaderContext&)> make;
 };
 

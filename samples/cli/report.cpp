@@ -37,6 +37,7 @@ nlohmann::json frameJson(const FrameRecord& r) {
                       {"query_boxes", s.query_boxes},
                       {"multi_queries", s.multi_queries},
                       {"records_decided", s.records_decided}};
+  if (r.occluders >= 0) j["occluders"] = r.occluders;
   if (r.update.seconds > 0 || r.moved > 0) {  // a motion hierarchy (docs/MOTION.md)
     j["time"] = r.time;
     j["moved_objects"] = r.moved;
@@ -98,7 +99,8 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
                           bool per_frame) {
   double ms = 0, objects = 0, triangles = 0, pixels = 0, tiles = 0, boxes = 0, read_ms = 0,
          reads = 0, queries = 0, bytes = 0, batches = 0, flushes = 0, waits = 0, polls = 0,
-         decided = 0;
+         decided = 0, occluders = 0;
+  bool with_occluders = false;
   CpuFrameStats cpu_sum;  // sums
   std::int64_t visible = 0, missed = 0, artifacts = 0, missed_artifacts = 0;
   bool verified = false;
@@ -117,6 +119,7 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
     bytes += double(r.stats.bytes_read);
     batches += double(r.stats.batches);
     flushes += double(r.stats.flushes);
+    if (r.occluders >= 0) with_occluders = true, occluders += double(r.occluders);
     waits += double(r.stats.query_waits);
     polls += double(r.stats.query_polls);
     decided += double(r.stats.records_decided);
@@ -171,6 +174,7 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
                       {"avg_read_ms", read_ms / n},
                       {"read_share", ms > 0 ? read_ms / ms : 0.0},
                       {"avg_tiles_per_box", boxes > 0 ? tiles / boxes : 0.0}};
+  if (with_occluders) j["avg_occluders"] = occluders / n;
   if (config.method.method && methodInfo(*config.method.method).box_queries) {
     const QueryScheduleDesc& q = config.culler.queries;
     const HardwareParameters& h = q.hardware;

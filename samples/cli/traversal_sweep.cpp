@@ -19,7 +19,7 @@ std::string lookaheadText(std::uint32_t k) {
 
 struct Row {
   std::string label;
-  std::string method;  // "log-state", "log-zfar" or "oracle"
+  std::string method;  // "log-state", "log-zfar", "ddo+log" ... or "oracle"
   std::string reader;
   std::uint32_t lookahead = 1;
   bool coherence = false;
@@ -31,7 +31,10 @@ struct Row {
 Row makeRow(const ConfigResult& r) {
   Row row;
   const RunConfig& c = r.config;
-  row.method = c.method.method ? toString(*c.method.method) : "oracle";
+  MethodChoice base = c.method;  // the name without traversal settings
+  base.lookahead.reset();
+  base.coherence = false;
+  row.method = base.name();
   row.reader = c.method.method ? c.reader : "–";
   row.lookahead = c.culler.lookahead;
   row.coherence = c.culler.temporal_coherence;
@@ -93,7 +96,9 @@ int runTraversalSweep(const WalkOptions& base, const TraversalSweepOptions& o) {
   for (const std::string& scene_name : o.scenes) {
     WalkOptions so = optionsForScene(base, scene_name, o.forest_scale, o.city_scale);
     so.size = o.sizes.front();
-    LoadedScene scene = loadScene(so);
+    bool with_ddo = false;
+    for (const std::string& m : o.methods) with_ddo = with_ddo || needsDdo(m);
+    LoadedScene scene = loadScene(so, true, with_ddo);
     std::vector<RunConfig> configs;
     auto add = [&](const std::string& method, const std::string& reader, std::uint32_t k, bool tc) {
       WalkOptions mo = so;

@@ -12,7 +12,7 @@ namespace {
 
 int runWalk(const WalkOptions& o) {
   gl::Context context(contextDesc(o));
-  LoadedScene scene = loadScene(o);
+  LoadedScene scene = loadScene(o, true, needsDdo(o.method));
   const RunConfig config = runConfig(o, scene.prepared);
   FrameRunner runner(scene.prepared, *scene.renderer, config);
   Progress progress("walk " + scene.prepared.name + " " + config.method.name(), config.frames);
@@ -90,9 +90,9 @@ void addWalkCommand(CLI::App& app) {
   addSceneOptions(*walk, *options);
   walk->add_option("--method", options->method,
                    methodNames() +
-                       " or oracle; :K or :all and :tc set the lookahead and "
-                       "temporal coherence (e.g. log-state:16:tc), :hwq, :chc, :stat or :nohc "
-                       "the schedule of log+hwq (e.g. log+hwq:chc)");
+                       ", ddo, ddo+log or oracle; :K or :all and :tc set the lookahead and "
+                       "temporal coherence (e.g. log-state:16:tc, ddo+log:16), :hwq, :chc, :stat "
+                       "or :nohc the schedule of log+hwq (e.g. log+hwq:chc)");
   walk->add_option("--size", options->size, "viewport WIDTHxHEIGHT");
   addViewOptions(*walk, *options);
   walk->add_flag("--verify", options->verify, "check every frame against the object-ID oracle");

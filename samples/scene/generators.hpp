@@ -36,5 +36,8 @@ struct GeneratorOptions {
 // so large the scene would not fit in 32-bit indices.
 Scene makeForest(const GeneratorOptions& options);
 Scene makeCity(const GeneratorOptions& options);
+// An office building (indoor, finely tessellated closed boxes everywhere; see office.cpp):
+// 12 rooms on each side of three corridors at scale 1.
+Scene makeOffice(const GeneratorOptions& options);
 
 }  // namespace logrid::samples

@@ -17,6 +17,9 @@
 namespace logrid::cpu {
 class OccluderMeshes;
 }
+namespace logrid::ddo {
+class Octree;
+}
 
 namespace logrid::samples {
 
@@ -42,6 +45,8 @@ struct PreparedScene {
   std::vector<OccluderModel> occluder_models;
   // The CPU occlusion buffer's meshes, built on first use (scene/occluders.hpp).
   mutable std::shared_ptr<const cpu::OccluderMeshes> occluder_cache[2];
+  // The DDO octree over the static mesh, when a method needs it (scene/ddo_scene.hpp).
+  std::shared_ptr<const ddo::Octree> ddo;
 
   std::uint64_t triangles = 0;
   std::uint64_t source_objects = 0;  // objects before splitting (0 for split scenes)

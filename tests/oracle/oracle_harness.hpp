@@ -218,6 +218,7 @@ struct WalkTotals {
   std::uint64_t occluded = 0;   // boxes found occluded
   std::uint64_t tested = 0;     // occlusion tests
   std::uint64_t invalid = 0;    // boxes the culler found NaN or inverted
+  std::uint64_t occluders = 0;  // DDO occluders drawn or entered into the map
   double ms = 0;
 };
 
@@ -267,6 +268,7 @@ inline WalkTotals checkedWalk(const SceneKey& key, LoadedScene& scene, const Run
     t.occluded += r.stats.boxes_occluded;
     t.tested += r.stats.boxes_tested;
     t.invalid += r.stats.invalid_boxes;
+    t.occluders += std::uint64_t(std::max<std::int64_t>(r.occluders, 0));
     t.ms += r.ms;
   }
   return t;

@@ -333,5 +333,47 @@ TEST(DrawnBeforeTest, OccludersDrawnBeforeTheTraversalCullSoundly) {
   }
 }
 
+// Areas drawn before the traversal are judged by their rectangles. A backdrop far behind
+// every box, drawn first over the left half of the screen: boxes on the right keep the
+// occlusion-state test, and a box in front of the backdrop on its half is drawn. Drawn
+// over the whole screen, it sends every occlusion-state test to depth.
+TEST(DrawnBeforeTest, AnAreaBehindOnlyAffectsTheBoxesItOverlaps) {
+  for (DepthConvention conv : {DepthConvention::Standard, DepthConvention::Reversed}) {
+    std::uint64_t fallbacks[2] = {}, f_tested[2] = {};
+    for (bool left : {true, false}) {
+      // Box 0 near on the right, box 1 behind it (hidden), box 2 on the left.
+      Stage s = makeStage(
+          {{{0.5, -3, -8}, {6, 3, -7}}, {{2, -1, -21}, {3, 1, -20}}, {{-4, -1, -21}, {-3, 1, -20}}},
+          conv);
+      const Aabb backdrop =
+          left ? Aabb{{-60, -60, -90}, {-1, 60, -90}} : Aabb{{-60, -60, -90}, {60, 60, -90}};
+      cpu::SoftwareDepthBuffer depth(64, 64, conv);
+      {
+        cpu::SoftwareRasterizer raster(s.cam, depth, nullptr);
+        test::drawBox(raster, backdrop, 99);
+      }
+      const Projector projector(s.cam);
+      const BoxProjection p = projector.project(backdrop);
+      ASSERT_EQ(p.cls, ProjectionClass::Inside);
+      CullerDesc desc;
+      desc.method = Method::LogState;
+      desc.tile_size = 8;
+      Culler culler(desc);
+      test::BoxWorld world{s.boxes, s.hierarchy};
+      const test::CulledFrame f = test::cullBoxes(culler, world, s.cam, depth, SourceKind::Software,
+                                                  {}, {{p.rect, p.far_key + p.margin}});
+      EXPECT_TRUE(f.drawn.count(0)) << toString(conv);
+      EXPECT_TRUE(f.drawn.count(2)) << toString(conv) << ": in front of the backdrop";
+      EXPECT_FALSE(f.drawn.count(1)) << toString(conv) << ": hidden by box 0";
+      fallbacks[left] = f.stats.order_fallbacks;
+      f_tested[left] = f.stats.boxes_tested;
+    }
+    // Over the whole screen it sends every test to depth; over the left half, only those
+    // of boxes reaching into it (the inner nodes), not those of boxes 0 and 1.
+    EXPECT_EQ(fallbacks[false], f_tested[false]) << toString(conv);
+    EXPECT_LE(fallbacks[true] + 2, fallbacks[false]) << toString(conv);
+  }
+}
+
 }  // namespace
 }  // namespace logrid

@@ -254,6 +254,15 @@ void GlStateGuard::Scope::scissor(const PixelRect& rect) {
   glScissorIndexed(0, rect.x0, rect.y0, rect.x1 - rect.x0, rect.y1 - rect.y0);
 }
 
+void GlStateGuard::Scope::clipControl(std::uint32_t origin, std::uint32_t depth_mode) {
+  if (!clip_saved_) {
+    clip_origin_ = integer(GL_CLIP_ORIGIN);
+    clip_depth_mode_ = integer(GL_CLIP_DEPTH_MODE);
+    clip_saved_ = true;
+  }
+  glClipControl(origin, depth_mode);
+}
+
 void GlStateGuard::Scope::prepareProgram() {
   if (program_saved_) return;
   if (!draw_saved_) refuseUnsavable();
@@ -434,6 +443,7 @@ void GlStateGuard::Scope::restore() {
     glBindProgramPipeline(exists(glIsProgramPipeline, s.pipeline));
     glUseProgram(exists(glIsProgram, s.program));
   }
+  if (clip_saved_) glClipControl(GLenum(clip_origin_), GLenum(clip_depth_mode_));
   if (draw_saved_) {
     const DrawState& s = draw_;
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, exists(glIsFramebuffer, s.draw_framebuffer));

@@ -20,9 +20,11 @@
 //     a test-list ordered by nearest key and a draw-list ordered by farthest key; a
 //     visible node's objects are drawn only once they lie in front of every box still to
 //     be tested, so that "every pixel holds something" means "hidden". A box for which
-//     the order cannot vouch (something of unknown or greater depth was drawn: noteDrawn
-//     without a depth, temporal coherence, a mid-frame clear to a nearer value) is tested
-//     by depth instead, as the zfar variant tests every box (FrameStats::order_fallbacks).
+//     the order cannot vouch (something of unknown or greater depth was drawn over the
+//     box's pixel rectangle: drawn_before, noteDrawn, temporal coherence; or anywhere: a
+//     mid-frame clear to a nearer value) is tested by depth instead, as the zfar variant
+//     tests every box (FrameStats::order_fallbacks). Areas drawn out of order are judged
+//     by their rectangles, up to 256 a frame; beyond that, for every box.
 //   * approximate front to back, for the others: the test-list only; visible objects are
 //     drawn at once.
 // View-frustum culling is hierarchical: an outside node's children are never visited.
@@ -220,7 +222,9 @@ class Culler {
   void drawEntry(const Entry& entry, const Hierarchy& hierarchy, DepthSource& depth,
                  const DrawCallback& draw);
   void drawCoherent(const Hierarchy& hierarchy, DepthSource& depth, const DrawCallback& draw);
-  void noteDrawnWith(const DrawnArea& area, DepthSource& depth);
+  // `ordered`: drawn in two-list order (in front of every box still to be tested, up to
+  // rounding); else remembered in unordered_.
+  void noteDrawnWith(const DrawnArea& area, DepthSource& depth, bool ordered);
   DepthSource& currentSource(const char* who) const;
 
   CullerDesc desc_;
@@ -231,8 +235,10 @@ class Culler {
   OcclusionQueries* current_queries_ = nullptr;  // set during cullFrame(), if given
   FrameStats stats_;
   GridTestCounts grid_counts_;
-  float drawn_back_ = 0;         // farthest key + margin of anything drawn so far this frame
-  std::uint32_t lookahead_ = 1;  // this frame's
+  float drawn_back_ = 0;  // farthest key + margin of what was drawn in order so far this
+                          // frame (and of unordered areas beyond kMaxUnorderedAreas)
+  std::vector<DrawnArea> unordered_;  // drawn out of order this frame (clipped rects)
+  std::uint32_t lookahead_ = 1;       // this frame's
   std::vector<Entry> test_list_;
   std::vector<Entry> draw_list_;
   std::vector<Entry> pending_;   // set aside for the next batch, in test-list order

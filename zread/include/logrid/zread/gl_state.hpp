@@ -17,6 +17,8 @@
 //                   (EXT_depth_bounds_test), the representative fragment test
 //                   (NV_representative_fragment_test) and the exclusive scissor
 //                   (NV_scissor_exclusive).
+//   clipControl()   after prepareDraw(), for draws whose vertices come in a depth
+//                   convention's clip space: the clip origin and depth mode.
 //   prepareRead()   for glReadPixels: the read framebuffer, the pixel-pack buffer, every
 //                   pack parameter (alignment, row length, skip pixels, rows and images,
 //                   image height, swap bytes, LSB first) and GL_CLAMP_READ_COLOR.
@@ -99,6 +101,9 @@ class GlStateGuard::Scope {
                    std::uint32_t depth_func, bool depth_write, bool color_write = false);
   // Moves the scissor box (index 0) after prepareDraw().
   void scissor(const PixelRect& rect);
+  // Sets glClipControl(origin, depth_mode) (e.g. GL_LOWER_LEFT, GL_ZERO_TO_ONE), saving
+  // the application's clip origin and depth mode first.
+  void clipControl(std::uint32_t origin, std::uint32_t depth_mode);
   // Sets the read framebuffer, the pixel-pack buffer (0: client memory), tightly packed
   // rows with alignment 1 and no skips, and no read clamping.
   void prepareRead(std::uint32_t framebuffer, std::uint32_t pack_buffer);
@@ -130,6 +135,7 @@ class GlStateGuard::Scope {
   GlStateGuard& guard_;
   const char* who_;
   bool draw_saved_ = false;
+  bool clip_saved_ = false;
   bool read_saved_ = false;
   bool program_saved_ = false;
   int textures_saved_ = 0;
@@ -152,6 +158,7 @@ class GlStateGuard::Scope {
     std::uint8_t color_masks[4 * kMaxDrawBuffers] = {};  // RGBA per draw buffer
     std::int32_t sample_mask_words[kMaxSampleMaskWords] = {};
   } draw_;
+  std::int32_t clip_origin_ = 0, clip_depth_mode_ = 0;
   struct ProgramState {
     std::int32_t program = 0, pipeline = 0, vertex_array = 0;
   } program_;

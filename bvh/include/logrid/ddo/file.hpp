@@ -1,0 +1,38 @@
+// DDO files (DDO §3.1: "saved to a DDO file which can be read and used at a later
+// time"): the octree and every face's bitmask, tied to the scene they were built from.
+//
+// Layout (little-endian): an 8-byte magic "logrdDDO", the format version, the scene's
+// checksum (mesh.hpp), triangle and object counts, the build parameters, the nodes, the
+// leaves' object lists, the masks (regions / 8 bytes per face), and a checksum of all
+// that precedes it. Written to a temporary file and renamed, so a crash never leaves a
+// half-written file under the final name.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "logrid/ddo/octree.hpp"
+
+namespace logrid::ddo {
+
+inline constexpr std::uint32_t kFileVersion = 1;
+
+// What the scene and the caller require of a file.
+struct FileExpectation {
+  std::uint64_t scene_checksum = 0;
+  std::uint64_t triangles = 0;
+  std::uint64_t objects = 0;
+  std::uint32_t regions = 0;         // 0: any
+  std::uint32_t leaf_triangles = 0;  // 0: any
+};
+
+// Throws logrid::Error(Environment) when the file cannot be written (naming the path).
+void saveOctree(const Octree& octree, const FileExpectation& scene, const std::string& path);
+
+// Throws logrid::Error naming the path and what to do: Environment when it cannot be
+// read; BadInput when it is not a DDO file, has another format version, is truncated or
+// corrupt, was built for another scene (stale: the scene's checksum or counts differ) or
+// with other parameters than `expect` asks for, or describes an inconsistent octree.
+Octree loadOctree(const std::string& path, const FileExpectation& expect);
+
+}  // namespace logrid::ddo

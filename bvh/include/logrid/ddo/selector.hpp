@@ -1,0 +1,113 @@
+// The DDO run time (DDO §4): a top-down, front-to-back walk of the octree for one camera
+// that selects the faces valid for the viewpoint, tests every node against the occlusion
+// map of the faces selected so far, and hands the objects of visible leaves to the
+// renderer. Two uses (samples/cli, methods `ddo` and `ddo+log`):
+//   * the paper's culler: draw what select() hands over; nothing is read back;
+//   * occluders for another culler: draw occluders() into the depth buffer first (depth
+//     only, integration/occluder_renderer.hpp), then run that culler.
+//
+// Order (§4.1). Children are visited front to back with the paper's look-up table: for
+// the octant o of the eye relative to the cell's centre, the order o ^ k for k = 0, 1, 2,
+// 4, 3, 5, 6, 7 (the eye's octant, its three face neighbours, its three edge neighbours,
+// the opposite one). A node's valid faces enter the map before its children are visited
+// (the paper enters them after): the map holds depth (occlusion_map.hpp), so the order
+// only decides how early they help.
+//
+// A face is selected for a viewpoint e when (regions.hpp):
+//   * e lies at height >= H above it (beyond the clipping plane), or, for an orthographic
+//     camera, the view direction comes from the face's side;
+//   * some anchor point of the enlarged face sees e with slopes in a region whose bit is
+//     set (all regions whose cells meet the range of slopes over the anchors are tried);
+//   * the part of the region's frustum the eye looks through, i.e. the convex hull of
+//     the enlarged face and the points where the rays from the eye to its corners cross
+//     the clipping plane, lies wholly in front of the near plane: the geometry that hides
+//     the face is then neither clipped nor behind the eye, and the rasteriser draws it
+//     over every pixel of the face (its depth margin is that hull's box's);
+//   * the face, pushed back by its depth margin, lies in front of the far plane.
+//
+// Pixels and depth of an occluder. The face is drawn where the scene's geometry hides it,
+// and must never hide that geometry: its depth keys are pushed back by twice the sum of
+// the projection margins (projection.hpp) of the face and of the region's frustum, which
+// bounds the stored depth of both. Its outline: the validity test covered the face
+// enlarged by face_margin times its side, so a rasteriser may move the face's edges by up
+// to the projected width of that band. Where the band is narrower on screen than twice
+// `snap_pixels` (a vertex of the scene or of the quad moves by up to 1/16 pixel on each
+// axis with GL's minimum of 4 sub-pixel bits, 0.09 pixel along an edge's normal, plus
+// float rounding), the quad is shrunk by 2 * snap_pixels instead.
+//
+// Occluders drawn for another culler are merged: adjacent selected faces of one plane
+// with a common edge become one quad (rows first, then columns), when both had a wide
+// enough band.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "logrid/camera.hpp"
+#include "logrid/ddo/occlusion_map.hpp"
+#include "logrid/ddo/octree.hpp"
+#include "logrid/projection.hpp"
+
+namespace logrid::ddo {
+
+struct SelectorSettings {
+  bool occlusion_map = true;   // test nodes against the map (off: view-frustum culling only)
+  double snap_pixels = 0.125;  // how far a rasteriser may move an edge (see above)
+  bool merge = true;           // merge adjacent faces into larger occluders
+};
+
+// A selected occluder: a convex quad in normalized device coordinates (w = 1), its depth
+// already pushed back, ready to draw with the depth test and depth writes on.
+struct Occluder {
+  double ndc[4][3] = {};    // x, y, z of the corners, in order around the quad
+  PixelRect rect;           // every pixel it may cover (window coordinates)
+  float near_key = 0;       // smallest and largest depth key GL may store for it (its
+  float far_key = 0;        // corners' keys with the rounding of drawing them)
+  std::uint32_t faces = 1;  // octree faces it stands for
+};
+
+struct SelectionStats {
+  std::uint64_t nodes_visited = 0;
+  std::uint64_t nodes_view_culled = 0;
+  std::uint64_t nodes_occluded = 0;  // found hidden by the map (subtree culled)
+  std::uint64_t nodes_near = 0;      // crossing the near plane: visible without a test
+  std::uint64_t map_tests = 0;
+  std::uint64_t leaves_visible = 0;
+  std::uint64_t objects = 0;         // handed to the draw callback
+  std::uint64_t faces_valid = 0;     // faces of visited nodes valid for this viewpoint
+  std::uint64_t faces_selected = 0;  // of those, usable (near and far planes, outline)
+  std::uint64_t occluders = 0;       // occluders() after merging
+  std::uint64_t map_pixels = 0;      // map pixels written
+  double seconds = 0;
+};
+
+class Selector {
+ public:
+  explicit Selector(const Octree& octree, const SelectorSettings& settings = {});
+
+  // One frame. `draw` (may be empty) gets each object of each visible leaf once.
+  // Throws logrid::Error for an invalid camera (validateCamera).
+  void select(const Camera& camera, const std::function<void(ObjectId)>& draw,
+              SelectionStats& stats, const ProjectionSettings& projection = {});
+
+  const std::vector<Occluder>& occluders() const { return occluders_; }
+  const OcclusionMap& map() const { return map_; }
+  const SelectorSettings& settings() const { return settings_; }
+
+ private:
+  struct Face;
+  struct Frame;
+  void visit(std::uint32_t node, Frame& frame);
+  void selectFaces(std::uint32_t node, Frame& frame);
+  void finishOccluders(Frame& frame);
+
+  const Octree& octree_;
+  SelectorSettings settings_;
+  OcclusionMap map_;
+  std::vector<Occluder> occluders_;
+  std::vector<std::uint32_t> object_stamp_;
+  std::uint32_t stamp_ = 0;
+};
+
+}  // namespace logrid::ddo
