@@ -44,10 +44,14 @@ std::shared_ptr<const cpu::OccluderMeshes> build(const PreparedScene& scene,
   const bool models = choice == OccluderChoice::Model && !scene.occluder_models.empty();
   std::vector<ObjectId> modelled;
   for (ObjectId id = 0; id < objects; ++id) {
-    const OccluderModel* m = models ? &scene.occluder_models[id] : nullptr;
+    // Movers (after the static objects) have no models.
+    const OccluderModel* m =
+        models && id < scene.occluder_models.size() ? &scene.occluder_models[id] : nullptr;
     if (m && !m->indices.empty()) {
+      Aabb box = scene.object_boxes[id];
+      if (m->reach.min.x <= m->reach.max.x) growBox(box, m->reach);
       out->addObject(m->positions.data(), m->positions.size() / 3, m->indices.data(),
-                     m->indices.size(), &scene.object_boxes[id]);
+                     m->indices.size(), &box);
       modelled.push_back(id);
     } else {
       addDrawnMesh(scene, id, *out);

@@ -1,6 +1,7 @@
 // What the CPU occlusion buffer (logrid/cpu/occlusion_buffer.hpp) rasterises for each
 // object of a prepared scene: the object's own mesh, or the scene's occluder model of it
-// (Scene::occluder_models: the forest's trees as trunk and inner crown hulls), with the
+// (Scene::occluder_models: the forest's trees as trunk and inner crown hulls; the city's
+// chunks as the boxes inside their buildings, Scene::occluder_solids), with the
 // mesh as the fallback where the model cannot be used. Objects without a model use their
 // mesh either way. Built on first use and kept with the scene.
 #pragma once

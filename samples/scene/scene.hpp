@@ -40,13 +40,41 @@ struct MoverSite {
 
 // A simpler occluder for one object, for the CPU occlusion buffer (logrid/cpu/
 // occluder_mesh.hpp, OccluderObject::inside_solid): triangles of the object as they are,
-// and triangles that lie inside closed convex solids formed by the object's own
-// triangles (e.g. the convex hull of some of a convex crown's vertices). Positions are
+// and triangles that lie inside closed solids bounded by the object's own triangles
+// (e.g. the convex hull of some of a convex crown's vertices) or, for a scene split by
+// triangles, by the triangles of several objects (OccluderSolid). Positions are
 // bit-identical copies of the object's where they are its vertices.
 struct OccluderModel {
   std::vector<float> positions;  // xyz, local coordinates
   std::vector<std::uint32_t> indices;
+  // The box of the real geometry the model stands for, where it reaches beyond the
+  // object's own (OccluderSolid::around); empty (min > max) when it does not. The buffer
+  // is given the union with the object's box: it uses the model only while that union
+  // lies wholly beyond the near plane, and bounds GL's vertex snapping by it.
+  Aabb reach{{1, 1, 1}, {0, 0, 0}};
 };
+
+// A closed solid of a scene split by triangles (the city's buildings), for occluder
+// models: `inside`, a box inside the solid that the triangles tagged with it
+// (Scene::triangle_solids) bound, and `around`, the box of those triangles. The chunks
+// of such a scene are cut by the hierarchy, not by solid: every chunk holding a tagged
+// triangle gets the box as (part of) its model (prepare.cpp), although its own
+// triangles need not enclose it. Why the box hides only what GL's picture hides: the
+// model is used only while `around` lies wholly beyond the near plane (reach above),
+// so the eye is outside the solid and GL clips none of it. Where the buffer claims the
+// box at a pixel with key k, the ray meets the solid's surface nearer than the box (the
+// generator derives by how much, with GL's snapping), at a triangle of some chunk D.
+// Frustum culling cannot remove D (the point lies between the eye and the box, beyond
+// the near plane). If D is drawn, GL holds that nearer depth at the pixel; if D is
+// culled, its test found every pixel of its rectangle, this one included, holding a key
+// nearer than D's box, hence nearer than k. Keys only get nearer during a frame, so at
+// a pixel's final key the first case holds: whatever is culled behind a key at a pixel
+// lies behind a surface GL draws there.
+struct OccluderSolid {
+  Aabb inside;
+  Aabb around;
+};
+inline constexpr std::uint32_t kNoSolid = 0xFFFFFFFFu;
 
 struct Scene {
   std::string name;
@@ -69,6 +97,10 @@ struct Scene {
   MoverSite mover_site;
   // Optional occluder models, one per object (an empty model: none); object scenes only.
   std::vector<OccluderModel> occluder_models;
+  // Optional occluder solids of a split scene, and the solid of each triangle of the
+  // static geometry (kNoSolid: the triangle is its own occluder); movers have none.
+  std::vector<OccluderSolid> occluder_solids;
+  std::vector<std::uint32_t> triangle_solids;
   Aabb bounds;      // local, of all positions
   CameraPath path;  // the default walkthrough
   // Suggested clip planes for the walkthrough (world units).
