@@ -196,7 +196,7 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
                                                   " cannot give; use --reader " + readers);
     }
     reader_ = reader->make({scene, framebuffer_->handle(), fb.width, fb.height, fb.depth, &motion_,
-                            &config.cpu, desc.projection});
+                            &config.cpu, desc.projection, desc.method});
   }
   CullerDesc vfc;
   vfc.method = Method::Vfc;

@@ -30,7 +30,8 @@ struct Palette {
 };
 
 constexpr double kWindowDepth = 0.35;  // how far a window box stands out of its wall
-constexpr double kModelInset = 1.0;    // the occluder box's distance inside every face
+constexpr double kWallInset = 0.5;     // the occluder box's distance behind each wall
+constexpr double kFlatInset = 0.1;     // ... below the roof and above the floor
 constexpr std::uint32_t kRoofColor = rgba(96, 92, 88);
 
 int bayCount(double x0, double z0, double x1, double z1) {
@@ -131,27 +132,29 @@ void building(MeshWriter& w, double x0, double z0, double x1, double z1, int flo
 // Each of its triangles lies in a slab along one face F of P, from F's plane to
 // kWindowDepth in front of it: the frames, the ground floor, the roof and the floor in
 // F's plane, the window boxes' sides between it and kWindowDepth out, their glass
-// kWindowDepth out. The box is P inset by kModelInset on every side, so no triangle
-// meets it, and its centre is inside the surface: the box is inside the solid. The depth
-// rule needs more, and has it. For a centre q the buffer claims for the box, q lies
-// inside the box's projection, hence inside P's silhouette, by more than GL's snapping
-// error s; the faces of P that the eye sees form a disk bounded by the silhouette, and
-// their real triangles (sharing every edge vertex for vertex) a disk with the same
-// boundary, so GL, after snapping, covers q with one of them, T, of a face F the eye
-// sees. T lies on the eye's side of F's plane and the box kModelInset behind it, so the
-// point of T whose depth GL interpolates (within s of q, on a ray into the box) is
-// nearer than the box; so is T's plane at q where T is parallel to F (llvmpipe
-// evaluates the plane of the unsnapped triangle at q itself). Not covered: llvmpipe
-// evaluating a window box's side, a plane across F, at a centre up to s past its edge
-// on the wall, where the plane runs into the building, beyond the box only for a side
-// seen within about s / 3 pixels of edge-on.
+// kWindowDepth out. The box is P inset by kWallInset from the walls and kFlatInset from
+// the roof and the floor, so no triangle meets it, and its centre is inside the surface:
+// the box is inside the solid. The depth rule needs more, and has it. For a centre q the
+// buffer claims for the box, q lies inside the box's projection, hence inside P's
+// silhouette, by more than GL's snapping error s; the faces of P that the eye sees form
+// a disk bounded by the silhouette, and their real triangles (sharing every edge vertex
+// for vertex) a disk with the same boundary, so GL, after snapping, covers q with one of
+// them, T, of a face F the eye sees. T lies on the eye's side of F's plane and the box
+// behind it, so the point of T whose depth GL interpolates (within s of q, on a ray into
+// the box) is nearer than the box; so is T's plane at q where T is parallel to F
+// (llvmpipe evaluates the plane of the unsnapped triangle at q itself). Not covered:
+// llvmpipe evaluating a window box's side, a plane across F, at a centre up to s past
+// its edge on the wall, where the plane runs into the building; it reaches the box
+// (kWallInset >= kWindowDepth behind the wall) only for a side whose projection is
+// narrower than about s, seen almost edge-on. The insets are small because every metre
+// of them is a gap in the buffer along each building's silhouette.
 OccluderSolid buildingSolid(double x0, double z0, double x1, double z1, int floors,
                             const Aabb& around) {
   const double h = floors * kFloor;
   OccluderSolid s;
   s.around = around;
-  s.inside = {{float(x0 + kModelInset), float(kModelInset), float(z0 + kModelInset)},
-              {float(x1 - kModelInset), float(h - kModelInset), float(z1 - kModelInset)}};
+  s.inside = {{float(x0 + kWallInset), float(kFlatInset), float(z0 + kWallInset)},
+              {float(x1 - kWallInset), float(h - kFlatInset), float(z1 - kWallInset)}};
   return s;
 }
 

@@ -64,23 +64,6 @@ class MeshBuilder {
   std::vector<std::uint32_t> local_;
 };
 
-// A closed box, its 12 triangles counter-clockwise seen from outside.
-void appendBox(OccluderModel& m, const Aabb& b) {
-  const std::uint32_t base = std::uint32_t(m.positions.size() / 3);
-  for (int i = 0; i < 8; ++i) {
-    m.positions.insert(m.positions.end(), {(i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y,
-                                           (i & 4) ? b.max.z : b.min.z});
-  }
-  // Corner i has x from bit 0, y from bit 1, z from bit 2.
-  constexpr std::uint32_t kFaces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5},   // -x, +x
-                                          {0, 1, 5, 4}, {2, 6, 7, 3},   // -y, +y
-                                          {0, 2, 3, 1}, {4, 5, 7, 6}};  // -z, +z
-  for (const auto& f : kFaces) {
-    m.indices.insert(m.indices.end(), {base + f[0], base + f[1], base + f[2], base + f[0],
-                                       base + f[2], base + f[3]});
-  }
-}
-
 // A contiguous run of triangle numbers, or a run of a permutation.
 struct IotaRange {
   std::uint32_t first, last;
@@ -152,7 +135,7 @@ std::vector<OccluderModel> chunkModels(
       if (seen[solid] == c) continue;
       seen[solid] = c;
       const OccluderSolid& s = scene.occluder_solids[solid];
-      appendBox(m, s.inside);
+      m.boxes.push_back(s.inside);
       if (m.reach.min.x > m.reach.max.x) m.reach = emptyBox();
       growBox(m.reach, s.around);
     }

@@ -42,7 +42,7 @@ struct PreparedScene {
   // scenes, the chunks' models from Scene::occluder_solids), empty when the scene has none.
   std::vector<OccluderModel> occluder_models;
   // The CPU occlusion buffer's meshes, built on first use (scene/occluders.hpp).
-  mutable std::shared_ptr<const cpu::OccluderMeshes> occluder_cache[2];
+  mutable std::shared_ptr<const cpu::OccluderMeshes> occluder_cache[3];
 
   std::uint64_t triangles = 0;
   std::uint64_t source_objects = 0;  // objects before splitting (0 for split scenes)

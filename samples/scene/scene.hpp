@@ -47,10 +47,15 @@ struct MoverSite {
 struct OccluderModel {
   std::vector<float> positions;  // xyz, local coordinates
   std::vector<std::uint32_t> indices;
-  // The box of the real geometry the model stands for, where it reaches beyond the
-  // object's own (OccluderSolid::around); empty (min > max) when it does not. The buffer
-  // is given the union with the object's box: it uses the model only while that union
-  // lies wholly beyond the near plane, and bounds GL's vertex snapping by it.
+  // Closed boxes inside solids of several objects (OccluderSolid::inside), which may
+  // reach beyond this object's box, and `reach`, the box of the real geometry they stand
+  // for (the union of the solids' `around`; empty, min > max, without boxes). The buffer
+  // is given the union of reach and the object's box: it uses the model only while that
+  // lies wholly beyond the near plane, and bounds GL's vertex snapping by it. Methods
+  // with occlusion-state semantics (anything drawn hides what is tested next, sound
+  // because it lies in front by the two-list order) get the boxes clipped to the
+  // object's box (scene/occluders.hpp).
+  std::vector<Aabb> boxes;
   Aabb reach{{1, 1, 1}, {0, 0, 0}};
 };
 

@@ -10,10 +10,12 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <map>
 #include <set>
 #include <vector>
 
+#include "logrid/bvh.hpp"
 #include "logrid/cpu/occluder_mesh.hpp"
 #include "scene/generators.hpp"
 #include "scene/occluders.hpp"
@@ -137,12 +139,13 @@ TEST(CityOccluders, EachBoxLiesInsideItsBuilding) {
   }
 }
 
-TEST(CityOccluders, EveryTriangleLiesInAThinSlabOnAFaceWellInFrontOfTheBox) {
+TEST(CityOccluders, EveryTriangleLiesInAThinSlabOnAFaceInFrontOfTheBox) {
   // city.cpp's depth argument: with P the lot's prism (found from the roof, the highest
   // vertices), each triangle lies on the outer side of one face F of P, within its
   // window depth (0.35 m) of F's plane and within F's rectangle, and the occluder box
-  // lies behind F's plane with room to spare (there: 1 m).
-  constexpr double kDepth = 0.35 + 1e-4, kSpare = 0.5;
+  // lies behind F's plane, at least as far as the triangle stands out (there: 0.5 m
+  // behind walls, 0.1 m inside roof and floor).
+  constexpr double kDepth = 0.35 + 1e-4, kMinGap = 0.05;
   for (std::uint64_t seed : kSeeds) {
     const Scene s = makeCity({0.01, seed});
     const auto surfaces = buildings(s);
@@ -177,10 +180,10 @@ TEST(CityOccluders, EveryTriangleLiesInAThinSlabOnAFaceWellInFrontOfTheBox) {
             // Face F: coordinate `axis` at lo (side 0, outside below) or hi (side 1).
             const double plane = side ? hi[axis] : lo[axis];
             const double box_behind = side ? plane - box_hi[axis] : box_lo[axis] - plane;
-            bool on = box_behind >= kSpare;
+            bool on = box_behind >= kMinGap;
             for (const Point& p : t) {
               const double out = side ? p[axis] - plane : plane - p[axis];
-              on &= out >= 0 && out <= kDepth;
+              on &= out >= 0 && out <= kDepth && out <= box_behind;
               for (int other = 0; other < 3; ++other) {
                 if (other != axis) on &= lo[other] <= p[other] && p[other] <= hi[other];
               }
@@ -193,78 +196,95 @@ TEST(CityOccluders, EveryTriangleLiesInAThinSlabOnAFaceWellInFrontOfTheBox) {
       EXPECT_EQ(outside, 0u) << "seed " << seed << ", building " << b
                              << ": vertices outside the solid's box";
       EXPECT_EQ(loose, 0u) << "seed " << seed << ", building " << b << ": of " << surfaces[b].size()
-                           << " triangles, " << loose << " are not in a slab on a face, " << kSpare
-                           << " m in front of the box";
+                           << " triangles, " << loose
+                           << " are not in a slab on a face, in front of the box";
     }
   }
+}
+
+bool holds(const Aabb& b, const float* q) {
+  return b.min.x <= q[0] && q[0] <= b.max.x && b.min.y <= q[1] && q[1] <= b.max.y &&
+         b.min.z <= q[2] && q[2] <= b.max.z;
 }
 
 TEST(CityOccluders, ChunkModelsHoldTheBoxesOfTheirBuildings) {
   for (std::uint64_t seed : kSeeds) {
     Scene s = makeCity({0.01, seed});
     const std::vector<OccluderSolid> solids = s.occluder_solids;
-    std::set<std::vector<float>> boxes;  // every solid's box as 8 corners
-    for (const OccluderSolid& o : solids) {
-      const Aabb& b = o.inside;
-      std::vector<float> corners;
-      for (int i = 0; i < 8; ++i) {
-        corners.insert(corners.end(), {(i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y,
-                                       (i & 4) ? b.max.z : b.min.z});
-      }
-      boxes.insert(corners);
-    }
+    // Per chunk, which solids its triangles belong to, from the scene before preparing.
+    const std::vector<std::uint32_t> tags = s.triangle_solids;
     const bvh::BuildArgs args = defaultBuildArgs(s);
+    bvh::TriangleHierarchy th = bvh::buildOverTriangles(s.positions, s.indices, args);
     const PreparedScene p = prepareScene(std::move(s), args);
     ASSERT_EQ(p.occluder_models.size(), p.static_objects);
+    ASSERT_EQ(th.chunk_first.size(), std::size_t(p.static_objects) + 1);
     std::size_t modelled = 0, model_triangles = 0, mesh_triangles = 0;
     for (std::uint32_t id = 0; id < p.static_objects; ++id) {
+      std::set<std::uint32_t> expected;
+      for (std::uint32_t i = th.chunk_first[id]; i < th.chunk_first[id + 1]; ++i) {
+        const std::uint32_t solid = tags[th.triangle_order[i]];
+        if (solid != kNoSolid) expected.insert(solid);
+      }
       const OccluderModel& m = p.occluder_models[id];
       mesh_triangles += p.mesh.draws[id].index_count / 3;
-      if (m.indices.empty()) continue;
-      ++modelled;
-      model_triangles += m.indices.size() / 3;
-      ASSERT_LE(m.reach.min.x, m.reach.max.x) << "a model standing for a building has its box";
-      // Every model vertex lies in the box the buffer is given (the object's with reach).
-      Aabb given = p.object_boxes[id];
-      growBox(given, m.reach);
-      for (std::size_t v = 0; v < m.positions.size(); v += 3) {
-        const float* q = &m.positions[v];
-        ASSERT_TRUE(given.min.x <= q[0] && q[0] <= given.max.x && given.min.y <= q[1] &&
-                    q[1] <= given.max.y && given.min.z <= q[2] && q[2] <= given.max.z)
-            << "object " << id << ", vertex " << v / 3;
+      ASSERT_EQ(m.boxes.size(), expected.size()) << "object " << id;
+      if (m.boxes.empty()) {
+        EXPECT_TRUE(m.indices.empty()) << "object " << id << ": no box, so no model";
+        continue;
       }
-      // Runs of 8 vertices that are a building's box are the boxes; the rest are copies
-      // of the chunk's own triangles (the ground), 3 vertices each.
-      std::size_t v = 0, found = 0;
-      while (v < m.positions.size()) {
-        if (v + 24 <= m.positions.size() &&
-            boxes.count(std::vector<float>(m.positions.begin() + std::ptrdiff_t(v),
-                                           m.positions.begin() + std::ptrdiff_t(v + 24)))) {
-          ++found;
-          v += 24;
-        } else {
-          v += 9;
+      ++modelled;
+      model_triangles += m.indices.size() / 3 + 12 * m.boxes.size();
+      Aabb reach = emptyBox();
+      std::size_t matched = 0;
+      for (std::uint32_t solid : expected) {
+        growBox(reach, solids[solid].around);
+        for (const Aabb& b : m.boxes) {
+          matched += std::memcmp(&b, &solids[solid].inside, sizeof(Aabb)) == 0 ? 1 : 0;
         }
       }
-      EXPECT_GE(found, 1u) << "object " << id;
+      EXPECT_EQ(matched, expected.size()) << "object " << id;
+      EXPECT_EQ(std::memcmp(&reach, &m.reach, sizeof(Aabb)), 0) << "object " << id;
+      // Every vertex lies in the box the buffer is given (the object's with reach).
+      Aabb given = p.object_boxes[id];
+      growBox(given, m.reach);
+      for (const Aabb& b : m.boxes) {
+        EXPECT_TRUE(holds(given, &b.min.x) && holds(given, &b.max.x)) << "object " << id;
+      }
+      for (std::size_t v = 0; v < m.positions.size(); v += 3) {
+        EXPECT_TRUE(holds(p.object_boxes[id], &m.positions[v])) << "object " << id;
+      }
     }
     EXPECT_GT(modelled, p.static_objects / 2) << "most chunks are of buildings";
     EXPECT_LT(model_triangles * 20, mesh_triangles) << "the models are much smaller";
-    // The buffer's meshes: each box is recognised as a closed surface.
-    const cpu::OccluderMeshes& meshes = sceneOccluders(p, OccluderChoice::Model);
-    std::size_t inside = 0;
-    for (std::uint32_t id = 0; id < p.static_objects; ++id) {
-      const cpu::OccluderObject& o = meshes.object(id);
-      if (!o.inside_solid) continue;
-      ++inside;
-      EXPECT_NE(o.fallback, cpu::kNoOccluder);
-      bool closed = false;
-      for (std::uint32_t t = o.first_triangle; t < o.first_triangle + o.triangle_count; ++t) {
-        closed |= meshes.closed()[t] != 0;
+    // The buffer's meshes: each model is marked inside its solid with its mesh as the
+    // fallback and holds a closed surface; clipped to the objects' boxes, every vertex of
+    // a model lies in its object's box.
+    for (bool within : {false, true}) {
+      const cpu::OccluderMeshes& meshes = sceneOccluders(p, OccluderChoice::Model, within);
+      std::size_t inside = 0;
+      for (std::uint32_t id = 0; id < p.static_objects; ++id) {
+        const cpu::OccluderObject& o = meshes.object(id);
+        if (!o.inside_solid) continue;
+        ++inside;
+        EXPECT_NE(o.fallback, cpu::kNoOccluder);
+        bool closed = false;
+        for (std::uint32_t t = o.first_triangle; t < o.first_triangle + o.triangle_count; ++t) {
+          closed |= meshes.closed()[t] != 0;
+        }
+        EXPECT_TRUE(closed) << "object " << id;
+        if (!within) continue;
+        for (std::uint32_t v = o.first_vertex; v < o.first_vertex + o.vertex_count; ++v) {
+          EXPECT_TRUE(holds(p.object_boxes[id], &meshes.positions()[std::size_t(v) * 3]))
+              << "object " << id << ", vertex " << v;
+        }
       }
-      EXPECT_TRUE(closed) << "object " << id;
+      if (within) {
+        EXPECT_GT(inside, 0u);
+        EXPECT_LE(inside, modelled);
+      } else {
+        EXPECT_EQ(inside, modelled);
+      }
     }
-    EXPECT_EQ(inside, modelled);
   }
 }
 
