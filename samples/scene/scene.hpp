@@ -74,7 +74,13 @@ struct OccluderModel {
 // culled, its test found every pixel of its rectangle, this one included, holding a key
 // nearer than D's box, hence nearer than k. Keys only get nearer during a frame, so at
 // a pixel's final key the first case holds: whatever is culled behind a key at a pixel
-// lies behind a surface GL draws there.
+// lies behind a surface GL draws there. Methods with occlusion-state semantics compare
+// no depths (a pixel holding anything hides a box the two-list order tests after the
+// drawing object, whose box lies in front of it): for them each box is clipped to its
+// chunk's box, so a claim lies in front of the tested box, the surface GL draws there
+// nearer still, and the same descent (a culled D had its pixel claimed by something in
+// front of D's box) holds. Unclipped boxes claim pixels behind the tested box: log-state
+// then missed visible objects (tests/oracle/walk_oracle_test.cpp, CpuBufferCityModels).
 struct OccluderSolid {
   Aabb inside;
   Aabb around;
