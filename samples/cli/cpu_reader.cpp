@@ -3,14 +3,15 @@
 namespace logrid::samples {
 
 CpuFrameReader::CpuFrameReader(const PreparedScene& scene, const CpuReaderOptions& options,
-                               const ProjectionSettings& projection)
+                               const ProjectionSettings& projection, Method method)
     : static_objects_(scene.static_objects) {
   cpu::OcclusionBufferDesc desc;
   desc.resolution = options.resolution;
   desc.isa = options.isa;
   desc.threads = options.threads;
   desc.projection = projection;
-  buffer_ = std::make_unique<cpu::OcclusionBuffer>(sceneOccluders(scene, options.occluders), desc);
+  buffer_ = std::make_unique<cpu::OcclusionBuffer>(
+      sceneOccluders(scene, options.occluders, methodInfo(method).state_semantics), desc);
   last_ = buffer_->stats();
 }
 
@@ -31,7 +32,7 @@ CpuFrameStats CpuFrameReader::takeFrameStats() {
 
 std::unique_ptr<FrameReader> makeCpuReader(const ReaderContext& c) {
   return std::make_unique<CpuFrameReader>(c.scene, c.cpu ? *c.cpu : CpuReaderOptions{},
-                                          c.projection);
+                                          c.projection, c.method);
 }
 
 }  // namespace logrid::samples

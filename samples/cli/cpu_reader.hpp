@@ -34,9 +34,10 @@ struct CpuFrameStats {
 
 class CpuFrameReader final : public FrameReader {
  public:
-  // Throws logrid::Error for options this machine cannot run.
+  // Throws logrid::Error for options this machine cannot run. `method`: the culler's
+  // (occlusion-state methods get models within their objects' boxes, occluders.hpp).
   CpuFrameReader(const PreparedScene& scene, const CpuReaderOptions& options,
-                 const ProjectionSettings& projection);
+                 const ProjectionSettings& projection, Method method);
   DepthSource& source() override { return *buffer_; }
   // Moving objects (ids from PreparedScene::static_objects on) are not rasterised: the
   // occluder meshes hold them where they stand at time 0, not where the frame draws

@@ -204,7 +204,7 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
                                                   " cannot give; use --reader " + readers);
     }
     reader_ = reader->make({scene, framebuffer_->handle(), fb.width, fb.height, fb.depth, &motion_,
-                            &config.cpu, desc.projection});
+                            &config.cpu, desc.projection, desc.method});
   }
   if (config.method.ddo != DdoUse::None) {
     if (!scene.ddo) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "logrid/depth_source.hpp"
+#include "logrid/method.hpp"
 #include "logrid/projection.hpp"
 #include "scene/motion.hpp"
 #include "scene/prepare.hpp"
@@ -40,6 +41,7 @@ struct ReaderContext {
   const MotionFrame* motion = nullptr;
   const CpuReaderOptions* cpu = nullptr;  // the cpu reader's settings (nullptr: defaults)
   ProjectionSettings projection;          // the culler's
+  Method method = Method::LogZfar;        // the culler's
 };
 
 struct ReaderInfo {

@@ -8,7 +8,7 @@
 
 namespace logrid::samples {
 
-inline std::uint32_t rgba(int r, int g, int b) {
+constexpr std::uint32_t rgba(int r, int g, int b) {
   return std::uint32_t(r) | std::uint32_t(g) << 8 | std::uint32_t(b) << 16 | 0xFF000000u;
 }
 

@@ -37,17 +37,55 @@ void addDrawnMesh(const PreparedScene& scene, ObjectId id, cpu::OccluderMeshes& 
                 &scene.object_boxes[id]);
 }
 
-std::shared_ptr<const cpu::OccluderMeshes> build(const PreparedScene& scene,
-                                                 OccluderChoice choice) {
+// A closed box, its 12 triangles counter-clockwise seen from outside.
+void appendBox(const Aabb& b, std::vector<float>& positions, std::vector<std::uint32_t>& indices) {
+  const std::uint32_t base = std::uint32_t(positions.size() / 3);
+  for (int i = 0; i < 8; ++i) {  // corner i: x from bit 0, y from bit 1, z from bit 2
+    positions.insert(positions.end(), {(i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y,
+                                       (i & 4) ? b.max.z : b.min.z});
+  }
+  constexpr std::uint32_t kFaces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5},   // -x, +x
+                                          {0, 1, 5, 4}, {2, 6, 7, 3},   // -y, +y
+                                          {0, 2, 3, 1}, {4, 5, 7, 6}};  // -z, +z
+  for (const auto& f : kFaces) {
+    indices.insert(indices.end(),
+                   {base + f[0], base + f[1], base + f[2], base + f[0], base + f[2], base + f[3]});
+  }
+}
+
+// Adds object `id` as its model; false (nothing added) when no box is left of it.
+bool addModel(const PreparedScene& scene, ObjectId id, const OccluderModel& m, bool within,
+              cpu::OccluderMeshes& out) {
+  const Aabb& own = scene.object_boxes[id];
+  std::vector<float> positions = m.positions;
+  std::vector<std::uint32_t> indices = m.indices;
+  for (Aabb b : m.boxes) {
+    if (within) {  // the part inside the object's box (still inside the solid)
+      b.min = {std::max(b.min.x, own.min.x), std::max(b.min.y, own.min.y),
+               std::max(b.min.z, own.min.z)};
+      b.max = {std::min(b.max.x, own.max.x), std::min(b.max.y, own.max.y),
+               std::min(b.max.z, own.max.z)};
+      if (!(b.min.x < b.max.x && b.min.y < b.max.y && b.min.z < b.max.z)) continue;
+    }
+    appendBox(b, positions, indices);
+  }
+  if (indices.size() == m.indices.size() && !m.boxes.empty()) return false;
+  if (indices.empty()) return false;
+  Aabb box = own;
+  if (m.reach.min.x <= m.reach.max.x) growBox(box, m.reach);
+  out.addObject(positions.data(), positions.size() / 3, indices.data(), indices.size(), &box);
+  return true;
+}
+
+std::shared_ptr<const cpu::OccluderMeshes> build(const PreparedScene& scene, int slot) {
   auto out = std::make_shared<cpu::OccluderMeshes>();
   const std::size_t objects = scene.mesh.draws.size();
-  const bool models = choice == OccluderChoice::Model && !scene.occluder_models.empty();
+  const bool models = slot != 0 && !scene.occluder_models.empty();
   std::vector<ObjectId> modelled;
   for (ObjectId id = 0; id < objects; ++id) {
-    const OccluderModel* m = models ? &scene.occluder_models[id] : nullptr;
-    if (m && !m->indices.empty()) {
-      out->addObject(m->positions.data(), m->positions.size() / 3, m->indices.data(),
-                     m->indices.size(), &scene.object_boxes[id]);
+    // Movers (after the static objects) have no models.
+    if (models && id < scene.occluder_models.size() &&
+        addModel(scene, id, scene.occluder_models[id], slot == 2, *out)) {
       modelled.push_back(id);
     } else {
       addDrawnMesh(scene, id, *out);
@@ -63,10 +101,12 @@ std::shared_ptr<const cpu::OccluderMeshes> build(const PreparedScene& scene,
 
 }  // namespace
 
-const cpu::OccluderMeshes& sceneOccluders(const PreparedScene& scene, OccluderChoice choice) {
-  std::shared_ptr<const cpu::OccluderMeshes>& slot = scene.occluder_cache[int(choice)];
-  if (!slot) slot = build(scene, choice);
-  return *slot;
+const cpu::OccluderMeshes& sceneOccluders(const PreparedScene& scene, OccluderChoice choice,
+                                          bool within_objects) {
+  const int slot = choice == OccluderChoice::Mesh ? 0 : within_objects ? 2 : 1;
+  std::shared_ptr<const cpu::OccluderMeshes>& cached = scene.occluder_cache[slot];
+  if (!cached) cached = build(scene, slot);
+  return *cached;
 }
 
 }  // namespace logrid::samples

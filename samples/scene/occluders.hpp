@@ -1,6 +1,7 @@
 // What the CPU occlusion buffer (logrid/cpu/occlusion_buffer.hpp) rasterises for each
 // object of a prepared scene: the object's own mesh, or the scene's occluder model of it
-// (Scene::occluder_models: the forest's trees as trunk and inner crown hulls), with the
+// (Scene::occluder_models: the forest's trees as trunk and inner crown hulls; the city's
+// chunks as the boxes inside their buildings, Scene::occluder_solids), with the
 // mesh as the fallback where the model cannot be used. Objects without a model use their
 // mesh either way. Built on first use and kept with the scene.
 #pragma once
@@ -22,6 +23,12 @@ const char* toString(OccluderChoice choice);
 std::optional<OccluderChoice> parseOccluderChoice(const std::string& name);
 
 // Object i of the result is ObjectId i of the scene; fallbacks follow them.
-const cpu::OccluderMeshes& sceneOccluders(const PreparedScene& scene, OccluderChoice choice);
+// `within_objects`: every model stays inside its object's box (boxes of solids that
+// reach beyond it are clipped to it; an object with nothing left uses its mesh), as
+// methods with occlusion-state semantics need (MethodInfo::state_semantics: a pixel
+// counts as hidden wherever anything was drawn, sound only because the two-list order
+// draws only objects whose boxes lie in front of every box still to be tested).
+const cpu::OccluderMeshes& sceneOccluders(const PreparedScene& scene, OccluderChoice choice,
+                                          bool within_objects);
 
 }  // namespace logrid::samples

@@ -107,6 +107,43 @@ bool needsWideIndices(const Scene& scene,
   return false;
 }
 
+// The occluder model of each chunk of a split scene (scene.hpp, OccluderSolid): the box
+// of every solid one of its triangles belongs to, and its other triangles as they are.
+// A chunk with no tagged triangle gets no model (its mesh is its occluder).
+std::vector<OccluderModel> chunkModels(
+    const Scene& scene, const std::vector<std::pair<std::uint32_t, std::uint32_t>>& spans,
+    const std::uint32_t* order) {
+  std::vector<OccluderModel> models(spans.size());
+  std::vector<std::uint32_t> seen(scene.occluder_solids.size(), kNoSolid);  // chunk stamp
+  for (std::uint32_t c = 0; c < spans.size(); ++c) {
+    OccluderModel& m = models[c];
+    bool any = false;
+    for (std::uint32_t i = spans[c].first; i < spans[c].second; ++i) {
+      const std::uint32_t t = order[i];
+      const std::uint32_t solid =
+          t < scene.triangle_solids.size() ? scene.triangle_solids[t] : kNoSolid;
+      if (solid == kNoSolid) {
+        for (int k = 0; k < 3; ++k) {
+          const float* p =
+              &scene.positions[std::size_t(scene.indices[std::size_t(t) * 3 + std::size_t(k)]) * 3];
+          m.indices.push_back(std::uint32_t(m.positions.size() / 3));
+          m.positions.insert(m.positions.end(), p, p + 3);
+        }
+        continue;
+      }
+      any = true;
+      if (seen[solid] == c) continue;
+      seen[solid] = c;
+      const OccluderSolid& s = scene.occluder_solids[solid];
+      m.boxes.push_back(s.inside);
+      if (m.reach.min.x > m.reach.max.x) m.reach = emptyBox();
+      growBox(m.reach, s.around);
+    }
+    if (!any) m = OccluderModel{};
+  }
+  return models;
+}
+
 }  // namespace
 
 std::size_t PreparedScene::memoryBytes() const {
@@ -154,6 +191,9 @@ PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args) {
       builder.addObject(
           SpanRange{th.triangle_order.data() + first, th.triangle_order.data() + last},
           0xFFFFFFFFu);
+    }
+    if (!scene.triangle_solids.empty()) {
+      out.occluder_models = chunkModels(scene, spans, th.triangle_order.data());
     }
   } else {
     out.source_objects = scene.objects.size();

@@ -41,10 +41,11 @@ struct PreparedScene {
   // object static_objects + i, drawn with its transform (mesh_renderer.hpp).
   std::uint32_t static_objects = 0;
   Motion motion;
-  // Occluder models by ObjectId (Scene::occluder_models), empty when the scene has none.
+  // Occluder models by ObjectId of the static objects (Scene::occluder_models; for split
+  // scenes, the chunks' models from Scene::occluder_solids), empty when the scene has none.
   std::vector<OccluderModel> occluder_models;
   // The CPU occlusion buffer's meshes, built on first use (scene/occluders.hpp).
-  mutable std::shared_ptr<const cpu::OccluderMeshes> occluder_cache[2];
+  mutable std::shared_ptr<const cpu::OccluderMeshes> occluder_cache[3];
   // The DDO octree over the static mesh, when a method needs it (scene/ddo_scene.hpp).
   std::shared_ptr<const ddo::Octree> ddo;
 

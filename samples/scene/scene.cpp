@@ -83,7 +83,21 @@ void validateScene(const Scene& scene) {
     fail("has " + std::to_string(scene.moving.size()) + " moving objects but " +
          std::to_string(scene.motion.movers.size()) + " movers");
   }
+  if (scene.triangle_solids.size() > scene.triangleCount()) {
+    fail("has occluder solids for " + std::to_string(scene.triangle_solids.size()) +
+         " triangles but " + std::to_string(scene.triangleCount()) + " triangles");
+  }
+  for (std::size_t t = 0; t < scene.triangle_solids.size(); ++t) {
+    const std::uint32_t solid = scene.triangle_solids[t];
+    if (solid != kNoSolid && solid >= scene.occluder_solids.size()) {
+      fail("triangle " + std::to_string(t) + " names occluder solid " + std::to_string(solid) +
+           " but there are " + std::to_string(scene.occluder_solids.size()));
+    }
+  }
   if (scene.split_by_triangles) return;
+  if (!scene.triangle_solids.empty()) {
+    fail("has occluder solids but is not split by triangles; give its objects models");
+  }
   if (scene.objects.empty()) fail("has no objects");
   checkObjects(scene.objects, "object");
   if (!scene.occluder_models.empty() && scene.occluder_models.size() != scene.objects.size()) {

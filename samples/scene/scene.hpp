@@ -40,13 +40,52 @@ struct MoverSite {
 
 // A simpler occluder for one object, for the CPU occlusion buffer (logrid/cpu/
 // occluder_mesh.hpp, OccluderObject::inside_solid): triangles of the object as they are,
-// and triangles that lie inside closed convex solids formed by the object's own
-// triangles (e.g. the convex hull of some of a convex crown's vertices). Positions are
+// and triangles that lie inside closed solids bounded by the object's own triangles
+// (e.g. the convex hull of some of a convex crown's vertices) or, for a scene split by
+// triangles, by the triangles of several objects (OccluderSolid). Positions are
 // bit-identical copies of the object's where they are its vertices.
 struct OccluderModel {
   std::vector<float> positions;  // xyz, local coordinates
   std::vector<std::uint32_t> indices;
+  // Closed boxes inside solids of several objects (OccluderSolid::inside), which may
+  // reach beyond this object's box, and `reach`, the box of the real geometry they stand
+  // for (the union of the solids' `around`; empty, min > max, without boxes). The buffer
+  // is given the union of reach and the object's box: it uses the model only while that
+  // lies wholly beyond the near plane, and bounds GL's vertex snapping by it. Methods
+  // with occlusion-state semantics (anything drawn hides what is tested next, sound
+  // because it lies in front by the two-list order) get the boxes clipped to the
+  // object's box (scene/occluders.hpp).
+  std::vector<Aabb> boxes;
+  Aabb reach{{1, 1, 1}, {0, 0, 0}};
 };
+
+// A closed solid of a scene split by triangles (the city's buildings), for occluder
+// models: `inside`, a box inside the solid that the triangles tagged with it
+// (Scene::triangle_solids) bound, and `around`, the box of those triangles. The chunks
+// of such a scene are cut by the hierarchy, not by solid: every chunk holding a tagged
+// triangle gets the box as (part of) its model (prepare.cpp), although its own
+// triangles need not enclose it. Why the box hides only what GL's picture hides: the
+// model is used only while `around` lies wholly beyond the near plane (reach above),
+// so the eye is outside the solid and GL clips none of it. Where the buffer claims the
+// box at a pixel with key k, the ray meets the solid's surface nearer than the box (the
+// generator derives by how much, with GL's snapping), at a triangle of some chunk D.
+// Frustum culling cannot remove D (the point lies between the eye and the box, beyond
+// the near plane). If D is drawn, GL holds that nearer depth at the pixel; if D is
+// culled, its test found every pixel of its rectangle, this one included, holding a key
+// nearer than D's box, hence nearer than k. Keys only get nearer during a frame, so at
+// a pixel's final key the first case holds: whatever is culled behind a key at a pixel
+// lies behind a surface GL draws there. Methods with occlusion-state semantics compare
+// no depths (a pixel holding anything hides a box the two-list order tests after the
+// drawing object, whose box lies in front of it): for them each box is clipped to its
+// chunk's box, so a claim lies in front of the tested box, the surface GL draws there
+// nearer still, and the same descent (a culled D had its pixel claimed by something in
+// front of D's box) holds. Unclipped boxes claim pixels behind the tested box: log-state
+// then missed visible objects (tests/oracle/walk_oracle_test.cpp, CpuBufferCityModels).
+struct OccluderSolid {
+  Aabb inside;
+  Aabb around;
+};
+inline constexpr std::uint32_t kNoSolid = 0xFFFFFFFFu;
 
 struct Scene {
   std::string name;
@@ -69,6 +108,10 @@ struct Scene {
   MoverSite mover_site;
   // Optional occluder models, one per object (an empty model: none); object scenes only.
   std::vector<OccluderModel> occluder_models;
+  // Optional occluder solids of a split scene, and the solid of each triangle of the
+  // static geometry (kNoSolid: the triangle is its own occluder); movers have none.
+  std::vector<OccluderSolid> occluder_solids;
+  std::vector<std::uint32_t> triangle_solids;
   Aabb bounds;      // local, of all positions
   CameraPath path;  // the default walkthrough
   // Suggested clip planes for the walkthrough (world units).

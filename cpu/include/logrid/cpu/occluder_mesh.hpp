@@ -17,7 +17,10 @@
 //     plus, optionally, drawn triangles as they are (a trunk). Such a model hides what
 //     the real object hides only while the eye is outside the object and its box lies
 //     wholly beyond the near plane; otherwise the buffer uses the object's `fallback`
-//     (usually its own mesh) or nothing.
+//     (usually its own mesh) or nothing. The solid may also be bounded by the
+//     triangles of several objects (a building cut into chunks), each of which is drawn
+//     unless culled; then `box` must contain them all (the argument that this holds:
+//     samples/scene/scene.hpp, OccluderSolid).
 #pragma once
 
 #include <cstdint>
@@ -37,7 +40,8 @@ struct OccluderObject {
   std::uint32_t first_triangle = 0;
   std::uint32_t triangle_count = 0;
   // The box of the geometry the application draws for this object (for a model, the
-  // real object's box, not the model's); every vertex of the object lies inside it.
+  // box of the real geometry it stands for, not the model's); every vertex of the
+  // object lies inside it.
   Aabb box;
   bool inside_solid = false;
   std::uint32_t fallback = kNoOccluder;  // index of another object in the set, or none
