@@ -63,7 +63,10 @@ struct BenchOptions {
   WalkOptions walk;
   std::string scenes = "forest,city";
   std::string sizes = "640x480,1280x960";
-  std::string methods = "log-state,log-zfar,bog,hzb,pq,vfc,oracle";
+  // The paper's methods, then LOG's best exact stall settings measured in
+  // docs/TRAVERSAL.md (log-zfar K = 16: fastest without coherence on the forest;
+  // log-state K = 32 + tc: under 10 flushes a frame), then the comparison methods.
+  std::string methods = "log-state,log-zfar,log-zfar:16,log-state:32:tc,bog,hzb,pq,vfc,oracle";
   std::string readers = "pbo,reduce,query";  // log-state again with these readers
   double forest_scale = 0;                   // 0: --scale
   double city_scale = 0;
