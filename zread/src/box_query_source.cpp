@@ -9,7 +9,6 @@
 
 #include "attachment.hpp"
 #include "logrid/error.hpp"
-#include "query_pass_state.hpp"
 
 namespace logrid::zread {
 
@@ -66,26 +65,6 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-void throwIfError(const char* call) {
-  if (const GLenum e = glGetError(); e != GL_NO_ERROR) {
-    char text[160];
-    std::snprintf(text, sizeof text, "BoxQuerySource::%s: GL error 0x%04X", call, unsigned(e));
-    throw Error(ErrorCode::Runtime, text);
-  }
-}
-
-// An error pending from the application's own calls would be taken for the pass's.
-void refusePendingError(const char* call) {
-  if (const GLenum e = glGetError(); e != GL_NO_ERROR) {
-    char text[256];
-    std::snprintf(text, sizeof text,
-                  "BoxQuerySource::%s: GL error 0x%04X was pending before the query pass, from "
-                  "the application's earlier calls; check glGetError() after them",
-                  call, unsigned(e));
-    throw Error(ErrorCode::Runtime, text);
-  }
-}
-
 }  // namespace
 
 BoxQuerySource::BoxQuerySource(std::uint32_t framebuffer, QueryTarget target)
@@ -137,6 +116,17 @@ void BoxQuerySource::endQueryFrame() {
   }
 }
 
+void BoxQuerySource::preparePass(GlStateGuard::Scope& scope, std::uint32_t program) {
+  // Depth test with the convention's function, no writes; the boxes' clip space is the
+  // camera's (lower-left origin, its depth mode). The scissor box is the whole viewport
+  // until scissor() moves it.
+  scope.prepareDraw(framebuffer_, std::int32_t(camera_.width), std::int32_t(camera_.height),
+                    depth_func_, false);
+  scope.clipControl(GL_LOWER_LEFT, clip_depth_mode_);
+  glUseProgram(program);
+  glBindVertexArray(vao_);
+}
+
 QueryHandle BoxQuerySource::acquire() {
   if (free_.empty()) {
     const std::size_t old = pool_.size();
@@ -157,11 +147,10 @@ QueryHandle BoxQuerySource::issueBoxes(const QueryBox* boxes, std::size_t count)
   if (!began_)
     throw Error(ErrorCode::InvalidArgument, "BoxQuerySource: call beginQueryFrame() first");
   const auto start = std::chrono::steady_clock::now();
-  refusePendingError("issueBoxes");
+  GlStateGuard::Scope scope(guard_, "BoxQuerySource::issueBoxes");
   const QueryHandle h = acquire();
   {
-    detail::QueryPassState state(framebuffer_, GLint(camera_.width), GLint(camera_.height),
-                                 depth_func_, clip_depth_mode_, box_program_->handle(), vao_);
+    preparePass(scope, box_program_->handle());
     glBeginQuery(target_, pool_[h]);
     for (std::size_t first = 0; first < count; first += kBoxesPerDraw) {
       const std::size_t n = std::min<std::size_t>(kBoxesPerDraw, count - first);
@@ -176,8 +165,8 @@ QueryHandle BoxQuerySource::issueBoxes(const QueryBox* boxes, std::size_t count)
       glDrawArraysInstanced(GL_TRIANGLES, 0, 36, GLsizei(n));
     }
     glEndQuery(target_);
+    scope.check("the box queries");
   }
-  throwIfError("issueBoxes");
   pending_work_ = true;
   ++query_counters_.queries;
   query_counters_.boxes += count;
@@ -189,13 +178,12 @@ QueryHandle BoxQuerySource::issueRects(const RectQuery* rects, std::size_t count
   if (!began_)
     throw Error(ErrorCode::InvalidArgument, "BoxQuerySource: call beginQueryFrame() first");
   const auto start = std::chrono::steady_clock::now();
-  refusePendingError("issueRects");
+  GlStateGuard::Scope scope(guard_, "BoxQuerySource::issueRects");
   const QueryHandle h = acquire();
   const bool reversed = camera_.depth.convention == DepthConvention::Reversed;
   const float far_key = clearKey(camera_.depth);
   {
-    detail::QueryPassState state(framebuffer_, GLint(camera_.width), GLint(camera_.height),
-                                 depth_func_, clip_depth_mode_, rect_program_->handle(), vao_);
+    preparePass(scope, rect_program_->handle());
     glBeginQuery(target_, pool_[h]);
     for (std::size_t i = 0; i < count; ++i) {
       const float t = rects[i].threshold;
@@ -207,12 +195,12 @@ QueryHandle BoxQuerySource::issueRects(const RectQuery* rects, std::size_t count
       if (!reversed && depth > d) depth = std::nextafter(depth, -1.0f);
       if (reversed && depth < d) depth = std::nextafter(depth, 2.0f);
       glUniform1f(u_depth_, std::clamp(depth, 0.0f, 1.0f));
-      state.scissor(rects[i].rect);
+      scope.scissor(rects[i].rect);
       glDrawArrays(GL_TRIANGLES, 0, 3);
     }
     glEndQuery(target_);
+    scope.check("the rectangle queries");
   }
-  throwIfError("issueRects");
   pending_work_ = true;
   ++query_counters_.queries;
   query_counters_.boxes += count;

@@ -21,12 +21,10 @@
 // on some GPUs). Objects are pooled and reused frame to frame.
 //
 // The query pass does not depend on the application's GL state: each issue sets what it
-// draws with (framebuffer, viewport, depth range, clip control, depth test and function,
-// every write mask off, no stencil test, face culling, polygon offset, depth clamp, clip
-// distances, scissor or sample masks, polygon mode fill, its own program and vertex array)
-// and restores the application's state before it returns (zread/src/query_pass_state.hpp).
-// Not detected: conditional rendering or unpaused transform feedback left active by the
-// application.
+// draws with through a GlStateGuard scope (gl_state.hpp: the neutral raster state of
+// prepareDraw(), the camera's clip control, its own program and vertex array) and restores
+// the application's state before it returns. Conditional rendering, unpaused transform
+// feedback and a GL error pending from the application are refused with a logrid::Error.
 //
 // Flushes: a poll or result after new commands (an issue, or a draw the culler announced
 // with noteDraw) makes the driver start that work (on Mesa llvmpipe: rasterise the
@@ -41,6 +39,7 @@
 #include <vector>
 
 #include "logrid/occlusion_queries.hpp"
+#include "logrid/zread/gl_state.hpp"
 #include "logrid/zread/program.hpp"
 
 namespace logrid::zread {
@@ -73,6 +72,8 @@ class BoxQuerySource final : public OcclusionQueries {
 
  private:
   QueryHandle acquire();
+  // Sets the pass's GL state in `scope` and binds `program` and the vertex array.
+  void preparePass(GlStateGuard::Scope& scope, std::uint32_t program);
   void syncCounted();  // a poll or result call: counts a flush if work was pending
 
   std::uint32_t framebuffer_;
@@ -89,6 +90,7 @@ class BoxQuerySource final : public OcclusionQueries {
   std::vector<QueryHandle> free_;
   std::vector<std::uint8_t> open_;  // per handle: issued and not read
   std::vector<float> uniforms_;     // scratch: boxes packed for the uniform array
+  GlStateGuard guard_;              // the application's GL state, saved and restored
   bool pending_work_ = false;
 };
 
