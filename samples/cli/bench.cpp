@@ -82,7 +82,7 @@ struct BenchOptions {
   MotionBenchOptions motion;                 // --motion: bench_motion.cpp
 };
 
-std::string ratio(double a, double b) { return b > 0 ? formatFixed(a / b, 2) + "×" : "–"; }
+std::string ratio(double a, double b) { return formatRatio(a, b, "×"); }
 
 struct Row {
   std::string label;

@@ -27,8 +27,6 @@ constexpr PaperRow kPaper[] = {{"power plant + moving bunnies", 0.71, 0.50, 3.82
                                {"teapots (moving)", 0.93, 0.93, 1.55},
                                {"teapots (static)", 0.92, 0.88, 2.04}};
 
-std::string ratioText(double a, double b) { return b > 0 ? formatFixed(a / b, 2) : "–"; }
-
 // One hierarchy's figures in one cell (scene, movers, size): averages over the frames
 // of the first repetition, frame time the average of per-frame medians.
 struct Row {
@@ -239,12 +237,12 @@ int runMotionBench(const MotionBenchOptions& m, const MotionBenchRun& run) {
       const Row* b = find(c->rows, "binary");
       const Row* f = find(c->rows, "refit");
       if (!t) continue;
-      md << "| " << grouped(c->movers) << " | " << (b ? ratioText(t->frame_ms, b->frame_ms) : "–")
-         << " | " << (b ? ratioText(t->objects, b->objects) : "–") << " | "
-         << (b ? ratioText(t->queries(), b->queries()) : "–") << " | "
-         << (f ? ratioText(t->frame_ms, f->frame_ms) : "–") << " | "
-         << (f ? ratioText(t->objects, f->objects) : "–") << " | "
-         << (f ? ratioText(t->queries(), f->queries()) : "–") << " |\n";
+      md << "| " << grouped(c->movers) << " | " << (b ? formatRatio(t->frame_ms, b->frame_ms) : "–")
+         << " | " << (b ? formatRatio(t->objects, b->objects) : "–") << " | "
+         << (b ? formatRatio(t->queries(), b->queries()) : "–") << " | "
+         << (f ? formatRatio(t->frame_ms, f->frame_ms) : "–") << " | "
+         << (f ? formatRatio(t->objects, f->objects) : "–") << " | "
+         << (f ? formatRatio(t->queries(), f->queries()) : "–") << " |\n";
     }
     md << "\nThe paper (new ÷ old, its Table 1):";
     for (const PaperRow& p : kPaper) {
@@ -310,7 +308,7 @@ int runMotionBench(const MotionBenchOptions& m, const MotionBenchRun& run) {
       if (!t || !f || c.movers == 0) continue;
       md << "- " << (t->objects < f->objects ? "met" : "**not met**") << ": " << c.scene << " "
          << c.size << ", " << grouped(c.movers) << " movers: " << name << " draws "
-         << ratioText(t->objects, f->objects) << "× refit's objects (" << grouped(t->objects)
+         << formatRatio(t->objects, f->objects) << "× refit's objects (" << grouped(t->objects)
          << " vs " << grouped(f->objects) << "; the paper: 0.37–0.93 against its old algorithm)\n";
     }
   }

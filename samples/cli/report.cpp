@@ -83,6 +83,10 @@ std::string formatFixed(double value, int decimals) {
   return buf;
 }
 
+std::string formatRatio(double a, double b, const char* suffix) {
+  return b > 0 ? formatFixed(a / b, 2) + suffix : "–";
+}
+
 std::string linkFrom(const std::string& document, const std::string& target) {
   namespace fs = std::filesystem;
   return fs::relative(fs::absolute(target), fs::absolute(document).parent_path()).string();

@@ -25,6 +25,9 @@ void writeText(const std::string& path, const std::string& text);
 // A number with a fixed count of decimals, e.g. formatFixed(2.345, 1) == "2.3".
 std::string formatFixed(double value, int decimals = 2);
 
+// a / b with two decimals and `suffix` (e.g. "×"), or "–" when b is not positive.
+std::string formatRatio(double a, double b, const char* suffix = "");
+
 // The path of `target` relative to the folder of `document` (for links in markdown).
 std::string linkFrom(const std::string& document, const std::string& target);
 
