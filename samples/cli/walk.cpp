@@ -5,7 +5,11 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/loaded_scene.hpp"
+#include "cli/machine.hpp"
+#include "cli/progress.hpp"
 #include "cli/report.hpp"
+#include "cli/summary.hpp"
 
 namespace logrid::samples {
 namespace {
@@ -93,7 +97,7 @@ void addWalkCommand(CLI::App& app) {
                        ", ddo, ddo+log or oracle; :K or :all and :tc set the lookahead and "
                        "temporal coherence (e.g. log-state:16:tc, ddo+log:16), :hwq, :chc, :stat "
                        "or :nohc the schedule of log+hwq (e.g. log+hwq:chc)");
-  walk->add_option("--size", options->size, "viewport WIDTHxHEIGHT");
+  addSizeOption(*walk, options->size, "viewport");
   addViewOptions(*walk, *options);
   walk->add_flag("--verify", options->verify, "check every frame against the object-ID oracle");
   walk->add_option("--json", options->json, "write a JSON summary with a per-frame array");

@@ -166,10 +166,10 @@ void tagTriangles(Scene& scene, std::uint32_t solid) {
 }  // namespace
 
 Scene makeCity(const GeneratorOptions& options) {
-  if (!(options.scale > 0) || !std::isfinite(options.scale) || options.scale > 16) {
+  if (!(options.scale > 0) || !std::isfinite(options.scale) || options.scale > kMaxCityScale) {
     std::ostringstream out;
-    out << "city: scale " << options.scale
-        << " is out of range; use a value in (0, 16] (scale 16 is about 540 million triangles)";
+    out << "city: scale " << options.scale << " is out of range; use a value in (0, "
+        << kMaxCityScale << "] (scale 16 is about 540 million triangles)";
     throw Error(ErrorCode::InvalidArgument, out.str());
   }
   std::mt19937_64 rng(options.seed);

@@ -199,9 +199,10 @@ const char* toString(TreeParts parts) {
 }
 
 Scene makeForest(const GeneratorOptions& options) {
-  if (!(options.scale > 0) || !std::isfinite(options.scale) || options.scale > 1000) {
+  if (!(options.scale > 0) || !std::isfinite(options.scale) || options.scale > kMaxForestScale) {
     std::ostringstream out;
-    out << "forest: scale " << options.scale << " is out of range; use a value in (0, 1000]";
+    out << "forest: scale " << options.scale << " is out of range; use a value in (0, "
+        << kMaxForestScale << "]";
     throw Error(ErrorCode::InvalidArgument, out.str());
   }
   std::mt19937_64 rng(options.seed);

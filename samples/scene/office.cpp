@@ -140,9 +140,10 @@ void furnish(MeshWriter& w, std::mt19937_64& rng, double x0, double z0, double z
 }  // namespace
 
 Scene makeOffice(const GeneratorOptions& options) {
-  if (!(options.scale > 0) || !std::isfinite(options.scale) || options.scale > 64) {
+  if (!(options.scale > 0) || !std::isfinite(options.scale) || options.scale > kMaxOfficeScale) {
     std::ostringstream out;
-    out << "office: scale " << options.scale << " is out of range; use a value in (0, 64]";
+    out << "office: scale " << options.scale << " is out of range; use a value in (0, "
+        << kMaxOfficeScale << "]";
     throw Error(ErrorCode::InvalidArgument, out.str());
   }
   std::mt19937_64 rng(options.seed);

@@ -13,9 +13,13 @@
 #include <optional>
 #include <thread>
 
+#include "cli/common.hpp"
 #include "cli/images.hpp"
+#include "cli/loaded_scene.hpp"
+#include "cli/machine.hpp"
 #include "cli/readers.hpp"
 #include "cli/report.hpp"
+#include "cli/values.hpp"
 #include "logrid/error.hpp"
 #include "logrid/projection.hpp"
 #include "scene/view.hpp"
