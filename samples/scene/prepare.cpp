@@ -4,13 +4,10 @@
 #include <limits>
 #include <map>
 
+#include "logrid/elapsed.hpp"
+
 namespace logrid::samples {
 namespace {
-
-double msSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-      .count();
-}
 
 // Appends one object's triangles to the mesh with its vertices regrouped locally.
 // `stamp`/`local` are per-source-vertex scratch arrays reused across objects.

@@ -20,6 +20,7 @@
 #include "cli/readers.hpp"
 #include "cli/report.hpp"
 #include "cli/values.hpp"
+#include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
 #include "logrid/projection.hpp"
 #include "scene/view.hpp"
@@ -185,10 +186,7 @@ class Viewer {
       window_->swap();
       gl::checkGlErrors("view: frame");
       if (record) {
-        const double loop_ms =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                .count();
-        stats_.add(FrameSample::of(*record, clock_, loop_ms));
+        stats_.add(FrameSample::of(*record, clock_, msSince(start)));
         ++frames_drawn_;
       }
       if (script_ && frame_ >= script_->lastFrame()) break;
