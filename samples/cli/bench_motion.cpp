@@ -270,6 +270,40 @@ std::vector<Variant> hierarchyVariants(const std::vector<std::string>& hierarchi
   return out;
 }
 
+// Every scene with each count of movers at each size: the hierarchies side by side.
+std::vector<Cell> measureCells(Experiment& e, const std::vector<std::uint32_t>& counts,
+                               const std::vector<Variant>& variants) {
+  std::vector<Cell> cells;
+  for (const std::string& scene_name : e.options().scenes) {
+    for (std::uint32_t n : counts) {
+      WalkOptions so = e.sceneOptions(scene_name);
+      so.movers = n;
+      const LoadedScene scene = e.load(so, variants);
+      for (const std::string& size : e.options().sizes) {
+        WalkOptions cell = so;
+        cell.size = size;
+        const std::string label =
+            "bench --motion " + scene.prepared.name + " " + std::to_string(n) + " movers " + size;
+        const std::vector<Measured> measured = e.run(scene, cell, variants, label);
+        Cell c{scene.prepared.name, size, n, {}};
+        nlohmann::json cj = scene.describe();
+        cj["movers"] = n;
+        cj["size"] = size;
+        cj["rows"] = nlohmann::json::array();
+        for (const Measured& r : measured) {
+          c.rows.push_back(makeRow(r, n));
+          nlohmann::json rj = rowJson(c.rows.back());
+          rj["frame_ms_per_frame"] = r.result.frame_ms;
+          cj["rows"].push_back(rj);
+        }
+        e.report()["cells"].push_back(cj);
+        cells.push_back(std::move(c));
+      }
+    }
+  }
+  return cells;
+}
+
 }  // namespace
 
 void addMotionBenchOptions(CLI::App& bench, MotionBenchOptions& o) {
@@ -315,36 +349,10 @@ int runMotionBench(const ExperimentOptions& options, const MotionBenchOptions& m
                intro(m.method, options.walk.lookahead));
   e.report()["method"] = m.method;
   e.report()["cells"] = nlohmann::json::array();
-  const std::vector<Variant> variants = hierarchyVariants(hierarchies, m.method);
-  std::vector<Cell> cells;
+  const std::vector<Cell> cells = measureCells(e, counts, hierarchyVariants(hierarchies, m.method));
   bool any_missed = false;
-  for (const std::string& scene_name : options.scenes) {
-    for (std::uint32_t n : counts) {
-      WalkOptions so = e.sceneOptions(scene_name);
-      so.movers = n;
-      const LoadedScene scene = e.load(so, variants);
-      for (const std::string& size : options.sizes) {
-        WalkOptions cell = so;
-        cell.size = size;
-        const std::string label =
-            "bench --motion " + scene.prepared.name + " " + std::to_string(n) + " movers " + size;
-        const std::vector<Measured> measured = e.run(scene, cell, variants, label);
-        Cell c{scene.prepared.name, size, n, {}};
-        nlohmann::json cj = scene.describe();
-        cj["movers"] = n;
-        cj["size"] = size;
-        cj["rows"] = nlohmann::json::array();
-        for (const Measured& r : measured) {
-          c.rows.push_back(makeRow(r, n));
-          any_missed = any_missed || c.rows.back().missed > 0;
-          nlohmann::json rj = rowJson(c.rows.back());
-          rj["frame_ms_per_frame"] = r.result.frame_ms;
-          cj["rows"].push_back(rj);
-        }
-        e.report()["cells"].push_back(cj);
-        cells.push_back(std::move(c));
-      }
-    }
+  for (const Cell& c : cells) {
+    for (const Row& r : c.rows) any_missed = any_missed || r.missed > 0;
   }
 
   // Tables per scene and size, rows by movers then hierarchy.
