@@ -31,61 +31,41 @@ struct Row {
   std::uint32_t movers = 0;
   double frame_ms = 0;
   double spread = 0;
-  double update_ms = 0;
-  double measure_ms = 0;
-  double objects = 0;
-  double triangles = 0;
-  double tests = 0;       // occlusion tests of the culler
-  double additional = 0;  // the ternary tree's Count requests (§3.3)
-  double moved = 0;
-  double waits = 0;
-  std::uint64_t rebuilds = 0, splits = 0, merges = 0, relocated = 0;
   std::int64_t missed = -1;
-  double queries() const { return tests + additional; }
-  double updateShare() const { return frame_ms > 0 ? update_ms / frame_ms : 0; }
+  FrameAverages f;
+  double tests() const { return f.boxes_tested; }          // occlusion tests of the culler
+  double additional() const { return f.measure_counted; }  // the ternary tree's (§3.3)
+  double queries() const { return tests() + additional(); }
+  double updateShare() const { return frame_ms > 0 ? f.update_ms / frame_ms : 0; }
 };
 
 Row makeRow(const Measured& m, std::uint32_t movers) {
-  const FrameAverages& a = m.frames;
-  Row row;
-  row.hierarchy = m.label;
-  row.movers = movers;
-  row.frame_ms = m.result.avg_ms();
-  row.spread = m.result.spread();
-  row.update_ms = a.update_ms;
-  row.measure_ms = a.measure_ms;
-  row.objects = a.objects;
-  row.triangles = a.triangles;
-  row.tests = a.boxes_tested;
-  row.additional = a.measure_counted;
-  row.moved = a.moved;
-  row.waits = a.colliding_waits;
-  row.rebuilds = a.rebuilds;
-  row.splits = a.splits;
-  row.merges = a.merges;
-  row.relocated = a.relocated;
-  if (a.verified) row.missed = a.missed;
-  return row;
+  return {m.label,
+          movers,
+          m.result.avg_ms(),
+          m.result.spread(),
+          m.frames.verified ? m.frames.missed : -1,
+          m.frames};
 }
 
 nlohmann::json rowJson(const Row& r) {
   return {{"hierarchy", r.hierarchy},
           {"frame_ms", r.frame_ms},
           {"spread", r.spread},
-          {"update_ms", r.update_ms},
+          {"update_ms", r.f.update_ms},
           {"update_share", r.updateShare()},
-          {"measure_ms", r.measure_ms},
-          {"drawn_objects", r.objects},
-          {"drawn_triangles", r.triangles},
-          {"occlusion_tests", r.tests},
-          {"additional_queries", r.additional},
+          {"measure_ms", r.f.measure_ms},
+          {"drawn_objects", r.f.objects},
+          {"drawn_triangles", r.f.triangles},
+          {"occlusion_tests", r.tests()},
+          {"additional_queries", r.additional()},
           {"queries", r.queries()},
-          {"moved_objects", r.moved},
-          {"colliding_waits", r.waits},
-          {"rebuilds", r.rebuilds},
-          {"splits", r.splits},
-          {"merges", r.merges},
-          {"relocated", r.relocated},
+          {"moved_objects", r.f.moved},
+          {"colliding_waits", r.f.colliding_waits},
+          {"rebuilds", r.f.rebuilds},
+          {"splits", r.f.splits},
+          {"merges", r.f.merges},
+          {"relocated", r.f.relocated},
           {"missed_visible_objects", r.missed}};
 }
 
@@ -111,22 +91,22 @@ void writeRows(std::ostream& md, const std::vector<const Cell*>& cells) {
       md,
       {{"movers", "--:", [](const Row& r) { return grouped(r.movers); }},
        {"hierarchy", "---", [](const Row& r) { return r.hierarchy; }},
-       {"update ms", "--:", [](const Row& r) { return formatFixed(r.update_ms, 3); }},
+       {"update ms", "--:", [](const Row& r) { return formatFixed(r.f.update_ms, 3); }},
        {"share", "--:", [](const Row& r) { return formatFixed(100 * r.updateShare(), 1) + "%"; }},
-       {"stats ms", "--:", [](const Row& r) { return formatFixed(r.measure_ms, 2); }},
+       {"stats ms", "--:", [](const Row& r) { return formatFixed(r.f.measure_ms, 2); }},
        {"frame ms", "--:", [](const Row& r) { return formatFixed(r.frame_ms); }},
        {"spread", "--:", [](const Row& r) { return formatFixed(100 * r.spread, 0) + "%"; }},
-       {"drawn objects", "--:", [](const Row& r) { return grouped(r.objects); }},
-       {"drawn triangles", "--:", [](const Row& r) { return grouped(r.triangles); }},
+       {"drawn objects", "--:", [](const Row& r) { return grouped(r.f.objects); }},
+       {"drawn triangles", "--:", [](const Row& r) { return grouped(r.f.triangles); }},
        {"queries (tests + additional)", "--:",
         [](const Row& r) {
-          return grouped(r.queries()) + " (" + grouped(r.tests) + " + " + grouped(r.additional) +
-                 ")";
+          return grouped(r.queries()) + " (" + grouped(r.tests()) + " + " +
+                 grouped(r.additional()) + ")";
         }},
        {"rebuilds / splits / merges", "--:",
         [](const Row& r) {
-          return std::to_string(r.rebuilds) + " / " + std::to_string(r.splits) + " / " +
-                 std::to_string(r.merges);
+          return std::to_string(r.f.rebuilds) + " / " + std::to_string(r.f.splits) + " / " +
+                 std::to_string(r.f.merges);
         }},
        {"missed",
         "--:", [](const Row& r) { return r.missed >= 0 ? std::to_string(r.missed) : "–"; }}},
@@ -147,7 +127,7 @@ void writeRatios(std::ostream& md, const std::vector<const Cell*>& cells) {
     };
   };
   const auto time = [](const Row& r) { return r.frame_ms; };
-  const auto objects = [](const Row& r) { return r.objects; };
+  const auto objects = [](const Row& r) { return r.f.objects; };
   const auto queries = [](const Row& r) { return r.queries(); };
   writeTable<const Cell*>(md,
                           {{"movers", "--:", [](const Cell* c) { return grouped(c->movers); }},
@@ -191,12 +171,12 @@ void plotCells(Experiment& e, const std::string& scene, const std::string& size,
   const std::string title = scene + " " + size;
   axes.ylabel = "ms";
   plotLines(e.plotStem(stem + "_update"), title + ": hierarchy update per frame", axes,
-            series([](const Row& r) { return r.update_ms; }));
+            series([](const Row& r) { return r.f.update_ms; }));
   plotLines(e.plotStem(stem + "_frame"), title + ": frame time", axes,
             series([](const Row& r) { return r.frame_ms; }));
   axes.ylabel = "objects per frame";
   plotLines(e.plotStem(stem + "_objects"), title + ": drawn objects", axes,
-            series([](const Row& r) { return r.objects; }));
+            series([](const Row& r) { return r.f.objects; }));
   const std::string update = e.plotImage("update", stem + "_update");
   if (!update.empty()) {
     e.md() << "\n"
@@ -213,7 +193,7 @@ void writeTargets(std::ostream& md, const std::vector<Cell>& cells) {
     for (const Row& r : c.rows) {
       if (c.scene == "city" && c.size == "640x480") {
         md << "- " << (r.updateShare() <= 0.10 ? "met" : "**not met**") << ": city 640×480, "
-           << "1,000 movers, " << r.hierarchy << " update " << formatFixed(r.update_ms, 2)
+           << "1,000 movers, " << r.hierarchy << " update " << formatFixed(r.f.update_ms, 2)
            << " ms = " << formatFixed(100 * r.updateShare(), 1) << "% of the frame (≤ 10%)\n";
       }
     }
@@ -223,10 +203,11 @@ void writeTargets(std::ostream& md, const std::vector<Cell>& cells) {
     for (const char* name : {"ternary", "ternary-objects"}) {
       const Row* t = find(c.rows, name);
       if (!t || !f || c.movers == 0) continue;
-      md << "- " << (t->objects < f->objects ? "met" : "**not met**") << ": " << c.scene << " "
+      md << "- " << (t->f.objects < f->f.objects ? "met" : "**not met**") << ": " << c.scene << " "
          << c.size << ", " << grouped(c.movers) << " movers: " << name << " draws "
-         << formatRatio(t->objects, f->objects) << "× refit's objects (" << grouped(t->objects)
-         << " vs " << grouped(f->objects) << "; the paper: 0.37–0.93 against its old algorithm)\n";
+         << formatRatio(t->f.objects, f->f.objects) << "× refit's objects ("
+         << grouped(t->f.objects) << " vs " << grouped(f->f.objects)
+         << "; the paper: 0.37–0.93 against its old algorithm)\n";
     }
   }
   std::int64_t missed = 0;

@@ -18,6 +18,7 @@ constexpr const char* kBandFill = "#d9d9d9";
 constexpr const char* kBandLine = "#636363";
 // A panel's size in pixels, and the panels in a row at most.
 constexpr int kPanelWidth = 620, kPanelHeight = 480, kPanelsPerRow = 3;
+constexpr int kKeyLineHeight = 16;  // a line of the key (font 11)
 
 // gnuplot's string syntax: double quotes, with \ and " escaped; no '_' subscripts.
 std::string quoted(const std::string& text) {
@@ -137,7 +138,7 @@ std::string xSettings(const PlotAxes& axes) {
                ? "set xrange [" + number(lo->first / pad) + ":" + number(hi->first * pad) + "]\n"
                : "set xrange [" + number(lo->first - pad) + ":" + number(hi->first + pad) + "]\n";
   }
-  return out + "set grid\nset key below horizontal maxcols 3 samplen 2 noenhanced\n";
+  return out + "set grid\nset key below samplen 2 noenhanced\n";
 }
 
 // A y axis: logarithmic when asked, or by itself where the values span decades; with a
@@ -167,10 +168,19 @@ bool plotPanels(const std::string& stem, const std::string& title, const PlotAxe
   const int columns = std::min(count, kPanelsPerRow);
   const int rows = (count + columns - 1) / columns;
   const bool single = count == 1;
+  // Panels side by side share one bottom margin, room for the longest key (an entry a
+  // line below the plot; a band has two), so that their plots line up.
+  std::size_t entries = 0;
+  for (const PlotPanel& panel : panels) {
+    std::size_t n = 0;
+    for (const PlotSeries& s : panel.series) n += s.y_low.empty() ? 1 : 2;
+    entries = std::max(entries, n);
+  }
+  const int height = kPanelHeight + (single ? 0 : kKeyLineHeight * int(entries));
   std::string data;
   std::string script = "set terminal png size " +
                        std::to_string(single ? 2 * kPanelWidth : columns * kPanelWidth) + "," +
-                       std::to_string(rows * kPanelHeight) + " font ',11'\nset output " +
+                       std::to_string(rows * height) + " font ',11'\nset output " +
                        quoted(stem + ".png") + "\nset datafile separator '\\t'\n" + xSettings(axes);
   if (single) {
     script += "set title " + quoted(title) + " noenhanced\n";
@@ -180,6 +190,7 @@ bool plotPanels(const std::string& stem, const std::string& title, const PlotAxe
   }
   const bool shared = axes.shared_y && !single;
   const Extent all = extentOf(panels);
+  if (!single) script += "set bmargin " + std::to_string(4 + entries) + "\n";
   std::size_t block = 0;
   bool any = false;
   for (const PlotPanel& panel : panels) {

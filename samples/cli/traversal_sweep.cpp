@@ -17,31 +17,23 @@ struct Row {
   std::string reader;
   std::uint32_t lookahead = 1;
   bool coherence = false;
-  double ms = 0, spread = 0, objects = 0, triangles = 0, flushes = 0, batches = 0, bytes = 0,
-         pixels = 0;
+  double ms = 0, spread = 0;
   std::int64_t missed = 0;
+  FrameAverages f;
   bool oracle() const { return method == "oracle"; }
 };
 
 Row makeRow(const Measured& m) {
   const RunConfig& c = m.result.config;
-  const FrameAverages& a = m.frames;
-  Row row;
-  row.label = m.label;
-  row.method = methodFamily(c);
-  row.reader = c.method.method ? c.reader : "–";
-  row.lookahead = c.culler.lookahead;
-  row.coherence = c.culler.temporal_coherence;
-  row.ms = m.result.avg_ms();
-  row.spread = m.result.spread();
-  row.objects = a.objects;
-  row.triangles = a.triangles;
-  row.flushes = a.flushes;
-  row.batches = a.batches;
-  row.bytes = a.bytes_read;
-  row.pixels = a.pixels_read;
-  row.missed = a.verified ? a.missed : 0;
-  return row;
+  return {m.label,
+          methodFamily(c),
+          c.method.method ? c.reader : "–",
+          c.culler.lookahead,
+          c.culler.temporal_coherence,
+          m.result.avg_ms(),
+          m.result.spread(),
+          m.frames.verified ? m.frames.missed : 0,
+          m.frames};
 }
 
 // The oracle, then every method × reader × K × coherence off and on.
@@ -88,12 +80,12 @@ void writeSweepTable(std::ostream& md, const std::vector<Row>& rows, const Row& 
        {"spread", "--:", [](const Row& r) { return formatFixed(100 * r.spread, 0) + "%"; }},
        {"÷ oracle", "--:",
         [&oracle](const Row& r) { return oracle.ms > 0 ? formatFixed(r.ms / oracle.ms) : "–"; }},
-       {"objects", "--:", [](const Row& r) { return grouped(r.objects); }},
-       {"triangles", "--:", [](const Row& r) { return grouped(r.triangles); }},
-       {"flushes", "--:", [](const Row& r) { return formatFixed(r.flushes, 1); }},
-       {"batches", "--:", [](const Row& r) { return formatFixed(r.batches, 1); }},
-       {"bytes read", "--:", [](const Row& r) { return grouped(r.bytes); }},
-       {"pixels read", "--:", [](const Row& r) { return grouped(r.pixels); }},
+       {"objects", "--:", [](const Row& r) { return grouped(r.f.objects); }},
+       {"triangles", "--:", [](const Row& r) { return grouped(r.f.triangles); }},
+       {"flushes", "--:", [](const Row& r) { return formatFixed(r.f.flushes, 1); }},
+       {"batches", "--:", [](const Row& r) { return formatFixed(r.f.batches, 1); }},
+       {"bytes read", "--:", [](const Row& r) { return grouped(r.f.bytes_read); }},
+       {"pixels read", "--:", [](const Row& r) { return grouped(r.f.pixels_read); }},
        {"missed", "--:", [](const Row& r) { return std::to_string(r.missed); }}},
       rows);
 }
@@ -105,18 +97,18 @@ void writeBest(std::ostream& md, const std::vector<Row>& rows, const Row& oracle
   for (const Row& r : rows) {
     if (r.oracle() || r.missed > 0) continue;
     if (!best || r.ms < best->ms) best = &r;
-    if (!fewest || r.flushes < fewest->flushes ||
-        (r.flushes == fewest->flushes && r.ms < fewest->ms)) {
+    if (!fewest || r.f.flushes < fewest->f.flushes ||
+        (r.f.flushes == fewest->f.flushes && r.ms < fewest->ms)) {
       fewest = &r;
     }
   }
   if (best) {
     md << "\nFastest exact setting: **" << best->label << "**, " << formatFixed(best->ms)
        << " ms/frame, " << formatFixed(best->ms / oracle.ms) << "× the oracle's "
-       << formatFixed(oracle.ms) << " ms, " << formatFixed(best->flushes, 1)
+       << formatFixed(oracle.ms) << " ms, " << formatFixed(best->f.flushes, 1)
        << " flushes per frame. Fewest flushes: " << fewest->label << ", "
-       << formatFixed(fewest->flushes, 1) << " per frame, " << formatFixed(fewest->ms)
-       << " ms/frame, " << grouped(fewest->objects) << " objects.\n";
+       << formatFixed(fewest->f.flushes, 1) << " per frame, " << formatFixed(fewest->ms)
+       << " ms/frame, " << grouped(fewest->f.objects) << " objects.\n";
   }
 }
 
@@ -164,7 +156,7 @@ void plotSweep(Experiment& e, const std::string& stem, const std::string& title,
         for (std::uint32_t k : ks) {
           for (const Row& r : rows) {
             if (r.method == method && r.reader == reader && r.lookahead == k && r.coherence == tc) {
-              fs.y.push_back(std::max(r.flushes, 0.1));  // 0.1: no flush, on a log scale
+              fs.y.push_back(std::max(r.f.flushes, 0.1));  // 0.1: no flush, on a log scale
               ts.y.push_back(r.ms);
             }
           }

@@ -38,6 +38,10 @@ inline constexpr double kMaxForestScale = 1000;
 inline constexpr double kMaxCityScale = 16;
 inline constexpr double kMaxOfficeScale = 64;
 
+// Throws logrid::Error(InvalidArgument) naming the scene for a scale outside (0, max]
+// (NaN included); `note` follows the range in the message.
+void checkScale(const char* scene, double scale, double max, const char* note = "");
+
 // Throw logrid::Error(InvalidArgument) for a scale that is not finite and positive, or
 // above the scene's largest (kMax*Scale).
 Scene makeForest(const GeneratorOptions& options);

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <set>
 #include <string>
@@ -20,7 +21,13 @@
 
 #include "cli/commands.hpp"
 #include "cli/option_checks.hpp"
+#include "logrid/cpu/occlusion_buffer.hpp"
+#include "logrid/ddo/build.hpp"
+#include "logrid/error.hpp"
+#include "logrid/grid.hpp"
+#include "logrid/query_schedule.hpp"
 #include "process.hpp"
+#include "scene/generators.hpp"
 
 namespace logrid::samples {
 namespace {
@@ -274,6 +281,124 @@ TEST(OptionRanges, TheCheckItselfReadsNumbersAsTheRangeSays) {
   EXPECT_EQ(above(0, 180).text(), "(0, 180]");
   EXPECT_EQ(closed(0.0, 1e9).text(), "[0, 1000000000]");
   EXPECT_EQ(closed(0.0, 0.25).text(), "[0, 0.25]");
+}
+
+// The range `walk` states for an option.
+StatedRange walkRange(const std::string& option) {
+  auto app = commandLine();
+  return statedRange(app->get_subcommand("walk")->get_option(option)->get_description());
+}
+
+// Where the library has a validator for a setting, the command line's range is the one
+// it accepts: the ends the option takes pass the validator, the values just outside fail
+// it. So an option check can only be stricter where the library cannot say (a value that
+// means nothing to the command, such as more samples than any driver has).
+TEST(OptionRanges, TheRangesAreThoseTheLibrarysValidatorsAccept) {
+  struct Case {
+    const char* option;
+    std::function<std::string(double)> problem;  // the validator, the setting at a value
+    double just_outside;                         // below the least or above the largest
+  };
+  const Case cases[] = {
+      {"--cpu-threads",
+       [](double v) {
+         cpu::OcclusionBufferDesc d;
+         d.threads = std::uint32_t(v);
+         return cpu::validateOcclusionBufferDesc(d);
+       },
+       65},
+      {"--ddo-threads",
+       [](double v) {
+         ddo::BuildArgs a;
+         a.threads = std::uint32_t(v);
+         return ddo::validateBuildArgs(a);
+       },
+       1025},
+      {"--ddo-leaf",
+       [](double v) {
+         ddo::BuildArgs a;
+         a.leaf_triangles = std::uint32_t(v);
+         return ddo::validateBuildArgs(a);
+       },
+       0},
+      {"--ddo-regions",
+       [](double v) {
+         ddo::BuildArgs a;
+         a.regions = std::uint32_t(v);
+         return ddo::validateBuildArgs(a);
+       },
+       48},
+      {"--tile",
+       [](double v) {
+         return validateGridDesc({1, 1, std::uint32_t(v), {}});
+       },
+       0},
+      {"--full-fraction",
+       [](double v) {
+         GridApproximation a;
+         a.full_free_fraction = float(v);
+         return validateGridDesc({64, 64, 32, GridVariant::OcclusionState}, a);
+       },
+       1},
+      {"--row-stride",
+       [](double v) {
+         GridApproximation a;
+         a.row_stride = std::uint32_t(v);
+         return validateGridDesc({1, 1, kMaxViewportSide, {}}, a);
+       },
+       0},
+      {"--chc-batch",
+       [](double v) {
+         QueryScheduleDesc d;
+         d.chc_batch = std::uint32_t(v);
+         return validateQuerySchedule(Method::Chc, d);
+       },
+       0},
+      {"--chc-interval",
+       [](double v) {
+         QueryScheduleDesc d;
+         d.chc_visible_interval = std::uint32_t(v);
+         return validateQuerySchedule(Method::Chc, d);
+       },
+       0},
+      {"--stat-in-flight",
+       [](double v) {
+         QueryScheduleDesc d;
+         d.stat_in_flight = std::uint32_t(v);
+         return validateQuerySchedule(Method::Stat, d);
+       },
+       0},
+      {"--stat-base",
+       [](double v) {
+         QueryScheduleDesc d;
+         d.stat_base_frames = std::uint32_t(v);
+         return validateQuerySchedule(Method::Stat, d);
+       },
+       0},
+      {"--scale",
+       [](double v) {
+         try {
+           checkScale("forest", v, kMaxForestScale);
+         } catch (const Error& e) {
+           return std::string(e.what());
+         }
+         return std::string();
+       },
+       1001},
+  };
+  for (const Case& c : cases) {
+    const StatedRange range = walkRange(c.option);
+    ASSERT_FALSE(range.values.empty()) << c.option;
+    std::vector<std::string> ends = inside(range);
+    if (range.open == '[' && range.close == ')') ends.push_back("0.99999994");  // below 1
+    for (const std::string& end : ends) {
+      EXPECT_EQ(c.problem(std::stod(end)), "") << c.option << " " << end << " in " << range.text;
+    }
+    EXPECT_NE(c.problem(c.just_outside), "") << c.option << " " << c.just_outside;
+    const Outcome o = parse("walk", c.option, std::to_string(std::int64_t(c.just_outside)));
+    EXPECT_FALSE(o.parsed) << c.option << " takes " << c.just_outside
+                           << ", which the library refuses";
+  }
 }
 
 // main() turns a refusal into exit status 2 with the message on stderr, for every
