@@ -97,7 +97,7 @@ struct Row {
   double read_share = 0;
   double flushes = 0;
   double occluders = -1;     // DDO methods: occluders per frame
-  bool box_queries = false;  // a hardware-query method (MethodInfo::box_queries)
+  bool box_queries = false;  // a hardware-query method (MethodNeeds::queries)
   double queries = 0, query_waits = 0, query_boxes = 0;
   std::int64_t missed = -1;
   std::int64_t missed_artifacts = 0;  // objects shown only by depth-extrapolated fragments
@@ -109,8 +109,8 @@ Row makeRow(const std::string& label, const ConfigResult& r, const nlohmann::jso
   Row row;
   row.label = label;
   row.method = r.config.method.name();
-  // Only methods that read the depth buffer use a reader (not vfc, nor hwq, chc, stat, nohc).
-  row.reader = r.config.method.method && methodInfo(*r.config.method.method).uses_depth_source
+  // Only methods that read the depth buffer use a reader (MethodNeeds::depth).
+  row.reader = r.config.method.method && methodInfo(*r.config.method.method).needs.depth
                    ? r.config.reader
                    : "–";
   row.ms = r.avg_ms();
@@ -124,7 +124,7 @@ Row makeRow(const std::string& label, const ConfigResult& r, const nlohmann::jso
   for (const FrameRecord& f : r.records) flushes += double(f.stats.flushes);
   row.flushes = r.records.empty() ? 0 : flushes / double(r.records.size());
   if (s.contains("avg_occluders")) row.occluders = s["avg_occluders"];
-  if (r.config.method.method && methodInfo(*r.config.method.method).box_queries) {
+  if (r.config.method.method && methodInfo(*r.config.method.method).needs.queries) {
     row.box_queries = true;
     row.queries = s["avg_queries"];
     row.query_waits = s["avg_query_waits"];
@@ -311,9 +311,9 @@ int runBench(const BenchOptions& o) {
   }
   for (const std::string& s : sizes) parseSize(s);  // bad sizes fail before any work
   for (const std::string& m : methods) {
-    if (!parseMethodChoice(m)) {
-      throw Error(ErrorCode::InvalidArgument, "bench: method '" + m + "' is unknown");
-    }
+    std::string problem;
+    if (!parseMethodChoice(m, &problem))
+      throw Error(ErrorCode::InvalidArgument, "bench: " + problem);
   }
   if (!o.plots.empty()) std::filesystem::create_directories(o.plots);
 
@@ -460,11 +460,7 @@ void addBenchCommand(CLI::App& app) {
   CLI::App* bench = app.add_subcommand("bench", "every method on the same frames, side by side");
   bench->add_option("--scenes", o->scenes, "comma-separated: forest, city, office, model files");
   bench->add_option("--sizes", o->sizes, "comma-separated viewport sizes WIDTHxHEIGHT");
-  bench->add_option(
-      "--methods", o->methods,
-      "comma-separated: " + methodNames() +
-          ", ddo, ddo+log, oracle; each but ddo and oracle may take :K or :all and "
-          ":tc (e.g. log-state:16:tc, ddo+log:16), log+hwq its schedule (log+hwq:chc)");
+  bench->add_option("--methods", o->methods, "comma-separated: " + methodChoiceHelp());
   bench->add_option("--readers", o->readers,
                     "log-state again with these depth readers (comma-separated: " + readerNames() +
                         "; '' for none)");

@@ -141,9 +141,13 @@ int runMotionBench(const MotionBenchOptions& m, const MotionBenchRun& run) {
                 "bench --motion: --movers-list, --hierarchies, --scenes and --sizes need an entry");
   }
   for (const std::string& s : run.sizes) parseSize(s);
-  if (!parseMethodChoice(m.method) || m.method == "oracle") {
-    throw Error(ErrorCode::InvalidArgument, "bench --motion: method '" + m.method +
-                                                "' is not a culling method; use " + methodNames());
+  std::string problem;
+  const auto choice = parseMethodChoice(m.method, &problem);
+  if (!choice || choice->oracle()) {
+    throw Error(
+        ErrorCode::InvalidArgument,
+        "bench --motion: " +
+            (choice ? "method oracle is not a culling method; use " + methodNames() : problem));
   }
   if (run.repeat < 1) throw Error(ErrorCode::InvalidArgument, "--repeat must be at least 1");
   if (!run.plots.empty()) std::filesystem::create_directories(run.plots);

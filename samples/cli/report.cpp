@@ -179,7 +179,7 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
                       {"read_share", ms > 0 ? read_ms / ms : 0.0},
                       {"avg_tiles_per_box", boxes > 0 ? tiles / boxes : 0.0}};
   if (with_occluders) j["avg_occluders"] = occluders / n;
-  if (config.method.method && methodInfo(*config.method.method).box_queries) {
+  if (config.method.method && methodInfo(*config.method.method).needs.queries) {
     const QueryScheduleDesc& q = config.culler.queries;
     const HardwareParameters& h = q.hardware;
     j["queries"] = {{"schedule", toString(q.schedule)},

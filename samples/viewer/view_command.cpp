@@ -14,7 +14,7 @@ void addViewCommand(CLI::App& app) {
   CLI::App* view = app.add_subcommand(
       "view", "fly through a scene in a window and watch the culling (needs a display; F1: keys)");
   addSceneOptions(*view, o->walk);
-  view->add_option("--method", o->walk.method, methodNames() + " or oracle");
+  view->add_option("--method", o->walk.method, samples::methodChoiceHelp());
   view->add_option("--size", o->walk.size, "initial window size WIDTHxHEIGHT");
   addViewOptions(*view, o->walk);
   view->add_flag("--verify", o->walk.verify,
