@@ -1,4 +1,4 @@
-// The culling methods logrid compares (DESIGN.md, "The methods compared"), each
+// The culling methods logrid compares (docs/DESIGN.md, "The methods"), each
 // described in one place: the table in method.cpp. The culler, the command line and
 // the benchmark read what a method needs from here; each method's occlusion test
 // lives in one class of log/src/testers.cpp.
