@@ -115,7 +115,7 @@ cmake --build "$work/cmake" >"$work.build.log" 2>&1 || { cat "$work.build.log" >
 mkdir -p "$work/too-new"
 printf 'cmake_minimum_required(VERSION 3.20)\nproject(too_new LANGUAGES CXX)\nfind_package(logrid 0.2 CONFIG REQUIRED)\n' \
   >"$work/too-new/CMakeLists.txt"
-if cmake -S "$work/too-new" -B "$work/too-new/build" >"$work/too-new.log" 2>&1; then
+if cmake -S "$work/too-new" -B "$work/too-new/build" -G Ninja >"$work/too-new.log" 2>&1; then
   fail "find_package(logrid 0.2) accepted the installed $(dpkg-query -W -f='${Version}' liblogrid-dev)"
 fi
 grep -q 'version: ' "$work/too-new.log" || { cat "$work/too-new.log" >&2; fail "find_package(logrid 0.2) failed, but not on the version"; }
