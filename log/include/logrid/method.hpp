@@ -3,7 +3,7 @@
 // is (its traversal, test semantics, grid variant), what cullFrame() must be given for it
 // (CullSources) and which CullerDesc settings it takes are read from its MethodInfo by the
 // culler, the command line, the benchmark and the viewer alike; none of them switches on
-// the method itself. docs/DESIGN.md describes each method beside its paper.
+// the method itself. docs/DESIGN.md ("The methods") describes each method beside its paper.
 //
 // Adding a method: a name in the enum below, a file in log/src/methods/ with its
 // MethodDef (log/src/methods/method_def.hpp), and its line in the table.

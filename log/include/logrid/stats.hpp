@@ -1,5 +1,5 @@
 // What one culled frame did. Every method fills the same fields, so methods compare
-// side by side (DESIGN.md, "Statistics every method reports per frame").
+// side by side (docs/DESIGN.md, "Statistics").
 #pragma once
 
 #include <cstdint>
