@@ -8,6 +8,7 @@
 
 #include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
+#include "methods/method_def.hpp"
 #include "query_frame.hpp"
 #include "query_prefilter.hpp"
 #include "testers.hpp"
@@ -19,7 +20,8 @@ std::string validateCullerDesc(const CullerDesc& desc) {
     return "culler: method " + std::to_string(int(desc.method)) + " is unknown; use " +
            methodNames();
   }
-  const MethodInfo& info = methodInfo(desc.method);
+  const detail::MethodDef& def = detail::methodDef(desc.method);
+  const MethodInfo& info = def.info;
   const std::string method = info.name;
   const std::string projection = validateProjectionSettings(desc.projection);
   if (!projection.empty()) return "culler: " + projection;
@@ -33,24 +35,22 @@ std::string validateCullerDesc(const CullerDesc& desc) {
            "(kUnlimitedLookahead: every box the traversal reaches)";
   }
   const GridApproximation& a = desc.approximation;
-  if (a.visible_pixels != 0 && !info.takes_visible_pixels) {
+  if (a.visible_pixels != 0 && !info.takes.visible_pixels) {
     return "culler: method " + method + " takes no visible-pixel threshold";
   }
-  if (a.full_free_fraction != 0 && !info.takes_full_fraction) {
+  if (a.full_free_fraction != 0 && !info.takes.full_fraction) {
     return "culler: method " + method + " takes no full-tile free fraction";
   }
-  if (a.row_stride != 1 && !info.takes_row_stride) {
+  if (a.row_stride != 1 && !info.takes.row_stride) {
     return "culler: method " + method + " takes no row stride (it has no tiles)";
   }
-  if (info.takes_row_stride || info.takes_full_fraction) {
+  if (info.grid) {
     // The grid's own checks, with a viewport that is always valid.
-    const GridVariant variant =
-        desc.method == Method::LogZfar ? GridVariant::Zfar : GridVariant::OcclusionState;
-    const std::string problem = validateGridDesc({1, 1, desc.tile_size, variant}, a);
+    const std::string problem = validateGridDesc({1, 1, desc.tile_size, *info.grid}, a);
     if (!problem.empty()) return "culler: " + problem;
   }
-  if (info.box_queries) {
-    const std::string problem = validateQuerySchedule(desc.method, desc.queries);
+  if (def.validate) {
+    const std::string problem = def.validate(desc, info);
     if (!problem.empty()) return "culler: method " + method + ": " + problem;
   }
   return {};
@@ -59,8 +59,9 @@ std::string validateCullerDesc(const CullerDesc& desc) {
 Culler::Culler(const CullerDesc& desc) : desc_(desc) {
   const std::string problem = validateCullerDesc(desc);
   if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
-  tester_ = detail::makeTester(desc_);
-  schedule_ = detail::makeQuerySchedule(desc_);
+  method_ = &detail::methodDef(desc_.method);
+  tester_ = method_->make_tester(desc_, method_->info);
+  if (method_->make_schedule) schedule_ = method_->make_schedule(desc_, method_->info);
 }
 
 Culler::~Culler() = default;
@@ -87,76 +88,57 @@ bool overlaps(const PixelRect& a, const PixelRect& b) {
   return a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1;
 }
 
-// Stands in for the depth source of a query method that reads none.
-class NoDepthSource final : public DepthSource {
- public:
-  DepthSourceTraits traits() const override { return {"none", false, false}; }
-  void beginFrame(const Camera&) override {}
-  void submit(const AreaRequest*, std::size_t, AreaAnswer*) override { unused(); }
-  void readKeys(const PixelRect&, float*) override { unused(); }
-
- private:
-  [[noreturn]] static void unused() {
-    throw Error(ErrorCode::Runtime, "culler: internal error: a query method read depth values");
-  }
-};
+// "culler: method M <what> ...; pass <how>" for a source the method needs.
+void require(bool given, const MethodInfo& info, const char* what, const char* how) {
+  if (given) return;
+  throw Error(ErrorCode::InvalidArgument, std::string("culler: method ") + info.name + " " + what +
+                                              "; pass " + how + " in cullFrame()'s CullSources");
+}
 
 }  // namespace
 
-void Culler::prepare(const Camera& camera, const DepthSource& depth) {
-  projector_ = std::make_unique<Projector>(camera, desc_.projection);  // validates the camera
-  const MethodInfo& info = methodInfo(desc_.method);
-  if (info.needs_depth_values && !depth.traits().reads_depth) {
+void Culler::prepare(const Camera& camera, const CullSources& sources) {
+  const MethodInfo& info = method_->info;
+  require(!info.needs.queries || sources.queries, info,
+          "tests boxes with hardware occlusion queries",
+          "an OcclusionQueries (e.g. zread::BoxQuerySource)");
+  require(!info.needs.depth || sources.depth, info, "reads the depth buffer", "a DepthSource");
+  require(!info.needs.occluders || sources.occluders, info, "begins with an occluder pre-pass",
+          "an OccluderSource (e.g. ddo::OccluderPass)");
+  if (info.needs.depth_values && !sources.depth->traits().reads_depth) {
     throw Error(ErrorCode::InvalidArgument, std::string("culler: method ") + info.name +
                                                 " needs a depth source that reads depth values; '" +
-                                                depth.traits().name + "' only answers counts");
+                                                sources.depth->traits().name +
+                                                "' only answers counts");
   }
-  tester_->beginFrame(camera, projector_->clearKey());
+  projector_ = std::make_unique<Projector>(camera, desc_.projection);  // validates the camera
+  // Only what the method uses: a source it does not need is neither begun nor counted.
+  sources_ = {info.needs.depth ? sources.depth : nullptr,
+              info.needs.queries ? sources.queries : nullptr,
+              info.needs.occluders ? sources.occluders : nullptr};
+  tester_->beginFrame(camera, projector_->clearKey(), sources_);
   // Counting tests of the grid are sequential (grid.hpp); so are methods whose tests
   // read nothing worth batching.
-  const bool counting_grid = desc_.approximation.visible_pixels > 0 && desc_.method != Method::Pq;
-  lookahead_ = info.lookahead && !counting_grid ? desc_.lookahead : 1;
+  const bool counting_grid = desc_.approximation.visible_pixels > 0 && info.grid;
+  lookahead_ = info.takes.lookahead && !counting_grid ? desc_.lookahead : 1;
 }
 
 FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy, DepthSource& depth,
                              const DrawCallback& draw, const std::vector<DrawnArea>& drawn_before) {
-  return cull(camera, hierarchy, &depth, nullptr, draw, drawn_before);
+  return cullFrame(camera, hierarchy, CullSources{&depth}, draw, drawn_before);
 }
 
 FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy,
-                             OcclusionQueries& queries, const DrawCallback& draw,
+                             const CullSources& sources, const DrawCallback& draw,
                              const std::vector<DrawnArea>& drawn_before) {
-  return cull(camera, hierarchy, nullptr, &queries, draw, drawn_before);
-}
-
-FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy, DepthSource& depth,
-                             OcclusionQueries& queries, const DrawCallback& draw,
-                             const std::vector<DrawnArea>& drawn_before) {
-  return cull(camera, hierarchy, &depth, &queries, draw, drawn_before);
-}
-
-FrameStats Culler::cull(const Camera& camera, const Hierarchy& hierarchy, DepthSource* depth_ptr,
-                        OcclusionQueries* queries, const DrawCallback& draw,
-                        const std::vector<DrawnArea>& drawn_before) {
-  const MethodInfo& info = methodInfo(desc_.method);
-  if (info.box_queries && !queries) {
-    throw Error(ErrorCode::InvalidArgument,
-                std::string("culler: method ") + info.name +
-                    " tests boxes with hardware occlusion queries; pass an OcclusionQueries "
-                    "(e.g. zread::BoxQuerySource) to cullFrame()");
-  }
-  if (info.uses_depth_source && !depth_ptr) {
-    throw Error(ErrorCode::InvalidArgument,
-                std::string("culler: method ") + info.name +
-                    " reads the depth buffer; pass a DepthSource to cullFrame()");
-  }
-  static thread_local NoDepthSource no_depth;
-  DepthSource& depth = depth_ptr ? *depth_ptr : no_depth;
+  const MethodInfo& info = method_->info;
   const auto start = std::chrono::steady_clock::now();
-  prepare(camera, depth);
-  depth.beginFrame(camera);
+  prepare(camera, sources);
+  DepthSource* depth = sources_.depth;
+  OcclusionQueries* queries = sources_.queries;
+  if (depth) depth->beginFrame(camera);
   if (queries) queries->beginQueryFrame(camera);
-  const ReadCounters before = depth.counters();
+  const ReadCounters before = depth ? depth->counters() : ReadCounters{};
   const QueryCounters queries_before = queries ? queries->queryCounters() : QueryCounters{};
   stats_ = {};
   grid_counts_ = {};
@@ -167,45 +149,54 @@ FrameStats Culler::cull(const Camera& camera, const Hierarchy& hierarchy, DepthS
   deferred_.clear();
   visible_leaves_.clear();
   drawn_first_.clear();
-  current_source_ = &depth;
-  current_queries_ = queries;
+  in_frame_ = true;
   struct Reset {  // noteDrawn() outside this frame must throw, even after an exception
-    DepthSource*& source;
-    OcclusionQueries*& queries;
+    Culler& culler;
     ~Reset() {
-      source = nullptr;
-      queries = nullptr;
+      culler.in_frame_ = false;
+      culler.sources_ = {};
     }
-  } reset{current_source_, current_queries_};
+  } reset{*this};
 
   unordered_.clear();
-  for (const DrawnArea& area : drawn_before) noteDrawnWith(area, depth, false);
-  if (schedule_) {
-    runSchedule(hierarchy, depth, *queries, draw);
-  } else {
-    if (desc_.temporal_coherence) drawCoherent(hierarchy, depth, draw);
-    traverse(hierarchy, depth, draw);
+  for (const DrawnArea& area : drawn_before) noteDrawnWith(area, false);
+  if (info.occluders != OccluderUse::None) {
+    // The occluder pre-pass: selected for this camera, drawn first where the method
+    // reads them from the depth buffer (out of order, like drawn_before).
+    occluder_areas_.clear();
+    stats_.occluders = sources_.occluders->beginFrame(
+        camera, desc_.projection, info.occluders == OccluderUse::Drawn, occluder_areas_);
+    for (const DrawnArea& area : occluder_areas_) noteDrawnWith(area, false);
   }
-  depth.endFrame();
+  const bool coherence = desc_.temporal_coherence && info.takes.temporal_coherence;
+  if (schedule_) {
+    runSchedule(hierarchy, draw);
+  } else {
+    if (coherence) drawCoherent(hierarchy, draw);
+    traverse(hierarchy, draw);
+  }
+  if (depth) depth->endFrame();
   if (queries) queries->endQueryFrame();
 
   // Next frame's coherent set: the leaves this frame found visible.
-  if (desc_.temporal_coherence && !schedule_) {
+  if (coherence) {
     coherent_.swap(visible_leaves_);
     coherent_hierarchy_ = &hierarchy;
     coherent_revision_ = hierarchy.revision();
   }
 
-  const ReadCounters& after = depth.counters();
   stats_.tiles_tested = grid_counts_.tiles_tested;
   stats_.tiles_read = grid_counts_.tiles_read;
-  stats_.reads = after.reads - before.reads;
-  stats_.pixels_read = after.pixels - before.pixels;
-  stats_.bytes_read = after.bytes - before.bytes;
-  stats_.queries = after.queries - before.queries;
-  stats_.batches = after.batches - before.batches;
-  stats_.flushes = after.flushes - before.flushes;
-  stats_.read_seconds = after.seconds - before.seconds;
+  if (depth) {
+    const ReadCounters& after = depth->counters();
+    stats_.reads = after.reads - before.reads;
+    stats_.pixels_read = after.pixels - before.pixels;
+    stats_.bytes_read = after.bytes - before.bytes;
+    stats_.queries = after.queries - before.queries;
+    stats_.batches = after.batches - before.batches;
+    stats_.flushes = after.flushes - before.flushes;
+    stats_.read_seconds = after.seconds - before.seconds;
+  }
   if (queries) {
     const QueryCounters& q = queries->queryCounters();
     stats_.queries += q.queries - queries_before.queries;
@@ -219,25 +210,24 @@ FrameStats Culler::cull(const Camera& camera, const Hierarchy& hierarchy, DepthS
   return stats_;
 }
 
-void Culler::runSchedule(const Hierarchy& hierarchy, DepthSource& depth, OcclusionQueries& queries,
-                         const DrawCallback& draw) {
+void Culler::runSchedule(const Hierarchy& hierarchy, const DrawCallback& draw) {
   if (schedule_hierarchy_ != &hierarchy || schedule_revision_ != hierarchy.revision()) {
     schedule_->forget();
     schedule_hierarchy_ = &hierarchy;
     schedule_revision_ = hierarchy.revision();
   }
   std::optional<detail::GridPrefilter> prefilter;
-  if (desc_.method == Method::LogHwq) prefilter.emplace(*tester_, depth, grid_counts_);
+  if (method_->info.grid) prefilter.emplace(*tester_, grid_counts_);
   detail::QueryFrame::Wiring wiring;
   wiring.hierarchy = &hierarchy;
   wiring.projector = projector_.get();
-  wiring.queries = &queries;
+  wiring.queries = sources_.queries;
   wiring.prefilter = prefilter ? &*prefilter : nullptr;
   wiring.shape = desc_.queries.shape;
   wiring.stats = &stats_;
   wiring.clear_epoch = &clear_epoch_;
   wiring.draw = [&](const detail::QueryNode& n) {
-    drawEntry({n.order, n.id, n.projection}, hierarchy, depth, draw);
+    drawEntry({n.order, n.id, n.projection}, hierarchy, draw);
   };
   if (observer_) {
     wiring.observe = [this](const detail::QueryNode& n, Visibility v) {
@@ -248,11 +238,10 @@ void Culler::runSchedule(const Hierarchy& hierarchy, DepthSource& depth, Occlusi
   schedule_->run(frame);
 }
 
-void Culler::traverse(const Hierarchy& hierarchy, DepthSource& depth, const DrawCallback& draw) {
+void Culler::traverse(const Hierarchy& hierarchy, const DrawCallback& draw) {
   const NodeId root = hierarchy.root();
   if (root != kNoNode) pushTest(hierarchy, root);
 
-  const DepthSourceTraits traits = depth.traits();
   for (;;) {
     // Two-list order (LOG §3, fig. 2): draw the frontmost visible node once it lies in
     // front of the frontmost node still to be tested, or set aside for the next batch.
@@ -264,7 +253,7 @@ void Culler::traverse(const Hierarchy& hierarchy, DepthSource& depth, const Draw
         std::pop_heap(draw_list_.begin(), draw_list_.end(), laterFirst<Entry>);
         const Entry entry = draw_list_.back();
         draw_list_.pop_back();
-        drawEntry(entry, hierarchy, depth, draw);
+        drawEntry(entry, hierarchy, draw);
         continue;
       }
     }
@@ -283,17 +272,17 @@ void Culler::traverse(const Hierarchy& hierarchy, DepthSource& depth, const Draw
           ++stats_.colliding_waits;
           test_list_.push_back(entry);
           std::push_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
-          resolvePending(hierarchy, depth, draw);
+          resolvePending(hierarchy, draw);
           continue;
         }
         const float threshold = thresholdFor(entry);
         ++stats_.boxes_tested;
         if (lookahead_ == 1) {
-          v = tester_->test(entry.projection.rect, threshold, depth, grid_counts_);
+          v = tester_->test(entry.projection.rect, threshold, grid_counts_);
         } else {
           const bool leaf = hierarchy.objectCount(entry.node) > 0;
           std::optional<Visibility> planned =
-              tester_->plan(entry.projection.rect, threshold, traits, grid_counts_, leaf);
+              tester_->plan(entry.projection.rect, threshold, grid_counts_, leaf);
           if (!planned) {
             if (leaf) {
               pending_.push_back(entry);
@@ -314,11 +303,11 @@ void Culler::traverse(const Hierarchy& hierarchy, DepthSource& depth, const Draw
         }
         if (v == Visibility::Occluded) ++stats_.boxes_occluded;
       }
-      finish(entry, v, hierarchy, depth, draw);
+      finish(entry, v, hierarchy, draw);
       continue;
     }
     if (!pending_.empty()) {
-      resolvePending(hierarchy, depth, draw);
+      resolvePending(hierarchy, draw);
       continue;
     }
     if (test_list_.empty()) break;
@@ -349,7 +338,7 @@ bool Culler::forced(const Entry& entry, Visibility& result) {
       return true;
     case ProjectionClass::Inside: break;
   }
-  if (!methodInfo(desc_.method).tests_occlusion) {
+  if (method_->info.semantics == TestSemantics::None) {
     result = Visibility::Visible;
     return true;
   }
@@ -370,7 +359,7 @@ float Culler::thresholdFor(const Entry& entry) {
   // drawn so far lies in front of this box. The two-list order guarantees it up to the
   // rounding of margins between parent and child boxes and for what the application
   // announced with a depth; where it does not, test by depth, which holds in any order.
-  if (methodInfo(desc_.method).state_semantics) {
+  if (method_->info.semantics == TestSemantics::OcclusionState) {
     bool in_front = drawn_back_ < entry.order;
     for (std::size_t i = 0; in_front && i < unordered_.size(); ++i) {
       // NaN (unknown) is not in front; an area that shares no pixel with the box's
@@ -385,29 +374,28 @@ float Culler::thresholdFor(const Entry& entry) {
 }
 
 void Culler::finish(const Entry& entry, Visibility v, const Hierarchy& hierarchy,
-                    DepthSource& depth, const DrawCallback& draw) {
+                    const DrawCallback& draw) {
   if (observer_) observer_->onTested(entry.node, entry.projection, v);
   if (v != Visibility::Visible) return;
   if (hierarchy.objectCount(entry.node) > 0) {
     if (desc_.temporal_coherence) visible_leaves_.push_back(entry.node);
-    if (methodInfo(desc_.method).two_list_order) {
+    if (method_->info.traversal == Traversal::TwoList) {
       Entry drawn = entry;
       drawn.order = entry.projection.far_key + entry.projection.margin;
       draw_list_.push_back(drawn);
       std::push_heap(draw_list_.begin(), draw_list_.end(), laterFirst<Entry>);
     } else {
-      drawEntry(entry, hierarchy, depth, draw);
+      drawEntry(entry, hierarchy, draw);
     }
   }
   const std::uint32_t children = hierarchy.childCount(entry.node);
   for (std::uint32_t c = 0; c < children; ++c) pushTest(hierarchy, hierarchy.child(entry.node, c));
 }
 
-void Culler::resolvePending(const Hierarchy& hierarchy, DepthSource& depth,
-                            const DrawCallback& draw) {
+void Culler::resolvePending(const Hierarchy& hierarchy, const DrawCallback& draw) {
   // One batch for every box set aside: the renderer is waited for once.
-  tester_->submitBatch(depth);
-  depth.collect();
+  tester_->submitBatch();
+  sources_.depth->collect();
   tester_->applyBatch();
   // finish() may draw and push children, but never sets boxes aside: resolve them all.
   std::vector<Entry> batch;
@@ -415,7 +403,7 @@ void Culler::resolvePending(const Hierarchy& hierarchy, DepthSource& depth,
   for (std::size_t i = 0; i < batch.size(); ++i) {
     const Visibility v = tester_->resolve(i, grid_counts_);
     if (v == Visibility::Occluded) ++stats_.boxes_occluded;
-    finish(batch[i], v, hierarchy, depth, draw);
+    finish(batch[i], v, hierarchy, draw);
   }
   tester_->clearBatch();
   batch.clear();
@@ -427,8 +415,7 @@ void Culler::resolvePending(const Hierarchy& hierarchy, DepthSource& depth,
   deferred_.clear();
 }
 
-void Culler::drawEntry(const Entry& entry, const Hierarchy& hierarchy, DepthSource& depth,
-                       const DrawCallback& draw) {
+void Culler::drawEntry(const Entry& entry, const Hierarchy& hierarchy, const DrawCallback& draw) {
   if (!drawn_first_.empty() &&
       std::binary_search(drawn_first_.begin(), drawn_first_.end(), entry.node)) {
     return;  // drawn before the traversal (temporal coherence)
@@ -437,13 +424,11 @@ void Culler::drawEntry(const Entry& entry, const Hierarchy& hierarchy, DepthSour
   for (std::uint32_t i = 0; i < n; ++i) draw(hierarchy.object(entry.node, i));
   stats_.objects_drawn += n;
   ++stats_.leaves_drawn;
-  noteDrawnWith({entry.projection.rect, entry.projection.far_key + entry.projection.margin}, depth,
-                true);
+  noteDrawnWith({entry.projection.rect, entry.projection.far_key + entry.projection.margin}, true);
   if (observer_) observer_->onDrawn(entry.node, entry.projection);
 }
 
-void Culler::drawCoherent(const Hierarchy& hierarchy, DepthSource& depth,
-                          const DrawCallback& draw) {
+void Culler::drawCoherent(const Hierarchy& hierarchy, const DrawCallback& draw) {
   if (coherent_hierarchy_ != &hierarchy || coherent_revision_ != hierarchy.revision()) {
     coherent_.clear();
   }
@@ -457,14 +442,14 @@ void Culler::drawCoherent(const Hierarchy& hierarchy, DepthSource& depth,
     ++stats_.coherent_leaves;
     drawn_first_.push_back(node);
     // Drawn out of order: later occlusion-state tests of boxes in front of it go by depth.
-    noteDrawnWith({p.rect, p.far_key + p.margin}, depth, false);
+    noteDrawnWith({p.rect, p.far_key + p.margin}, false);
     if (observer_) observer_->onDrawn(node, p);
   }
   std::sort(drawn_first_.begin(), drawn_first_.end());
-  if (!drawn_first_.empty()) tester_->refreshOutdated(depth, grid_counts_);
+  if (!drawn_first_.empty()) tester_->refreshOutdated(grid_counts_);
 }
 
-void Culler::noteDrawnWith(const DrawnArea& area, DepthSource& depth, bool ordered) {
+void Culler::noteDrawnWith(const DrawnArea& area, bool ordered) {
   const PixelRect r{std::max(area.rect.x0, 0), std::max(area.rect.y0, 0),
                     std::min(area.rect.x1, std::int32_t(projector_->camera().width)),
                     std::min(area.rect.y1, std::int32_t(projector_->camera().height))};
@@ -477,40 +462,40 @@ void Culler::noteDrawnWith(const DrawnArea& area, DepthSource& depth, bool order
                                                : std::numeric_limits<float>::infinity();
   }
   if (r.empty()) return;
-  depth.noteDraw();
-  if (current_queries_) current_queries_->noteDraw();
-  tester_->noteDrawn(r, depth);
+  if (sources_.depth) sources_.depth->noteDraw();
+  if (sources_.queries) sources_.queries->noteDraw();
+  tester_->noteDrawn(r);
 }
 
-DepthSource& Culler::currentSource(const char* who) const {
-  if (!current_source_) {
+void Culler::requireFrame(const char* who) const {
+  if (!in_frame_) {
     throw Error(
         ErrorCode::InvalidArgument,
         std::string("Culler::") + who + ": call it only from inside cullFrame()'s draw callback");
   }
-  return *current_source_;
 }
 
 void Culler::noteDrawn(const DrawnArea& area) {
-  noteDrawnWith(area, currentSource("noteDrawn"), false);
+  requireFrame("noteDrawn");
+  noteDrawnWith(area, false);
 }
 
 void Culler::noteDrawn(const Aabb& box) {
-  DepthSource& depth = currentSource("noteDrawn");
+  requireFrame("noteDrawn");
   const BoxProjection p = projector_->project(box);
   if (p.cls == ProjectionClass::Outside) return;  // draws no pixel
   noteDrawnWith({p.rect, p.cls == ProjectionClass::Inside ? p.far_key + p.margin
                                                           : std::numeric_limits<float>::infinity()},
-                depth, false);
+                false);
 }
 
 void Culler::noteDepthCleared() {
-  currentSource("noteDepthCleared");
+  requireFrame("noteDepthCleared");
   noteDepthCleared(windowDepth(projector_->camera().depth.convention, projector_->clearKey()));
 }
 
 void Culler::noteDepthCleared(float window_depth) {
-  currentSource("noteDepthCleared");
+  requireFrame("noteDepthCleared");
   if (!(window_depth >= 0.0f && window_depth <= 1.0f)) {
     throw Error(ErrorCode::InvalidArgument, "Culler::noteDepthCleared: window depth " +
                                                 std::to_string(window_depth) +
@@ -531,7 +516,7 @@ void Culler::forgetCoherence() {
 }
 
 BoxProjection Culler::project(const Aabb& box) const {
-  currentSource("project");
+  requireFrame("project");
   return projector_->project(box);
 }
 

@@ -47,7 +47,7 @@ std::uint32_t mix(std::uint64_t x) {
   return std::uint32_t(x ^ (x >> 31));
 }
 
-class ChcSchedule final : public QuerySchedule {
+class ChcSchedule final : public Schedule {
  public:
   ChcSchedule(std::uint32_t batch, std::uint32_t visible_interval)
       : batch_(batch), interval_(visible_interval) {}
@@ -251,7 +251,7 @@ class ChcSchedule final : public QuerySchedule {
 
 }  // namespace
 
-std::unique_ptr<QuerySchedule> makeChcSchedule(const QueryScheduleDesc& d) {
+std::unique_ptr<Schedule> makeChcSchedule(const QueryScheduleDesc& d) {
   return std::make_unique<ChcSchedule>(d.chc_batch, d.chc_visible_interval);
 }
 

@@ -129,18 +129,17 @@ class QueryFrame {
   std::vector<RectQuery> rects_;
 };
 
-// A query method's traversal. One object per Culler; it keeps its node memory across
-// frames.
-class QuerySchedule {
+// A query schedule at work: a query method's traversal. One object per Culler; it keeps
+// its node memory across frames.
+class Schedule {
  public:
-  virtual ~QuerySchedule() = default;
+  virtual ~Schedule() = default;
   virtual void run(QueryFrame& frame) = 0;
   // The hierarchy changed (another object or revision): forget every node.
   virtual void forget() = 0;
 };
 
-// The schedule of a query method (log+hwq: of CullerDesc::queries.schedule), nullptr for
-// the grid methods. The one switch on the query methods.
-std::unique_ptr<QuerySchedule> makeQuerySchedule(const CullerDesc& desc);
+// The schedule's implementation (query_schedule.cpp's table).
+std::unique_ptr<Schedule> makeSchedule(QuerySchedule schedule, const QueryScheduleDesc& desc);
 
 }  // namespace logrid::detail

@@ -15,7 +15,7 @@
 namespace logrid::detail {
 namespace {
 
-class HwqSchedule final : public QuerySchedule {
+class HwqSchedule final : public Schedule {
  public:
   void run(QueryFrame& f) override {
     queue_.clear();
@@ -46,6 +46,8 @@ class HwqSchedule final : public QuerySchedule {
 
 }  // namespace
 
-std::unique_ptr<QuerySchedule> makeHwqSchedule() { return std::make_unique<HwqSchedule>(); }
+std::unique_ptr<Schedule> makeHwqSchedule(const QueryScheduleDesc&) {
+  return std::make_unique<HwqSchedule>();
+}
 
 }  // namespace logrid::detail

@@ -48,7 +48,7 @@ namespace {
 constexpr double kRcov = 0.785398163397448;  // pi / 4
 constexpr std::uint32_t kAssumedTriangles = 1000;
 
-class NohcSchedule final : public QuerySchedule {
+class NohcSchedule final : public Schedule {
  public:
   explicit NohcSchedule(const HardwareParameters& hw) : hw_(hw) {
     const double per_query = std::min(hw.query_setup, hw.query_overhead + hw.render_setup);
@@ -300,7 +300,7 @@ class NohcSchedule final : public QuerySchedule {
 
 }  // namespace
 
-std::unique_ptr<QuerySchedule> makeNohcSchedule(const QueryScheduleDesc& d) {
+std::unique_ptr<Schedule> makeNohcSchedule(const QueryScheduleDesc& d) {
   return std::make_unique<NohcSchedule>(d.hardware);
 }
 

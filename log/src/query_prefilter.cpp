@@ -10,7 +10,7 @@ std::optional<Visibility> GridPrefilter::decide(const BoxProjection& p) {
 
 void GridPrefilter::refresh() {
   if (wanted_.empty()) return;
-  grid_.refreshUnder(wanted_, depth_, counts_);
+  grid_.refreshUnder(wanted_, counts_);
   wanted_.clear();
 }
 

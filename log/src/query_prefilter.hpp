@@ -26,8 +26,7 @@ namespace logrid::detail {
 
 class GridPrefilter {
  public:
-  GridPrefilter(BoxTester& grid, DepthSource& depth, GridTestCounts& counts)
-      : grid_(grid), depth_(depth), counts_(counts) {}
+  GridPrefilter(BoxTester& grid, GridTestCounts& counts) : grid_(grid), counts_(counts) {}
 
   // What the records decide for a box that projects Inside; nothing if a query must.
   std::optional<Visibility> decide(const BoxProjection& p);
@@ -36,7 +35,6 @@ class GridPrefilter {
 
  private:
   BoxTester& grid_;
-  DepthSource& depth_;
   GridTestCounts& counts_;
   std::vector<PixelRect> wanted_;
 };

@@ -29,52 +29,95 @@ std::string validateHardwareParameters(const HardwareParameters& p) {
   return {};
 }
 
-std::string validateQuerySchedule(Method method, const QueryScheduleDesc& d) {
-  Method schedule = method;
-  if (method == Method::LogHwq) {
-    schedule = d.schedule;
-    if (schedule != Method::Hwq && schedule != Method::Chc && schedule != Method::Stat &&
-        schedule != Method::Nohc) {
-      return std::string("queries.schedule ") + toString(schedule) +
-             " is not a query schedule; log+hwq takes hwq, chc, stat or nohc";
-    }
-  }
-  if (d.shape != QueryShape::Box && d.shape != QueryShape::Rect) {
-    return "queries.shape has the unknown value " + std::to_string(int(d.shape));
-  }
-  switch (schedule) {
-    case Method::Chc:
-      if (d.chc_batch < 1) return "queries.chc_batch 0 is invalid; use 1 or more nodes";
-      if (d.chc_visible_interval < 1) {
-        return "queries.chc_visible_interval 0 is invalid; use 1 or more frames";
-      }
-      break;
-    case Method::Stat:
-      if (d.stat_in_flight < 1) return "queries.stat_in_flight 0 is invalid; use 1 or more";
-      if (d.stat_base_frames < 1) return "queries.stat_base_frames 0 is invalid; use 1 or more";
-      break;
-    case Method::Nohc: return validateHardwareParameters(d.hardware);
-    default: break;
+namespace detail {
+std::unique_ptr<Schedule> makeHwqSchedule(const QueryScheduleDesc& d);
+std::unique_ptr<Schedule> makeChcSchedule(const QueryScheduleDesc& d);
+std::unique_ptr<Schedule> makeStatSchedule(const QueryScheduleDesc& d);
+std::unique_ptr<Schedule> makeNohcSchedule(const QueryScheduleDesc& d);
+}  // namespace detail
+
+namespace {
+
+std::string validateChc(const QueryScheduleDesc& d) {
+  if (d.chc_batch < 1) return "queries.chc_batch 0 is invalid; use 1 or more nodes";
+  if (d.chc_visible_interval < 1) {
+    return "queries.chc_visible_interval 0 is invalid; use 1 or more frames";
   }
   return {};
 }
 
+std::string validateStat(const QueryScheduleDesc& d) {
+  if (d.stat_in_flight < 1) return "queries.stat_in_flight 0 is invalid; use 1 or more";
+  if (d.stat_base_frames < 1) return "queries.stat_base_frames 0 is invalid; use 1 or more";
+  return {};
+}
+
+std::string validateNohc(const QueryScheduleDesc& d) {
+  return validateHardwareParameters(d.hardware);
+}
+
+std::string nothingToValidate(const QueryScheduleDesc&) { return {}; }
+
+// Every schedule, in the order of the enum: its name, its implementation (one file each)
+// and the checks of its settings.
+struct ScheduleDef {
+  QuerySchedule schedule;
+  const char* name;
+  std::unique_ptr<detail::Schedule> (*make)(const QueryScheduleDesc&);
+  std::string (*validate)(const QueryScheduleDesc&);
+};
+
+constexpr ScheduleDef kSchedules[] = {
+    {QuerySchedule::Hwq, "hwq", detail::makeHwqSchedule, nothingToValidate},
+    {QuerySchedule::Chc, "chc", detail::makeChcSchedule, validateChc},
+    {QuerySchedule::Stat, "stat", detail::makeStatSchedule, validateStat},
+    {QuerySchedule::Nohc, "nohc", detail::makeNohcSchedule, validateNohc},
+};
+
+const ScheduleDef* find(QuerySchedule schedule) {
+  for (const ScheduleDef& s : kSchedules) {
+    if (s.schedule == schedule) return &s;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+const char* toString(QuerySchedule schedule) {
+  const ScheduleDef* s = find(schedule);
+  return s ? s->name : "?";
+}
+
+std::optional<QuerySchedule> parseQuerySchedule(const std::string& name) {
+  for (const ScheduleDef& s : kSchedules) {
+    if (name == s.name) return s.schedule;
+  }
+  return std::nullopt;
+}
+
+std::string querySchedules() {
+  std::string out;
+  for (const ScheduleDef& s : kSchedules) out += std::string(out.empty() ? "" : ", ") + s.name;
+  return out;
+}
+
+std::string validateQuerySchedule(QuerySchedule schedule, const QueryScheduleDesc& d) {
+  const ScheduleDef* s = find(schedule);
+  if (!s) {
+    return "queries.schedule has the unknown value " + std::to_string(int(schedule)) + "; use " +
+           querySchedules();
+  }
+  if (d.shape != QueryShape::Box && d.shape != QueryShape::Rect) {
+    return "queries.shape has the unknown value " + std::to_string(int(d.shape));
+  }
+  return s->validate(d);
+}
+
 namespace detail {
 
-std::unique_ptr<QuerySchedule> makeHwqSchedule();
-std::unique_ptr<QuerySchedule> makeChcSchedule(const QueryScheduleDesc& d);
-std::unique_ptr<QuerySchedule> makeStatSchedule(const QueryScheduleDesc& d);
-std::unique_ptr<QuerySchedule> makeNohcSchedule(const QueryScheduleDesc& d);
-
-std::unique_ptr<QuerySchedule> makeQuerySchedule(const CullerDesc& desc) {
-  const Method schedule = desc.method == Method::LogHwq ? desc.queries.schedule : desc.method;
-  switch (schedule) {
-    case Method::Hwq: return makeHwqSchedule();
-    case Method::Chc: return makeChcSchedule(desc.queries);
-    case Method::Stat: return makeStatSchedule(desc.queries);
-    case Method::Nohc: return makeNohcSchedule(desc.queries);
-    default: return nullptr;
-  }
+std::unique_ptr<Schedule> makeSchedule(QuerySchedule schedule, const QueryScheduleDesc& desc) {
+  const ScheduleDef* s = find(schedule);
+  return s ? s->make(desc) : nullptr;
 }
 
 }  // namespace detail

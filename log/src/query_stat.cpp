@@ -32,7 +32,7 @@
 namespace logrid::detail {
 namespace {
 
-class StatSchedule final : public QuerySchedule {
+class StatSchedule final : public Schedule {
  public:
   StatSchedule(std::uint32_t in_flight, std::uint32_t base_frames)
       : in_flight_limit_(in_flight), base_(base_frames) {}
@@ -133,7 +133,7 @@ class StatSchedule final : public QuerySchedule {
 
 }  // namespace
 
-std::unique_ptr<QuerySchedule> makeStatSchedule(const QueryScheduleDesc& d) {
+std::unique_ptr<Schedule> makeStatSchedule(const QueryScheduleDesc& d) {
   return std::make_unique<StatSchedule>(d.stat_in_flight, d.stat_base_frames);
 }
 

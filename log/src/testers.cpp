@@ -8,74 +8,70 @@
 
 namespace logrid::detail {
 
-std::optional<Visibility> BoxTester::plan(const PixelRect&, float, const DepthSourceTraits&,
-                                          GridTestCounts&, bool) {
+std::optional<Visibility> BoxTester::plan(const PixelRect&, float, GridTestCounts&, bool) {
   assert(false && "BoxTester::plan: this method does not batch its tests");
   return Visibility::Visible;
 }
-
-void BoxTester::submitBatch(DepthSource&) {}
 
 Visibility BoxTester::resolve(std::size_t, GridTestCounts&) { return Visibility::Visible; }
 
 namespace {
 
-// log-state, log-zfar (lazy: tiles marked outdated after a draw) and bog (busy: tiles
-// refreshed right after each draw, LOG §5).
+// log-state, log-zfar, log+hwq, ddo+log (lazy: tiles marked outdated after a draw) and bog
+// (busy: tiles refreshed right after each draw, LOG §5).
 class GridTester final : public BoxTester {
  public:
-  GridTester(const CullerDesc& desc, bool busy) : desc_(desc), busy_(busy) {}
+  GridTester(const CullerDesc& desc, GridVariant variant, GridRefresh refresh)
+      : desc_(desc), variant_(variant), refresh_(refresh) {}
 
-  void beginFrame(const Camera& camera, float clear_key) override {
-    // log+hwq draws what the queries find visible at once: depth tests, as the zfar variant.
-    const bool zfar = desc_.method == Method::LogZfar || desc_.method == Method::LogHwq;
-    const GridDesc want{camera.width, camera.height, desc_.tile_size,
-                        zfar ? GridVariant::Zfar : GridVariant::OcclusionState};
+  void beginFrame(const Camera& camera, float clear_key, const CullSources& sources) override {
+    source_ = sources.depth;
+    assert(source_ && "GridTester: the culler checks that the method's depth source is given");
+    const GridDesc want{camera.width, camera.height, desc_.tile_size, variant_};
     if (!grid_ || grid_->desc().width != want.width || grid_->desc().height != want.height) {
       grid_.emplace(want, desc_.approximation);
     }
     grid_->reset(clear_key);
     batch_.clear();
   }
-  Visibility test(const PixelRect& rect, float threshold, DepthSource& source,
-                  GridTestCounts& counts) override {
-    return grid_->test(rect, threshold, source, counts);
+  Visibility test(const PixelRect& rect, float threshold, GridTestCounts& counts) override {
+    return grid_->test(rect, threshold, *source_, counts);
   }
-  std::optional<Visibility> plan(const PixelRect& rect, float threshold,
-                                 const DepthSourceTraits& source, GridTestCounts& counts,
+  std::optional<Visibility> plan(const PixelRect& rect, float threshold, GridTestCounts& counts,
                                  bool read) override {
-    return grid_->plan(rect, threshold, source, read ? &batch_ : nullptr, counts);
+    return grid_->plan(rect, threshold, source_->traits(), read ? &batch_ : nullptr, counts);
   }
-  void submitBatch(DepthSource& source) override { grid_->submit(batch_, source); }
+  void submitBatch() override { grid_->submit(batch_, *source_); }
   void applyBatch() override { grid_->apply(batch_); }
   Visibility resolve(std::size_t index, GridTestCounts& counts) override {
     return grid_->resolve(batch_, index, counts);
   }
   void clearBatch() override { batch_.clear(); }
-  void noteDrawn(const PixelRect& rect, DepthSource& source) override {
-    if (busy_) {
-      grid_->refreshNow(rect, source);
+  void noteDrawn(const PixelRect& rect) override {
+    if (refresh_ == GridRefresh::Busy) {
+      grid_->refreshNow(rect, *source_);
     } else {
       grid_->markOutdated(rect);
     }
   }
   void noteCleared(float key) override { grid_->fill(key); }
-  void refreshOutdated(DepthSource& source, GridTestCounts& counts) override {
-    grid_->refreshOutdated(source, counts);
+  void refreshOutdated(GridTestCounts& counts) override {
+    grid_->refreshOutdated(*source_, counts);
   }
   std::optional<Visibility> decide(const PixelRect& rect, float threshold,
                                    GridTestCounts& counts) override {
     return grid_->decide(rect, threshold, counts);
   }
-  void refreshUnder(const std::vector<PixelRect>& rects, DepthSource& source,
-                    GridTestCounts& counts) override {
-    grid_->refreshOutdated(rects.data(), rects.size(), source, counts);
+  void refreshUnder(const std::vector<PixelRect>& rects, GridTestCounts& counts) override {
+    grid_->refreshOutdated(rects.data(), rects.size(), *source_, counts);
   }
   const OcclusionGrid* grid() const override { return grid_ ? &*grid_ : nullptr; }
 
  private:
   CullerDesc desc_;
-  bool busy_;
+  GridVariant variant_;
+  GridRefresh refresh_;
+  DepthSource* source_ = nullptr;
   std::optional<OcclusionGrid> grid_;
   GridBatch batch_;
 };
@@ -84,7 +80,9 @@ class GridTester final : public BoxTester {
 // each draw; tests read nothing.
 class PyramidTester final : public BoxTester {
  public:
-  void beginFrame(const Camera& camera, float clear_key) override {
+  void beginFrame(const Camera& camera, float clear_key, const CullSources& sources) override {
+    source_ = sources.depth;
+    assert(source_ && "PyramidTester: the culler checks that the method's depth source is given");
     if (!pyramid_ || width_ != camera.width || height_ != camera.height) {
       pyramid_ = std::make_unique<DepthPyramid>(camera.width, camera.height);
       width_ = camera.width;
@@ -92,16 +90,14 @@ class PyramidTester final : public BoxTester {
     }
     pyramid_->reset(clear_key);
   }
-  Visibility test(const PixelRect& rect, float threshold, DepthSource&,
-                  GridTestCounts& counts) override {
+  Visibility test(const PixelRect& rect, float threshold, GridTestCounts& counts) override {
     return pyramid_->test(rect, threshold, counts.tiles_tested);
   }
-  void noteDrawn(const PixelRect& rect, DepthSource& source) override {
-    pyramid_->update(rect, source);
-  }
+  void noteDrawn(const PixelRect& rect) override { pyramid_->update(rect, *source_); }
   void noteCleared(float key) override { pyramid_->reset(key); }
 
  private:
+  DepthSource* source_ = nullptr;
   std::unique_ptr<DepthPyramid> pyramid_;
   std::uint32_t width_ = 0;
   std::uint32_t height_ = 0;
@@ -112,24 +108,27 @@ class RectCountTester final : public BoxTester {
  public:
   explicit RectCountTester(std::uint32_t visible_pixels) : visible_pixels_(visible_pixels) {}
 
-  void beginFrame(const Camera&, float) override { clearBatch(); }
-  Visibility test(const PixelRect& rect, float threshold, DepthSource& source,
-                  GridTestCounts& counts) override {
+  void beginFrame(const Camera&, float, const CullSources& sources) override {
+    source_ = sources.depth;
+    assert(source_ && "RectCountTester: the culler checks that the method's depth source is given");
+    clearBatch();
+  }
+  Visibility test(const PixelRect& rect, float threshold, GridTestCounts& counts) override {
     std::uint32_t count = 0;
-    source.countAtOrBeyond(&rect, 1, threshold, &count);
+    source_->countAtOrBeyond(&rect, 1, threshold, &count);
     ++counts.tiles_tested;
     return shows(count);
   }
-  std::optional<Visibility> plan(const PixelRect& rect, float threshold, const DepthSourceTraits&,
-                                 GridTestCounts& counts, bool read) override {
+  std::optional<Visibility> plan(const PixelRect& rect, float threshold, GridTestCounts& counts,
+                                 bool read) override {
     if (!read) return std::nullopt;  // no records: every answer is a read
     requests_.push_back({rect, AreaAsk::Count, threshold});
     ++counts.tiles_tested;
     return std::nullopt;
   }
-  void submitBatch(DepthSource& source) override {
+  void submitBatch() override {
     answers_.assign(requests_.size(), AreaAnswer{});
-    source.submit(requests_.data(), requests_.size(), answers_.data());
+    source_->submit(requests_.data(), requests_.size(), answers_.data());
   }
   Visibility resolve(std::size_t index, GridTestCounts&) override {
     return shows(answers_[index].count);
@@ -138,7 +137,7 @@ class RectCountTester final : public BoxTester {
     requests_.clear();
     answers_.clear();
   }
-  void noteDrawn(const PixelRect&, DepthSource&) override {}
+  void noteDrawn(const PixelRect&) override {}
   void noteCleared(float) override {}
 
  private:
@@ -146,38 +145,54 @@ class RectCountTester final : public BoxTester {
     return count > visible_pixels_ ? Visibility::Visible : Visibility::Occluded;
   }
   std::uint32_t visible_pixels_;
+  DepthSource* source_ = nullptr;
   std::vector<AreaRequest> requests_;
   std::vector<AreaAnswer> answers_;
 };
 
-// vfc: no occlusion test (the culler never calls test() for it).
+// ddo: the occluders' CPU map. The map holds only occluders valid for the viewpoint, so a
+// box behind them at every pixel is hidden by the scene; draws and clears change nothing.
+class OccluderMapTester final : public BoxTester {
+ public:
+  void beginFrame(const Camera&, float, const CullSources& sources) override {
+    occluders_ = sources.occluders;
+    assert(occluders_ && "OccluderMapTester: the culler checks that the occluders are given");
+  }
+  Visibility test(const PixelRect& rect, float threshold, GridTestCounts& counts) override {
+    ++counts.tiles_tested;
+    return occluders_->occludes(rect, threshold) ? Visibility::Occluded : Visibility::Visible;
+  }
+  void noteDrawn(const PixelRect&) override {}
+  void noteCleared(float) override {}
+
+ private:
+  const OccluderSource* occluders_ = nullptr;
+};
+
+// vfc and the query schedules: the culler never calls test() for them.
 class NoTester final : public BoxTester {
  public:
-  void beginFrame(const Camera&, float) override {}
-  Visibility test(const PixelRect&, float, DepthSource&, GridTestCounts&) override {
-    return Visibility::Visible;
-  }
-  void noteDrawn(const PixelRect&, DepthSource&) override {}
+  void beginFrame(const Camera&, float, const CullSources&) override {}
+  Visibility test(const PixelRect&, float, GridTestCounts&) override { return Visibility::Visible; }
+  void noteDrawn(const PixelRect&) override {}
   void noteCleared(float) override {}
 };
 
 }  // namespace
 
-std::unique_ptr<BoxTester> makeTester(const CullerDesc& desc) {
-  switch (desc.method) {
-    case Method::LogState:
-    case Method::LogZfar:
-    case Method::LogHwq: return std::make_unique<GridTester>(desc, false);
-    case Method::Bog: return std::make_unique<GridTester>(desc, true);
-    case Method::Hzb: return std::make_unique<PyramidTester>();
-    case Method::Pq: return std::make_unique<RectCountTester>(desc.approximation.visible_pixels);
-    case Method::Vfc:
-    case Method::Hwq:
-    case Method::Chc:
-    case Method::Stat:
-    case Method::Nohc: return std::make_unique<NoTester>();
-  }
-  return std::make_unique<NoTester>();
+std::unique_ptr<BoxTester> makeGridTester(const CullerDesc& desc, GridVariant variant,
+                                          GridRefresh refresh) {
+  return std::make_unique<GridTester>(desc, variant, refresh);
 }
+
+std::unique_ptr<BoxTester> makePyramidTester() { return std::make_unique<PyramidTester>(); }
+
+std::unique_ptr<BoxTester> makeRectCountTester(std::uint32_t visible_pixels) {
+  return std::make_unique<RectCountTester>(visible_pixels);
+}
+
+std::unique_ptr<BoxTester> makeOccluderMapTester() { return std::make_unique<OccluderMapTester>(); }
+
+std::unique_ptr<BoxTester> makeNoTester() { return std::make_unique<NoTester>(); }
 
 }  // namespace logrid::detail

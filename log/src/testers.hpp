@@ -1,5 +1,5 @@
-// Each method's occlusion test, one class per method (the culler's only switch on the
-// method is makeTester()). Internal to logrid::core.
+// The occlusion tests the methods share (log/src/methods/ picks one per method through
+// MethodDef::make_tester). Internal to logrid::core.
 #pragma once
 
 #include <cstddef>
@@ -18,33 +18,29 @@ class BoxTester {
  public:
   virtual ~BoxTester() = default;
 
-  // A new frame whose depth buffer is cleared to `clear_key`.
-  virtual void beginFrame(const Camera& camera, float clear_key) = 0;
+  // A new frame whose depth buffer is cleared to `clear_key`, with the frame's sources
+  // (those the method needs are there: MethodInfo::needs).
+  virtual void beginFrame(const Camera& camera, float clear_key, const CullSources& sources) = 0;
   // Is any pixel of `rect` at or beyond `threshold`? Tested on its own.
-  virtual Visibility test(const PixelRect& rect, float threshold, DepthSource& source,
-                          GridTestCounts& counts) = 0;
+  virtual Visibility test(const PixelRect& rect, float threshold, GridTestCounts& counts) = 0;
 
-  // Batched tests, for methods with MethodInfo::lookahead: plan() answers at once what
-  // needs no read, else (if `read`) adds the test to the batch; submitBatch(), the
-  // source's collect(), applyBatch(), then resolve() for each planned test in order, and
+  // Batched tests, for methods that take a lookahead: plan() answers at once what needs
+  // no read, else (if `read`) adds the test to the batch; submitBatch(), the source's
+  // collect(), applyBatch(), then resolve() for each planned test in order, and
   // clearBatch().
   virtual std::optional<Visibility> plan(const PixelRect& rect, float threshold,
-                                         const DepthSourceTraits& source, GridTestCounts& counts,
-                                         bool read);
-  virtual void submitBatch(DepthSource& source);
+                                         GridTestCounts& counts, bool read);
+  virtual void submitBatch() {}
   virtual void applyBatch() {}
   virtual Visibility resolve(std::size_t index, GridTestCounts& counts);
   virtual void clearBatch() {}
 
   // Something was drawn over `rect` (clipped to the viewport).
-  virtual void noteDrawn(const PixelRect& rect, DepthSource& source) = 0;
+  virtual void noteDrawn(const PixelRect& rect) = 0;
   // The depth buffer was cleared mid-frame to `key`.
   virtual void noteCleared(float key) = 0;
   // Brings every outdated record up to date in one batch (temporal coherence).
-  virtual void refreshOutdated(DepthSource& source, GridTestCounts& counts) {
-    (void)source;
-    (void)counts;
-  }
+  virtual void refreshOutdated(GridTestCounts& counts) { (void)counts; }
   // The grid as a pre-filter of hardware queries (log+hwq): what the records decide
   // without reading, and a refresh of the outdated records under some rectangles.
   virtual std::optional<Visibility> decide(const PixelRect& rect, float threshold,
@@ -54,15 +50,29 @@ class BoxTester {
     (void)counts;
     return std::nullopt;
   }
-  virtual void refreshUnder(const std::vector<PixelRect>& rects, DepthSource& source,
-                            GridTestCounts& counts) {
+  virtual void refreshUnder(const std::vector<PixelRect>& rects, GridTestCounts& counts) {
     (void)rects;
-    (void)source;
     (void)counts;
   }
   virtual const OcclusionGrid* grid() const { return nullptr; }
 };
 
-std::unique_ptr<BoxTester> makeTester(const CullerDesc& desc);
+// When a grid's tiles are brought up to date.
+enum class GridRefresh : std::uint8_t {
+  Lazy,  // marked outdated by a draw, read when a test needs them (LOG §3)
+  Busy,  // read right after each draw (LOG §5)
+};
+
+// The lazy occlusion grid (grid.hpp) of `variant`, with desc's tile size and knobs.
+std::unique_ptr<BoxTester> makeGridTester(const CullerDesc& desc, GridVariant variant,
+                                          GridRefresh refresh);
+// A CPU depth pyramid updated from the drawn box's area after each draw (depth_pyramid.hpp).
+std::unique_ptr<BoxTester> makePyramidTester();
+// One pixel-level count over the box's whole rectangle; `visible_pixels` may show.
+std::unique_ptr<BoxTester> makeRectCountTester(std::uint32_t visible_pixels);
+// The occluder pre-pass's CPU map (OccluderSource::occludes); reads nothing.
+std::unique_ptr<BoxTester> makeOccluderMapTester();
+// No occlusion test: view-frustum culling, and the query schedules, whose queries test.
+std::unique_ptr<BoxTester> makeNoTester();
 
 }  // namespace logrid::detail

@@ -99,7 +99,7 @@ struct Row {
   double read_share = 0;
   double flushes = 0;
   double occluders = -1;     // DDO methods: occluders per frame
-  bool box_queries = false;  // a hardware-query method (MethodInfo::box_queries)
+  bool box_queries = false;  // a hardware-query method (MethodNeeds::queries)
   double queries = 0, query_waits = 0, query_boxes = 0;
   std::int64_t missed = -1;
   std::int64_t missed_artifacts = 0;  // objects shown only by depth-extrapolated fragments
@@ -113,8 +113,8 @@ Row makeRow(const Measured& m) {
   Row row;
   row.label = m.label;
   row.method = r.config.method.name();
-  // Only methods that read the depth buffer use a reader (not vfc, nor hwq, chc, stat, nohc).
-  row.reader = r.config.method.method && methodInfo(*r.config.method.method).uses_depth_source
+  // Only methods that read the depth buffer use a reader (MethodNeeds::depth).
+  row.reader = r.config.method.method && methodInfo(*r.config.method.method).needs.depth
                    ? r.config.reader
                    : "–";
   row.ms = r.avg_ms();
@@ -126,7 +126,7 @@ Row makeRow(const Measured& m) {
   row.read_share = row.ms > 0 ? a.read_ms / row.ms : 0;
   row.flushes = a.flushes;
   if (a.occluders) row.occluders = *a.occluders;
-  if (r.config.method.method && methodInfo(*r.config.method.method).box_queries) {
+  if (r.config.method.method && methodInfo(*r.config.method.method).needs.queries) {
     row.box_queries = true;
     row.queries = a.queries;
     row.query_waits = a.query_waits;
@@ -418,9 +418,9 @@ int runMethods(const ExperimentOptions& eo, const std::vector<std::string>& meth
                const std::vector<std::string>& readers) {
   if (methods.empty()) throw Error(ErrorCode::InvalidArgument, "bench: --methods needs an entry");
   for (const std::string& m : methods) {
-    if (!parseMethodChoice(m)) {
-      throw Error(ErrorCode::InvalidArgument, "bench: method '" + m + "' is unknown");
-    }
+    std::string problem;
+    if (!parseMethodChoice(m, &problem))
+      throw Error(ErrorCode::InvalidArgument, "bench: " + problem);
   }
   Experiment e(eo, "bench", "logrid benchmark", kIntro);
   e.report()["cells"] = nlohmann::json::array();
@@ -495,11 +495,7 @@ void addBenchCommand(CLI::App& app) {
   bench->add_option("--scenes", o->scenes, "comma-separated: forest, city, office, model files");
   bench->add_option("--sizes", o->sizes, "comma-separated viewport sizes " + sizeForm())
       ->check(sizeListCheck());
-  bench->add_option(
-      "--methods", o->methods,
-      "comma-separated: " + methodNames() +
-          ", ddo, ddo+log, oracle; each but ddo and oracle may take :K or :all and "
-          ":tc (e.g. log-state:16:tc, ddo+log:16), log+hwq its schedule (log+hwq:chc)");
+  bench->add_option("--methods", o->methods, "comma-separated: " + methodChoiceHelp());
   bench->add_option("--readers", o->readers,
                     "log-state again with these depth readers (comma-separated: " + readerNames() +
                         "; '' for none)");

@@ -322,9 +322,13 @@ int runMotionBench(const ExperimentOptions& options, const MotionBenchOptions& m
     throw Error(ErrorCode::InvalidArgument,
                 "bench --motion: --movers-list and --hierarchies need an entry");
   }
-  if (!parseMethodChoice(m.method) || m.method == "oracle") {
-    throw Error(ErrorCode::InvalidArgument, "bench --motion: method '" + m.method +
-                                                "' is not a culling method; use " + methodNames());
+  std::string problem;
+  const auto choice = parseMethodChoice(m.method, &problem);
+  if (!choice || choice->oracle()) {
+    throw Error(
+        ErrorCode::InvalidArgument,
+        "bench --motion: " +
+            (choice ? "method oracle is not a culling method; use " + methodNames() : problem));
   }
   Experiment e(options, "bench --motion", "logrid motion benchmark",
                intro(m.method, options.walk.lookahead));

@@ -8,19 +8,14 @@ namespace logrid::samples {
 
 bool needsDdo(const std::string& method) {
   const auto choice = parseMethodChoice(method);
-  return choice && choice->ddo != DdoUse::None;
+  return choice && choice->method && methodInfo(*choice->method).needs.occluders;
 }
 
 RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
   RunConfig c;
-  const auto method = parseMethodChoice(o.method);
-  if (!method) {
-    throw Error(ErrorCode::InvalidArgument,
-                "method '" + o.method + "' is unknown; use " + methodNames() +
-                    ", ddo, ddo+log or oracle, optionally followed by :K or :all (lookahead) "
-                    "and :tc (temporal coherence), e.g. log-state:16:tc (not after ddo or "
-                    "oracle); log+hwq also by its query schedule :hwq, :chc, :stat or :nohc");
-  }
+  std::string problem;
+  const auto method = parseMethodChoice(o.method, &problem);
+  if (!method) throw Error(ErrorCode::InvalidArgument, problem);
   c.method = *method;
   if (!findReader(o.reader)) {
     throw Error(ErrorCode::InvalidArgument,
@@ -64,10 +59,10 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
   c.hierarchy = o.hierarchy;
   c.time_step = o.time_step;
   QueryScheduleDesc& q = c.culler.queries;
-  const auto schedule = parseMethod(o.query_schedule);
-  if (!schedule || !methodInfo(*schedule).box_queries || *schedule == Method::LogHwq) {
+  const auto schedule = parseQuerySchedule(o.query_schedule);
+  if (!schedule) {
     throw Error(ErrorCode::InvalidArgument,
-                "query schedule '" + o.query_schedule + "' is unknown; use hwq, chc, stat or nohc");
+                "query schedule '" + o.query_schedule + "' is unknown; use " + querySchedules());
   }
   q.schedule = c.method.schedule ? *c.method.schedule : *schedule;
   if (o.query_shape != "box" && o.query_shape != "rect") {
@@ -85,7 +80,7 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
     check.method = *c.method.method;
     measureHardwareIfNeeded(check);  // nohc: measured on this context's renderer
     c.culler.queries.hardware = check.queries.hardware;
-    const std::string problem = validateCullerDesc(check);
+    problem = validateCullerDesc(check);
     if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
   }
   const auto [w, h] = parseSize(o.size);

@@ -11,7 +11,9 @@ CpuFrameReader::CpuFrameReader(const PreparedScene& scene, const CpuReaderOption
   desc.threads = options.threads;
   desc.projection = projection;
   buffer_ = std::make_unique<cpu::OcclusionBuffer>(
-      sceneOccluders(scene, options.occluders, methodInfo(method).state_semantics), desc);
+      sceneOccluders(scene, options.occluders,
+                     methodInfo(method).semantics == TestSemantics::OcclusionState),
+      desc);
   last_ = buffer_->stats();
 }
 

@@ -17,10 +17,7 @@
 namespace logrid::samples {
 
 std::string MethodChoice::name() const {
-  std::string out = ddo == DdoUse::Culler      ? "ddo"
-                    : ddo == DdoUse::Occluders ? "ddo+log"
-                    : method                   ? toString(*method)
-                                               : "oracle";
+  std::string out = method ? toString(*method) : "oracle";
   if (lookahead) {
     out +=
         ":" + (*lookahead == kUnlimitedLookahead ? std::string("all") : std::to_string(*lookahead));
@@ -30,7 +27,18 @@ std::string MethodChoice::name() const {
   return out;
 }
 
-std::optional<MethodChoice> parseMethodChoice(const std::string& name) {
+std::string methodChoiceHelp() {
+  return methodNames() +
+         " or oracle; a method may be followed by the settings it takes: :K or :all "
+         "(lookahead), :tc (temporal coherence), and for log+hwq its query schedule (:" +
+         querySchedules() + "), e.g. log-state:16:tc";
+}
+
+std::optional<MethodChoice> parseMethodChoice(const std::string& name, std::string* problem) {
+  const auto refuse = [&](const std::string& why) -> std::optional<MethodChoice> {
+    if (problem) *problem = "method '" + name + "': " + why;
+    return std::nullopt;
+  };
   std::vector<std::string> parts;
   std::size_t start = 0;
   for (std::size_t colon; (colon = name.find(':', start)) != std::string::npos; start = colon + 1) {
@@ -38,43 +46,53 @@ std::optional<MethodChoice> parseMethodChoice(const std::string& name) {
   }
   parts.push_back(name.substr(start));
   MethodChoice choice;
-  if (parts[0] == "oracle" || parts[0] == "ddo") {
-    if (parts.size() > 1) return std::nullopt;  // no logrid culler: no traversal settings
-    if (parts[0] == "ddo") choice.ddo = DdoUse::Culler;
+  if (parts[0] == "oracle") {
+    if (parts.size() > 1) return refuse("the oracle takes no settings");
     return choice;
   }
-  if (parts[0] == "ddo+log") {
-    choice.method = Method::LogState;
-    choice.ddo = DdoUse::Occluders;
-  } else {
-    const auto m = parseMethod(parts[0]);
-    if (!m) return std::nullopt;
-    choice.method = *m;
-  }
+  const auto m = parseMethod(parts[0]);
+  if (!m) return refuse("'" + parts[0] + "' is unknown; use " + methodChoiceHelp());
+  choice.method = *m;
+  const MethodTakes& takes = methodInfo(*m).takes;
   for (std::size_t i = 1; i < parts.size(); ++i) {
-    const auto schedule = parseMethod(parts[i]);
-    if (parts[i] == "tc" && !choice.coherence) {
+    const std::string& part = parts[i];
+    const auto schedule = parseQuerySchedule(part);
+    const bool count = !part.empty() &&
+                       (part == "all" || part.find_first_not_of("0123456789") == std::string::npos);
+    if (part == "tc" && takes.temporal_coherence && !choice.coherence) {
       choice.coherence = true;
-    } else if (schedule && choice.method == Method::LogHwq && !choice.schedule &&
-               methodInfo(*schedule).box_queries && *schedule != Method::LogHwq) {
+    } else if (schedule && takes.query_schedule && !choice.schedule) {
       choice.schedule = *schedule;
-    } else if (!choice.lookahead && !parts[i].empty() &&
-               (parts[i] == "all" ||
-                parts[i].find_first_not_of("0123456789") == std::string::npos)) {
-      if (parts[i].size() > 10) return std::nullopt;  // beyond any 32-bit count
-      const unsigned long k = parts[i] == "all" ? kUnlimitedLookahead : std::stoul(parts[i]);
-      if (k < 1 || k > kUnlimitedLookahead) return std::nullopt;
+    } else if (count && takes.lookahead && !choice.lookahead) {
+      // Beyond any 32-bit count: refused before std::stoul could throw.
+      const unsigned long k = part == "all"      ? kUnlimitedLookahead
+                              : part.size() > 10 ? 0
+                                                 : std::stoul(part);
+      if (k < 1 || k > kUnlimitedLookahead) {
+        return refuse("lookahead " + part + " is invalid; use 1 to " +
+                      std::to_string(kUnlimitedLookahead) + " or all");
+      }
       choice.lookahead = std::uint32_t(k);
     } else {
-      return std::nullopt;
+      std::string takes_list;
+      if (takes.lookahead) takes_list += ":K or :all (lookahead)";
+      if (takes.temporal_coherence)
+        takes_list += std::string(takes_list.empty() ? "" : ", ") + ":tc";
+      if (takes.query_schedule) {
+        takes_list += std::string(takes_list.empty() ? "" : ", ") +
+                      "a query schedule (:" + querySchedules() + ")";
+      }
+      return refuse("'" + part + "' is no setting " + parts[0] + " takes" +
+                    (takes_list.empty() ? std::string(" (it takes none)")
+                                        : "; it takes " + takes_list + ", each once"));
     }
   }
   return choice;
 }
 
 void measureHardwareIfNeeded(CullerDesc& desc) {
-  const Method schedule = desc.method == Method::LogHwq ? desc.queries.schedule : desc.method;
-  if (schedule == Method::Nohc && !validateHardwareParameters(desc.queries.hardware).empty()) {
+  if (querySchedule(desc) == QuerySchedule::Nohc &&
+      !validateHardwareParameters(desc.queries.hardware).empty()) {
     desc.queries.hardware = zread::hardwareParameters();
   }
 }
@@ -180,7 +198,8 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
     measureHardwareIfNeeded(desc);
     culler_ = std::make_unique<Culler>(desc);
     config_.culler.queries.hardware = desc.queries.hardware;
-    if (methodInfo(desc.method).box_queries) {
+    const MethodInfo& info = methodInfo(desc.method);
+    if (info.needs.queries) {
       queries_ = std::make_unique<zread::BoxQuerySource>(
           framebuffer_->handle(), config.any_samples_passed
                                       ? zread::QueryTarget::AnySamplesPassedConservative
@@ -194,38 +213,43 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
       throw Error(ErrorCode::InvalidArgument,
                   "reader '" + config.reader + "' is unknown; use " + readerNames());
     }
-    if (!reader->reads_depth && methodInfo(desc.method).needs_depth_values) {
+    const auto readersThat = [](bool ReaderInfo::*what) {
       std::string readers;
       for (const ReaderInfo& r : readerTable()) {
-        if (r.reads_depth) readers += std::string(readers.empty() ? "" : ", ") + r.name;
+        if (r.*what) readers += std::string(readers.empty() ? "" : ", ") + r.name;
       }
-      throw Error(ErrorCode::InvalidArgument, std::string("method ") + toString(desc.method) +
+      return readers;
+    };
+    if (!reader->reads_depth && info.needs.depth_values) {
+      throw Error(ErrorCode::InvalidArgument, std::string("method ") + info.name +
                                                   " needs depth values, which " + reader->name +
-                                                  " cannot give; use --reader " + readers);
+                                                  " cannot give; use --reader " +
+                                                  readersThat(&ReaderInfo::reads_depth));
+    }
+    if (!reader->reads_framebuffer && info.occluders == OccluderUse::Drawn) {
+      throw Error(ErrorCode::InvalidArgument,
+                  std::string("method ") + info.name + " draws its occluders with GL, which " +
+                      "reader " + config.reader + " does not see; use --reader " +
+                      readersThat(&ReaderInfo::reads_framebuffer));
     }
     reader_ = reader->make({scene, framebuffer_->handle(), fb.width, fb.height, fb.depth, &motion_,
                             &config.cpu, desc.projection, desc.method});
-  }
-  if (config.method.ddo != DdoUse::None) {
-    if (!scene.ddo) {
-      throw Error(ErrorCode::InvalidArgument,
-                  "method " + config.method.name() +
-                      " needs the scene's DDO octree (samples/scene/ddo_scene.hpp, prepareDdo)");
-    }
-    selector_ = std::make_unique<ddo::Selector>(*scene.ddo);
-  }
-  if (config.method.ddo == DdoUse::Occluders) {
-    const ReaderInfo* reader = findReader(config.reader);
-    if (reader && !reader->reads_framebuffer) {
-      std::string readers;
-      for (const ReaderInfo& r : readerTable()) {
-        if (r.reads_framebuffer) readers += std::string(readers.empty() ? "" : ", ") + r.name;
+    if (info.needs.occluders) {
+      if (!scene.ddo) {
+        throw Error(ErrorCode::InvalidArgument,
+                    std::string("method ") + info.name +
+                        " needs the scene's DDO octree, which is prepared when the command's "
+                        "--method names a method that needs it (samples/scene/ddo_scene.hpp)");
       }
-      throw Error(ErrorCode::InvalidArgument,
-                  "method ddo+log draws its occluders with GL, which reader " + config.reader +
-                      " does not see; use --reader " + readers);
+      ddo::OccluderPass::Drawer drawer;
+      if (info.occluders == OccluderUse::Drawn) {
+        occluder_renderer_ = std::make_unique<gl::OccluderRenderer>();
+        drawer = [this](const std::vector<ddo::Occluder>& occluders, const Camera& camera) {
+          occluder_renderer_->draw(occluders, camera, framebuffer_->handle());
+        };
+      }
+      occluders_ = std::make_unique<ddo::OccluderPass>(*scene.ddo, drawer);
     }
-    occluder_renderer_ = std::make_unique<gl::OccluderRenderer>();
   }
   CullerDesc vfc;
   vfc.method = Method::Vfc;
@@ -338,13 +362,6 @@ FrameRecord FrameRunner::render(const CameraPose& pose, std::size_t frame, bool 
   framebuffer_->bind();
   framebuffer_->clear(kBackground);
   if (config_.hooks.after_clear) config_.hooks.after_clear();
-  ddo::SelectionStats selection;
-  if (config_.method.ddo == DdoUse::Occluders) {
-    // Occluders first, into the depth buffer only; they are no object of the scene.
-    selector_->select(camera, {}, selection, config_.culler.projection);
-    occluder_renderer_->draw(selector_->occluders(), camera, framebuffer_->handle());
-    rec.occluders = std::int64_t(selector_->occluders().size());
-  }
   renderer_.begin(gl::Pass::Shaded, camera);
   const FrameHooks& hooks = config_.hooks;
   auto draw = [&](ObjectId id) {
@@ -366,41 +383,12 @@ FrameRecord FrameRunner::render(const CameraPose& pose, std::size_t frame, bool 
     for (ObjectId id : oracle.visible) draw(id);
     for (ObjectId id : oracle.artifacts) draw(id);  // the full render shows them
     rec.stats.objects_drawn = oracle.visible.size() + oracle.artifacts.size();
-  } else if (config_.method.ddo == DdoUse::Culler) {
-    selector_->select(camera, draw, selection, config_.culler.projection);
-    rec.stats.nodes_visited = selection.nodes_visited;
-    rec.stats.boxes_tested = selection.map_tests;
-    rec.stats.boxes_occluded = selection.nodes_occluded;
-    rec.stats.boxes_view_culled = selection.nodes_view_culled;
-    rec.stats.boxes_near = selection.nodes_near;
-    rec.stats.leaves_drawn = selection.leaves_visible;
-    rec.stats.objects_drawn = selection.objects;
-    rec.stats.seconds = selection.seconds;
-    rec.occluders = std::int64_t(selection.faces_selected);
-    // Moving objects are in no octree: each one in the view frustum is drawn, untested.
-    const Projector frustum(camera, config_.culler.projection);
-    for (ObjectId id = scene_.static_objects; id < motion_.boxes.size(); ++id) {
-      if (frustum.project(motion_.boxes[id]).cls == ProjectionClass::Outside) continue;
-      draw(id);
-      ++rec.stats.objects_drawn;
-    }
   } else {
     reader_->beginFrame(camera);
     if (hooks.before_cull) hooks.before_cull();
-    // ddo+log: the occluders drawn above are announced, each with its pixels and its
-    // farthest depth key, so that the grid reads those tiles and the occlusion-state order
-    // knows how far back they lie.
-    occluder_areas_.clear();
-    if (selector_) {
-      for (const ddo::Occluder& o : selector_->occluders()) {
-        occluder_areas_.push_back({o.rect, o.far_key});
-      }
-    }
-    rec.stats = queries_ ? culler_->cullFrame(camera, hierarchy(), reader_->source(), *queries_,
-                                              draw, occluder_areas_)
-                         : culler_->cullFrame(camera, hierarchy(), reader_->source(), draw,
-                                              occluder_areas_);
-    if (selector_) rec.stats.seconds += selection.seconds;
+    rec.stats = culler_->cullFrame(camera, hierarchy(),
+                                   {&reader_->source(), queries_.get(), occluders_.get()}, draw);
+    if (occluders_) rec.occluders = std::int64_t(rec.stats.occluders);
     if (auto* cpu = dynamic_cast<CpuFrameReader*>(reader_.get())) rec.cpu = cpu->takeFrameStats();
     if (hooks.after_cull) hooks.after_cull();
   }
@@ -433,10 +421,10 @@ void FrameRunner::writeImages(std::size_t frame, const Camera& camera) {
   std::snprintf(stem, sizeof stem, "%s/%s_%s_%04zu", config_.images_dir.c_str(),
                 scene_.name.c_str(), config_.method.name().c_str(), frame);
   writePng(std::string(stem) + ".png", color, camera.width, camera.height);
-  if (config_.overlay && selector_) {
+  if (config_.overlay && occluders_) {
     // The DDO occlusion map: pixels an occluder claims, tinted magenta over the frame.
     std::vector<std::uint8_t> tinted = color;
-    const ddo::OcclusionMap& map = selector_->map();
+    const ddo::OcclusionMap& map = occluders_->selector().map();
     if (map.width() == camera.width && map.height() == camera.height) {
       const float clear = Projector(camera).clearKey();
       for (std::uint32_t y = 0; y < camera.height; ++y) {

@@ -16,7 +16,7 @@
 #include "cli/images.hpp"
 #include "cli/readers.hpp"
 #include "logrid/culler.hpp"
-#include "logrid/ddo/selector.hpp"
+#include "logrid/ddo/occluder_pass.hpp"
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
 #include "logrid/gl/object_id_oracle.hpp"
@@ -27,40 +27,32 @@
 
 namespace logrid::samples {
 
-// How a run uses the directional discretized occluders (DDO; scene/ddo_scene.hpp,
-// logrid/ddo/selector.hpp).
-enum class DdoUse : std::uint8_t {
-  None,
-  // "ddo": the paper's culler (§4): octree walk, occlusion map, no depth reads; moving
-  // objects (in no octree) are drawn whenever they are in the view frustum.
-  Culler,
-  // "ddo+log": the selected occluders drawn first (depth only), then log-state (over the
-  // motion hierarchy when objects move; the occluders come from the static scene).
-  Occluders,
-};
-
-// A method as the commands name it: one of logrid::Method's names, "ddo", "ddo+log", or
-// "oracle" (draws exactly the visible set found by an ID pass that is not timed: the floor
-// no culling method can beat), optionally followed by traversal settings that override
-// the command's --lookahead and --coherence: ":K" (a lookahead, or ":all") and ":tc"
-// (temporal coherence), e.g. "log-state:16:tc" or "ddo+log:16"; log+hwq also takes its
-// query schedule (log+hwq:chc). ddo and the oracle run no logrid culler and take no
-// settings.
+// A method as the commands name it: one of logrid::Method's names (method.hpp), or "oracle"
+// (draws exactly the visible set found by an ID pass that is not timed: the floor no
+// culling method can beat), optionally followed by the settings the method takes
+// (MethodTakes), which override the command's --lookahead and --coherence: ":K" (a
+// lookahead, or ":all") and ":tc" (temporal coherence), e.g. "log-state:16:tc" or
+// "ddo+log:16"; log+hwq also takes its query schedule (log+hwq:chc). The oracle runs no
+// logrid culler and takes no settings.
 struct MethodChoice {
   MethodChoice() = default;
   MethodChoice(std::optional<Method> m) : method(m) {}  // NOLINT: implicit on purpose
 
-  std::optional<Method> method;  // the logrid culler's method, if one runs
+  std::optional<Method> method;  // the logrid culler's method; none: the oracle
   std::optional<std::uint32_t> lookahead;
   bool coherence = false;
-  // log+hwq: the schedule of the boxes the grid leaves undecided (hwq, chc, stat or
-  // nohc), from a suffix (log+hwq:chc); empty: RunConfig::culler.queries.schedule.
-  std::optional<Method> schedule;
-  DdoUse ddo = DdoUse::None;
-  bool oracle() const { return !method && ddo == DdoUse::None; }
+  // log+hwq: the schedule of the boxes the grid leaves undecided, from a suffix
+  // (log+hwq:chc); empty: RunConfig::culler.queries.schedule.
+  std::optional<QuerySchedule> schedule;
+  bool oracle() const { return !method; }
   std::string name() const;
 };
-std::optional<MethodChoice> parseMethodChoice(const std::string& name);
+// Nothing for a name that is no method or carries a setting its method does not take;
+// then `problem`, if given, says which.
+std::optional<MethodChoice> parseMethodChoice(const std::string& name,
+                                              std::string* problem = nullptr);
+// What --method accepts, for help texts and messages.
+std::string methodChoiceHelp();
 
 // Calls into a frame, for tests that act as an application with state of its own (the
 // GL-state fuzz test). Each is optional.
@@ -86,7 +78,7 @@ struct RunConfig {
   MethodChoice method{Method::LogState};
   CullerDesc culler;                  // method is taken from `method`
   std::string reader = "readpixels";  // a name of readerTable()
-  // The query methods (MethodInfo::box_queries) issue their queries through a
+  // The query methods (MethodNeeds::queries) issue their queries through a
   // zread::BoxQuerySource over the frame's framebuffer, of this GL target.
   bool any_samples_passed = false;  // GL_ANY_SAMPLES_PASSED_CONSERVATIVE, else GL_SAMPLES_PASSED
   // The hierarchy culled: "static" (the scene's own, PreparedScene::hierarchy), a name of
@@ -191,9 +183,8 @@ class FrameRunner {
   std::unique_ptr<OcclusionQueries> queries_;  // query methods
   std::unique_ptr<Culler> culler_;
   std::unique_ptr<Culler> vfc_;                              // for the ID pass
-  std::unique_ptr<ddo::Selector> selector_;                  // ddo and ddo+log
-  std::unique_ptr<gl::OccluderRenderer> occluder_renderer_;  // ddo+log
-  std::vector<DrawnArea> occluder_areas_;                    // ddo+log, this frame's
+  std::unique_ptr<gl::OccluderRenderer> occluder_renderer_;  // OccluderUse::Drawn
+  std::unique_ptr<ddo::OccluderPass> occluders_;             // MethodNeeds::occluders
   struct Observer;
   std::unique_ptr<Observer> observer_;
   struct FanOut;

@@ -27,7 +27,7 @@ struct ConfigResult {
 };
 
 // `label` prefixes the progress line. `warmup` frames are rendered first by every
-// configuration and discarded (llvmpipe compiles shaders for each new state, PLATFORM.md).
+// configuration and discarded (llvmpipe compiles shaders for each new state, docs/PLATFORM.md).
 std::vector<ConfigResult> runInterleaved(const PreparedScene& scene, gl::MeshRenderer& renderer,
                                          const std::vector<RunConfig>& configs, std::size_t repeats,
                                          const std::string& label, std::size_t warmup = 2);

@@ -109,9 +109,8 @@ void addViewOptions(CLI::App& app, WalkOptions& o) {
   addNumber(app, "--row-stride", o.approximation.row_stride, closed(1u, kMaxViewportSide),
             "approximate: read every k-th pixel row of a tile, k up to the tile size (default "
             "1: every row)");
-  app.add_option(
-      "--query-schedule", o.query_schedule,
-      "log+hwq: schedule of the boxes the grid leaves undecided: hwq, chc, stat or nohc");
+  app.add_option("--query-schedule", o.query_schedule,
+                 "log+hwq: schedule of the boxes the grid leaves undecided: " + querySchedules());
   app.add_option("--query-shape", o.query_shape,
                  "query methods: what a query draws: box (its faces) or rect (its rectangle)");
   app.add_flag("--any-samples", o.any_samples,

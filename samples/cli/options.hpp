@@ -41,7 +41,7 @@ struct WalkOptions {
   std::string images;
   bool overlay = false;
   std::string platform = "auto";
-  int lp_threads = -1;     // >= 0: LP_NUM_THREADS for llvmpipe (PLATFORM.md); -1: leave it
+  int lp_threads = -1;     // >= 0: LP_NUM_THREADS for llvmpipe (docs/PLATFORM.md); -1: leave it
   std::uint32_t leaf = 0;  // 0: the scene's default
   std::string tree_parts = "whole";  // forest: whole, trunk-crown or tiers
   GridApproximation approximation;   // off by default

@@ -250,7 +250,7 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
   nlohmann::json j = settingsJson(config, records.size());
   j.update(averagesJson(a));
   if (a.occluders) j["avg_occluders"] = *a.occluders;
-  if (config.method.method && methodInfo(*config.method.method).box_queries) {
+  if (config.method.method && methodInfo(*config.method.method).needs.queries) {
     j["queries"] = queriesJson(config);
   }
   if (config.reader == "cpu" && config.method.method) j["cpu"] = cpuJson(config, a);

@@ -118,7 +118,12 @@ void addTuneCommand(CLI::App& app) {
   o->walk.frames = 30;
   CLI::App* tune = app.add_subcommand("tune", "sweep tile sizes on a scene and recommend one");
   addSceneOptions(*tune, o->walk);
-  tune->add_option("--method", o->walk.method, "log-state, log-zfar or bog");
+  std::string gridded;
+  for (const MethodInfo& m : methodTable()) {
+    if (m.grid) gridded += std::string(gridded.empty() ? "" : ", ") + m.name;
+  }
+  tune->add_option("--method", o->walk.method,
+                   "the method whose tile size is swept, one with a grid: " + gridded);
   addSizeOption(*tune, o->walk.size, "viewport");
   addViewOptions(*tune, o->walk);
   tune->add_option("--tiles", o->tiles,

@@ -39,7 +39,7 @@ int runWalk(const WalkOptions& o) {
       config.view.height, config.culler.tile_size, summary["avg_frame_ms"].get<double>(),
       summary["avg_drawn_objects"].get<double>(), summary["avg_drawn_triangles"].get<double>(),
       summary["avg_read_pixels"].get<double>(), summary["avg_tiles_per_box"].get<double>());
-  if (config.method.method && methodInfo(*config.method.method).box_queries) {
+  if (config.method.method && methodInfo(*config.method.method).needs.queries) {
     std::printf(", %.1f queries (%.1f waited for), %.1f flushes",
                 summary["avg_queries"].get<double>(), summary["avg_query_waits"].get<double>(),
                 summary["avg_flushes"].get<double>());
@@ -92,11 +92,7 @@ void addWalkCommand(CLI::App& app) {
   auto options = std::make_shared<WalkOptions>();
   CLI::App* walk = app.add_subcommand("walk", "render a walkthrough with one culling method");
   addSceneOptions(*walk, *options);
-  walk->add_option("--method", options->method,
-                   methodNames() +
-                       ", ddo, ddo+log or oracle; :K or :all and :tc set the lookahead and "
-                       "temporal coherence (e.g. log-state:16:tc, ddo+log:16), :hwq, :chc, :stat "
-                       "or :nohc the schedule of log+hwq (e.g. log+hwq:chc)");
+  walk->add_option("--method", options->method, methodChoiceHelp());
   addSizeOption(*walk, options->size, "viewport");
   addViewOptions(*walk, *options);
   walk->add_flag("--verify", options->verify, "check every frame against the object-ID oracle");

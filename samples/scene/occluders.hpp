@@ -25,7 +25,7 @@ std::optional<OccluderChoice> parseOccluderChoice(const std::string& name);
 // Object i of the result is ObjectId i of the scene; fallbacks follow them.
 // `within_objects`: every model stays inside its object's box (boxes of solids that
 // reach beyond it are clipped to it; an object with nothing left uses its mesh), as
-// methods with occlusion-state semantics need (MethodInfo::state_semantics: a pixel
+// methods with occlusion-state semantics need (TestSemantics::OcclusionState: a pixel
 // counts as hidden wherever anything was drawn, sound only because the two-list order
 // draws only objects whose boxes lie in front of every box still to be tested).
 const cpu::OccluderMeshes& sceneOccluders(const PreparedScene& scene, OccluderChoice choice,

@@ -60,8 +60,8 @@ int main(int argc, char** argv) {
         scene_name == "city" ? samples::makeCity({scale, 1}) : samples::makeForest({scale, 1});
     const bvh::BuildArgs args = samples::defaultBuildArgs(scene);
     const samples::PreparedScene prepared = samples::prepareScene(std::move(scene), args);
-    const cpu::OccluderMeshes& meshes =
-        samples::sceneOccluders(prepared, *occluders, methodInfo(*method).state_semantics);
+    const cpu::OccluderMeshes& meshes = samples::sceneOccluders(
+        prepared, *occluders, methodInfo(*method).semantics == TestSemantics::OcclusionState);
     cpu::OcclusionBuffer buffer(meshes, desc);
     CullerDesc cd;
     cd.method = *method;

@@ -91,7 +91,7 @@ void cullingSection(PanelModel& m) {
   for (const samples::ReaderInfo& r : samples::readerTable()) {
     readers.push_back(r.name);
     reader_tips.push_back(r.description);
-    usable.push_back(!info || !info->needs_depth_values || r.reads_depth);
+    usable.push_back(!info || !info->needs.depth_values || r.reads_depth);
   }
   combo("reader (N)", s.reader, readers, usable, reader_tips);
 
@@ -106,7 +106,7 @@ void cullingSection(PanelModel& m) {
     s.convention = DepthConvention(convention);
   }
 
-  ImGui::BeginDisabled(!info || !info->lookahead);
+  ImGui::BeginDisabled(!info || !info->takes.lookahead);
   bool all = s.lookahead == kUnlimitedLookahead;
   int k = all ? 1 : int(std::min<std::uint32_t>(s.lookahead, 1 << 20));
   ImGui::BeginDisabled(all);
@@ -116,22 +116,22 @@ void cullingSection(PanelModel& m) {
   ImGui::SameLine();
   if (ImGui::Checkbox("all", &all)) s.lookahead = all ? kUnlimitedLookahead : 1;
   ImGui::EndDisabled();
-  ImGui::BeginDisabled(!info || !info->tests_occlusion);
+  ImGui::BeginDisabled(!info || !info->takes.temporal_coherence);
   ImGui::Checkbox("temporal coherence", &s.coherence);
   ImGui::EndDisabled();
 
   if (ImGui::TreeNode("approximate (speed for accuracy)")) {
     GridApproximation& a = s.approximation;
-    ImGui::BeginDisabled(!info || !info->takes_visible_pixels);
+    ImGui::BeginDisabled(!info || !info->takes.visible_pixels);
     int pixels = int(std::min<std::uint32_t>(a.visible_pixels, 1 << 24));
     if (ImGui::InputInt("visible pixels", &pixels, 1, 10)) {
       a.visible_pixels = std::uint32_t(std::clamp(pixels, 0, 1 << 24));
     }
     ImGui::EndDisabled();
-    ImGui::BeginDisabled(!info || !info->takes_full_fraction);
+    ImGui::BeginDisabled(!info || !info->takes.full_fraction);
     ImGui::SliderFloat("full fraction", &a.full_free_fraction, 0.0f, 0.5f, "%.3f");
     ImGui::EndDisabled();
-    ImGui::BeginDisabled(!info || !info->takes_row_stride);
+    ImGui::BeginDisabled(!info || !info->takes.row_stride);
     int stride = int(a.row_stride);
     if (ImGui::SliderInt("row stride", &stride, 1, 16)) a.row_stride = std::uint32_t(stride);
     ImGui::EndDisabled();

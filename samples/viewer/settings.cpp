@@ -23,9 +23,9 @@ GridApproximation effectiveApproximation(const std::string& method, const GridAp
   GridApproximation out;
   if (!m) return out;
   const MethodInfo& info = methodInfo(*m);
-  if (info.takes_visible_pixels) out.visible_pixels = a.visible_pixels;
-  if (info.takes_full_fraction) out.full_free_fraction = a.full_free_fraction;
-  if (info.takes_row_stride) out.row_stride = a.row_stride;
+  if (info.takes.visible_pixels) out.visible_pixels = a.visible_pixels;
+  if (info.takes.full_fraction) out.full_free_fraction = a.full_free_fraction;
+  if (info.takes.row_stride) out.row_stride = a.row_stride;
   return out;
 }
 
@@ -46,11 +46,9 @@ CullSettings settingsOf(const samples::RunConfig& config) {
 samples::RunConfig configFor(const samples::RunConfig& base, const CullSettings& s,
                              std::uint32_t width, std::uint32_t height) {
   samples::RunConfig c = base;
-  const auto method = samples::parseMethodChoice(s.method);
-  if (!method) {
-    throw Error(ErrorCode::InvalidArgument,
-                "method '" + s.method + "' is unknown; use " + methodNames() + " or oracle");
-  }
+  std::string problem;
+  const auto method = samples::parseMethodChoice(s.method, &problem);
+  if (!method) throw Error(ErrorCode::InvalidArgument, problem);
   c.method = *method;
   c.reader = s.reader;
   c.culler.tile_size = s.tile;
@@ -125,8 +123,9 @@ samples::TileShade shadeFor(ShadeChoice choice, const std::string& method) {
     case ShadeChoice::Auto: break;
   }
   const auto m = parseMethod(method);
-  return m && !methodInfo(*m).state_semantics ? samples::TileShade::Zfar
-                                              : samples::TileShade::States;
+  return m && methodInfo(*m).semantics != TestSemantics::OcclusionState
+             ? samples::TileShade::Zfar
+             : samples::TileShade::States;
 }
 
 }  // namespace logrid::viewer

@@ -27,7 +27,7 @@ struct CullSettings {
   bool operator!=(const CullSettings& o) const { return !(*this == o); }
 };
 
-// The knobs of `approximation` that `method` takes (MethodInfo::takes_*); the others are
+// The knobs of `approximation` that `method` takes (MethodInfo::takes); the others are
 // left at their exact values, as the panel shows them disabled for that method.
 GridApproximation effectiveApproximation(const std::string& method,
                                          const GridApproximation& approximation);

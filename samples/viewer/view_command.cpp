@@ -2,6 +2,7 @@
 #include <memory>
 
 #include "cli/commands.hpp"
+#include "cli/frame_runner.hpp"
 #include "cli/options.hpp"
 #include "cli/readers.hpp"
 #include "logrid/method.hpp"
@@ -14,7 +15,7 @@ void addViewCommand(CLI::App& app) {
   CLI::App* view = app.add_subcommand(
       "view", "fly through a scene in a window and watch the culling (needs a display; F1: keys)");
   addSceneOptions(*view, o->walk);
-  view->add_option("--method", o->walk.method, methodNames() + " or oracle");
+  view->add_option("--method", o->walk.method, samples::methodChoiceHelp());
   addSizeOption(*view, o->walk.size, "initial window size");
   addViewOptions(*view, o->walk);
   view->add_flag("--verify", o->walk.verify,

@@ -70,7 +70,7 @@ std::string freshName(const std::string& dir, const char* prefix, const char* ex
 bool compatible(const std::string& method, const std::string& reader) {
   const auto m = parseMethod(method);
   const samples::ReaderInfo* r = samples::findReader(reader);
-  return !m || !r || !methodInfo(*m).needs_depth_values || r->reads_depth;
+  return !m || !r || !methodInfo(*m).needs.depth_values || r->reads_depth;
 }
 
 // Shows a frame in the window: the runner's framebuffer blitted, or a picture (an
@@ -126,7 +126,8 @@ class Viewer {
 #endif
     desc.vsync = !script_;
     window_ = std::make_unique<Window>(desc);
-    scene_ = samples::loadScene(o.walk);
+    // The DDO octree only when the first method needs it (its preprocessing is long).
+    scene_ = samples::loadScene(o.walk, true, samples::needsDdo(o.walk.method));
     base_ = samples::runConfig(o.walk, scene_.prepared);
     settings_ = settingsOf(base_);
     applied_ = settings_;

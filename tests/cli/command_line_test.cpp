@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "cli/frame_runner.hpp"
 #include "gl_test_context.hpp"
 
 namespace logrid::samples {
@@ -101,6 +102,44 @@ TEST(CommandLine, ABadTileListIsAUsageErrorNamingTheItem) {
   EXPECT_NE(err.find("--tiles: in '8,x', 'x' is not a number in range [1, 32768]"),
             std::string::npos)
       << err;
+}
+
+// Method names come from the method table; a setting suffix is taken only where the
+// method takes that setting (MethodTakes), and a refusal says what the method takes.
+TEST(MethodChoices, EveryMethodOfTheTableAndItsSettings) {
+  for (const MethodInfo& m : methodTable()) {
+    EXPECT_NE(methodChoiceHelp().find(m.name), std::string::npos) << m.name;
+    const auto plain = parseMethodChoice(m.name);
+    ASSERT_TRUE(plain) << m.name;
+    EXPECT_EQ(plain->method, m.method);
+    EXPECT_EQ(plain->name(), m.name);
+    std::string problem;
+    const auto with_k = parseMethodChoice(std::string(m.name) + ":16", &problem);
+    EXPECT_EQ(with_k.has_value(), m.takes.lookahead) << m.name << ": " << problem;
+    const auto with_tc = parseMethodChoice(std::string(m.name) + ":tc", &problem);
+    EXPECT_EQ(with_tc.has_value(), m.takes.temporal_coherence) << m.name << ": " << problem;
+    const auto with_schedule = parseMethodChoice(std::string(m.name) + ":chc", &problem);
+    EXPECT_EQ(with_schedule.has_value(), m.takes.query_schedule) << m.name << ": " << problem;
+  }
+  const auto both = parseMethodChoice("ddo+log:16:tc");
+  ASSERT_TRUE(both);
+  EXPECT_EQ(both->method, Method::DdoLog);
+  EXPECT_EQ(both->lookahead, 16u);
+  EXPECT_TRUE(both->coherence);
+  EXPECT_EQ(both->name(), "ddo+log:16:tc");
+  EXPECT_TRUE(parseMethodChoice("oracle")->oracle());
+
+  std::string problem;
+  EXPECT_FALSE(parseMethodChoice("vfc:16", &problem));
+  EXPECT_NE(problem.find("it takes none"), std::string::npos) << problem;
+  EXPECT_FALSE(parseMethodChoice("log-state:16:8", &problem));
+  EXPECT_NE(problem.find("'8'"), std::string::npos) << problem;
+  EXPECT_NE(problem.find(":tc"), std::string::npos) << problem;
+  EXPECT_FALSE(parseMethodChoice("log-state:0", &problem));
+  EXPECT_NE(problem.find("lookahead 0 is invalid"), std::string::npos) << problem;
+  EXPECT_FALSE(parseMethodChoice("oracle:tc", &problem));
+  EXPECT_FALSE(parseMethodChoice("fast", &problem));
+  EXPECT_NE(problem.find("'fast' is unknown"), std::string::npos) << problem;
 }
 
 }  // namespace

@@ -351,28 +351,28 @@ TEST(OptionRanges, TheRangesAreThoseTheLibrarysValidatorsAccept) {
        [](double v) {
          QueryScheduleDesc d;
          d.chc_batch = std::uint32_t(v);
-         return validateQuerySchedule(Method::Chc, d);
+         return validateQuerySchedule(QuerySchedule::Chc, d);
        },
        0},
       {"--chc-interval",
        [](double v) {
          QueryScheduleDesc d;
          d.chc_visible_interval = std::uint32_t(v);
-         return validateQuerySchedule(Method::Chc, d);
+         return validateQuerySchedule(QuerySchedule::Chc, d);
        },
        0},
       {"--stat-in-flight",
        [](double v) {
          QueryScheduleDesc d;
          d.stat_in_flight = std::uint32_t(v);
-         return validateQuerySchedule(Method::Stat, d);
+         return validateQuerySchedule(QuerySchedule::Stat, d);
        },
        0},
       {"--stat-base",
        [](double v) {
          QueryScheduleDesc d;
          d.stat_base_frames = std::uint32_t(v);
-         return validateQuerySchedule(Method::Stat, d);
+         return validateQuerySchedule(QuerySchedule::Stat, d);
        },
        0},
       {"--scale",

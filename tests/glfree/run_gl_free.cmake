@@ -2,7 +2,7 @@
 # scratch directory on a machine that, as far as CMake can tell, has no GL at all (no
 # OpenGL package, pkg-config finds nothing, so not libepoxy either), builds logrid::core,
 # logrid::cpu, logrid::bvh and their unit tests, and runs those tests. It fails if any of
-# them needs GL, at configure, build or run time (DESIGN.md: log/ must build and be
+# them needs GL, at configure, build or run time (docs/DESIGN.md: log/ must build and be
 # tested without any GL).
 #
 #   cmake -DSOURCE_DIR=<logrid source> -DWORK_DIR=<scratch dir> [-DCONFIG=<build type>]

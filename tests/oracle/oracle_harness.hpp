@@ -2,7 +2,7 @@
 // moved far from the world origin), a run configuration built from a few named fields,
 // and a walk that checks every frame against the object-ID pass of FrameRunner.
 //
-// The oracle (DESIGN.md "Conservative means"): after each frame FrameRunner draws the
+// The oracle (docs/DESIGN.md, "The oracle"): after each frame FrameRunner draws the
 // whole frustum-culled scene into an R32UI ID buffer with the same renderer and the same
 // camera; every ID found there is a visible object and must have been drawn by the
 // method under test. A miss is reported with the frame, the camera, the object's box and

@@ -95,7 +95,7 @@ HardwareParameters testHardware() {
 struct QueryCase {
   std::string scene;  // forest, city or file
   Method method;
-  Method schedule;  // log+hwq's
+  QuerySchedule schedule;  // log+hwq's
   DepthConvention convention;
   bool coherent;  // frames close together, else spread over the whole path
   QueryShape shape = QueryShape::Box;
@@ -147,15 +147,16 @@ std::vector<QueryCase> queryCases() {
   for (const char* scene : {"forest", "city", "file"}) {
     for (DepthConvention conv : {DepthConvention::Standard, DepthConvention::Reversed}) {
       for (Method m : methods) {
-        out.push_back({scene, m, m, conv, true});
-        out.push_back({scene, Method::LogHwq, m, conv, conv == DepthConvention::Reversed});
+        const QuerySchedule schedule = *methodInfo(m).schedule;
+        out.push_back({scene, m, schedule, conv, true});
+        out.push_back({scene, Method::LogHwq, schedule, conv, conv == DepthConvention::Reversed});
       }
-      out.push_back({scene, Method::Chc, Method::Chc, conv, false});
-      out.push_back({scene, Method::Stat, Method::Stat, conv, false});
+      out.push_back({scene, Method::Chc, QuerySchedule::Chc, conv, false});
+      out.push_back({scene, Method::Stat, QuerySchedule::Stat, conv, false});
     }
-    out.push_back(
-        {scene, Method::Chc, Method::Chc, DepthConvention::Standard, true, QueryShape::Rect});
-    out.push_back({scene, Method::Stat, Method::Stat, DepthConvention::Reversed, true,
+    out.push_back({scene, Method::Chc, QuerySchedule::Chc, DepthConvention::Standard, true,
+                   QueryShape::Rect});
+    out.push_back({scene, Method::Stat, QuerySchedule::Stat, DepthConvention::Reversed, true,
                    QueryShape::Box, true});
   }
   return out;
@@ -177,7 +178,7 @@ TEST(QueryMethodNames, LogHwqTakesItsScheduleAsASuffix) {
   ASSERT_TRUE(chc);
   EXPECT_EQ(chc->method, Method::LogHwq);
   ASSERT_TRUE(chc->schedule);
-  EXPECT_EQ(*chc->schedule, Method::Chc);
+  EXPECT_EQ(*chc->schedule, QuerySchedule::Chc);
   EXPECT_EQ(chc->name(), "log+hwq:chc");
   const auto plain = samples::parseMethodChoice("log+hwq");
   ASSERT_TRUE(plain);

@@ -124,7 +124,7 @@ std::vector<ReaderCase> readerCases() {
   for (const char* scene : {"forest", "city"}) {
     for (Method m : {Method::LogState, Method::LogZfar, Method::Bog, Method::Hzb, Method::Pq}) {
       for (const samples::ReaderInfo& r : samples::readerTable()) {
-        if (methodInfo(m).needs_depth_values && !r.reads_depth) continue;  // refused: see below
+        if (methodInfo(m).needs.depth_values && !r.reads_depth) continue;  // refused: see below
         out.push_back({scene, m, r.name});
       }
     }

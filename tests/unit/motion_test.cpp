@@ -1,5 +1,5 @@
 // The hierarchies for moving objects (bvh/motion.hpp) and the ternary tree's rules
-// (bvh/ternary_tree.hpp, papers/ternary-tree-dynamic-occlusion-queries.txt), without GL:
+// (bvh/ternary_tree.hpp; Kovalčík and Sochor, Eurographics 2005), without GL:
 //   * §3.1: objects straddling a split plane go to the third child (or stay in the inner
 //     node of the binary tree);
 //   * §3.2: still nodes get tight boxes, which a move undoes;

@@ -93,7 +93,7 @@ Frame runFrame(Culler& culler, const TestTree& t, test::LoggingQueries& q, std::
                const Camera& cam = testCamera()) {
   Frame out;
   q.frame = frame;
-  out.stats = culler.cullFrame(cam, t, q, [&](ObjectId id) {
+  out.stats = culler.cullFrame(cam, t, {nullptr, &q}, [&](ObjectId id) {
     q.drawn(id);
     EXPECT_TRUE(out.drawn.insert(id).second) << "object " << id << " drawn twice";
   });
@@ -204,7 +204,7 @@ TEST(StatSchedule, AnswersIssuedBeforeADepthClearCountAsVisible) {
   Culler culler(desc(Method::Stat));
   q.frame = 1;
   std::set<ObjectId> drawn;
-  culler.cullFrame(testCamera(), t, q, [&](ObjectId id) {
+  culler.cullFrame(testCamera(), t, {nullptr, &q}, [&](ObjectId id) {
     drawn.insert(id);
     if (id == 1) culler.noteDepthCleared();
   });
@@ -393,10 +393,10 @@ TEST(QueryMethods, NeedTheirQuerySourceAndLogHwqItsDepthSource) {
   Culler chc(desc(Method::Chc));
   EXPECT_THROW(chc.cullFrame(testCamera(), t, depth, [](ObjectId) {}), Error);
   Culler log_hwq(desc(Method::LogHwq));
-  EXPECT_THROW(log_hwq.cullFrame(testCamera(), t, q, [](ObjectId) {}), Error);
-  EXPECT_NO_THROW(log_hwq.cullFrame(testCamera(), t, depth, q, [](ObjectId) {}));
+  EXPECT_THROW(log_hwq.cullFrame(testCamera(), t, {nullptr, &q}, [](ObjectId) {}), Error);
+  EXPECT_NO_THROW(log_hwq.cullFrame(testCamera(), t, {&depth, &q}, [](ObjectId) {}));
   CullerDesc bad = desc(Method::LogHwq);
-  bad.queries.schedule = Method::Pq;
+  bad.queries.schedule = QuerySchedule(7);  // no schedule
   EXPECT_THROW(Culler{bad}, Error);
 }
 
@@ -407,7 +407,7 @@ TEST(QueryMethods, NeedTheirQuerySourceAndLogHwqItsDepthSource) {
 
 struct WorldCase {
   Method method;
-  Method schedule;  // log+hwq's
+  QuerySchedule schedule;  // log+hwq's
   DepthConvention convention;
   QueryShape shape;
 };
@@ -434,9 +434,8 @@ WorldTotals walkWorld(const test::BoxWorld& world, const CullerDesc& d, DepthCon
       test::drawBox(raster, world.boxes[id], id);
       EXPECT_TRUE(drawn.insert(id).second) << "drawn twice: " << id;
     };
-    const FrameStats s = methodInfo(d.method).uses_depth_source
-                             ? culler.cullFrame(cam, world.hierarchy, depth, queries, draw)
-                             : culler.cullFrame(cam, world.hierarchy, queries, draw);
+    // A source the method does not need is not used: every method gets both.
+    const FrameStats s = culler.cullFrame(cam, world.hierarchy, {&depth, &queries}, draw);
     const std::set<ObjectId> visible = test::visibleBoxes(world.boxes, cam);
     for (ObjectId id : visible) {
       if (!drawn.count(id)) {
@@ -479,10 +478,11 @@ std::vector<WorldCase> worldCases() {
   std::vector<WorldCase> out;
   for (DepthConvention conv : {DepthConvention::Standard, DepthConvention::Reversed}) {
     for (Method m : {Method::Hwq, Method::Chc, Method::Stat, Method::Nohc}) {
-      out.push_back({m, m, conv, QueryShape::Box});
-      out.push_back({Method::LogHwq, m, conv, QueryShape::Box});
+      const QuerySchedule schedule = *methodInfo(m).schedule;
+      out.push_back({m, schedule, conv, QueryShape::Box});
+      out.push_back({Method::LogHwq, schedule, conv, QueryShape::Box});
     }
-    out.push_back({Method::Chc, Method::Chc, conv, QueryShape::Rect});
+    out.push_back({Method::Chc, QuerySchedule::Chc, conv, QueryShape::Rect});
   }
   return out;
 }
@@ -502,16 +502,16 @@ INSTANTIATE_TEST_SUITE_P(Schedules, QueryWorld, testing::ValuesIn(worldCases()),
 // chc and stat save queries against hwq on the same frames; log+hwq saves more.
 TEST(QueryWorld, SchedulesIssueFewerQueriesThanStopAndWait) {
   const test::BoxWorld world = test::makeBoxWorld(5);
-  auto queries = [&](Method m, Method schedule) {
+  auto queries = [&](Method m, QuerySchedule schedule) {
     CullerDesc d = desc(m);
     d.tile_size = 16;
     d.queries.schedule = schedule;
     return walkWorld(world, d, DepthConvention::Standard, 12).queries;
   };
-  const std::uint64_t hwq = queries(Method::Hwq, Method::Hwq);
-  const std::uint64_t chc = queries(Method::Chc, Method::Chc);
-  const std::uint64_t stat = queries(Method::Stat, Method::Stat);
-  const std::uint64_t log_hwq = queries(Method::LogHwq, Method::Hwq);
+  const std::uint64_t hwq = queries(Method::Hwq, QuerySchedule::Hwq);
+  const std::uint64_t chc = queries(Method::Chc, QuerySchedule::Chc);
+  const std::uint64_t stat = queries(Method::Stat, QuerySchedule::Stat);
+  const std::uint64_t log_hwq = queries(Method::LogHwq, QuerySchedule::Hwq);
   std::printf("[ queries ] hwq %llu, chc %llu, stat %llu, log+hwq %llu\n", (unsigned long long)hwq,
               (unsigned long long)chc, (unsigned long long)stat, (unsigned long long)log_hwq);
   EXPECT_LT(chc, hwq);

@@ -63,9 +63,9 @@ TEST(ViewSettingsTest, KnobsApplyOnlyWhereTheMethodTakesThem) {
     s.method = m.name;
     const logrid::samples::RunConfig c = logrid::viewer::configFor({}, s, 64, 64);
     const logrid::GridApproximation& a = c.culler.approximation;
-    EXPECT_EQ(a.visible_pixels, m.takes_visible_pixels ? 10u : 0u) << m.name;
-    EXPECT_EQ(a.full_free_fraction, m.takes_full_fraction ? 0.1f : 0.0f) << m.name;
-    EXPECT_EQ(a.row_stride, m.takes_row_stride ? 2u : 1u) << m.name;
+    EXPECT_EQ(a.visible_pixels, m.takes.visible_pixels ? 10u : 0u) << m.name;
+    EXPECT_EQ(a.full_free_fraction, m.takes.full_fraction ? 0.1f : 0.0f) << m.name;
+    EXPECT_EQ(a.row_stride, m.takes.row_stride ? 2u : 1u) << m.name;
   }
   s.method = "vfc";
   EXPECT_NE(logrid::viewer::describe(s).find("exact"), std::string::npos);
@@ -75,8 +75,9 @@ TEST(ViewSettingsTest, ShadeFollowsTheMethodsSemantics) {
   using logrid::samples::TileShade;
   using logrid::viewer::ShadeChoice;
   for (const logrid::MethodInfo& m : logrid::methodTable()) {
-    EXPECT_EQ(logrid::viewer::shadeFor(ShadeChoice::Auto, m.name),
-              m.state_semantics ? TileShade::States : TileShade::Zfar)
+    EXPECT_EQ(
+        logrid::viewer::shadeFor(ShadeChoice::Auto, m.name),
+        m.semantics == logrid::TestSemantics::OcclusionState ? TileShade::States : TileShade::Zfar)
         << m.name;
   }
   EXPECT_EQ(logrid::viewer::shadeFor(ShadeChoice::Zfar, "log-state"), TileShade::Zfar);

@@ -129,7 +129,7 @@ QueryHandle BoxQuerySource::acquire() {
     const std::size_t old = pool_.size();
     const std::size_t grown = std::max<std::size_t>(64, old * 2);
     pool_.resize(grown);
-    // One query object per target (PLATFORM.md pitfall 4).
+    // One query object per target (docs/PLATFORM.md, "Occlusion queries").
     glCreateQueries(target_, GLsizei(grown - old), pool_.data() + old);
     open_.resize(grown, 0);
     for (std::size_t i = grown; i-- > old;) free_.push_back(QueryHandle(i));

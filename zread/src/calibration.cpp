@@ -185,7 +185,7 @@ HardwareParameters measureHardwareParameters(const CalibrationDesc& desc) {
   HardwareParameters p;
   const auto prepare = [&] { bench.prepare(GL_LESS); };
   const auto prepare_always = [&] { bench.prepare(GL_ALWAYS); };
-  // Warm-up: llvmpipe compiles each new state on first use (PLATFORM.md pitfall 5).
+  // Warm-up: llvmpipe compiles each new state on first use (docs/PLATFORM.md, "JIT warm-up").
   timed(1, 1, prepare, [&] {
     bench.pixelQuad();
     bench.screenQuad();

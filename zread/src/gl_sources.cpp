@@ -255,7 +255,7 @@ void QuerySource::submit(const AreaRequest* requests, std::size_t count, AreaAns
   if (queries_.size() < first_free + count) {
     const std::size_t old = queries_.size();
     queries_.resize(first_free + count);
-    // One query object per target (PLATFORM.md pitfall 4): created for SAMPLES_PASSED.
+    // One query object per target (docs/PLATFORM.md, "Occlusion queries"): SAMPLES_PASSED.
     glCreateQueries(GL_SAMPLES_PASSED, GLsizei(queries_.size() - old), queries_.data() + old);
   }
   GLint active = 0;

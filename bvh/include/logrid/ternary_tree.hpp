@@ -1,5 +1,5 @@
 // The ternary tree for dynamic scenes of Kovalčík and Sochor (Eurographics 2005 short
-// paper, papers/ternary-tree-dynamic-occlusion-queries.txt, cited below as §3.x), as a
+// paper; docs/DESIGN.md, "Papers"; cited below as §3.x), as a
 // MotionHierarchy (motion.hpp).
 //
 // Structure (§3.1). An axis-aligned BSP tree of cells: the root's cell is the bounds of

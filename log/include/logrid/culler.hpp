@@ -1,12 +1,19 @@
-// The culler: walks a Hierarchy front to back for one camera, tests each box against
-// the lazy occlusion grid (or a comparison method, method.hpp), and hands the objects
-// of every potentially visible node to the application's draw callback.
+// The culler: walks a Hierarchy front to back for one camera, tests each box with the
+// method CullerDesc::method names (method.hpp), and hands the objects of every potentially
+// visible node to the application's draw callback.
 //
 // Typical use, once per frame:
 //
 //   glClear(GL_DEPTH_BUFFER_BIT | GL_COLOR_BUFFER_BIT);      // the frame starts cleared
 //   logrid::FrameStats stats = culler.cullFrame(camera, hierarchy, depth_source,
 //       [&](logrid::ObjectId id) { drawObject(id); });        // draws with the depth test
+//
+// What a method reads, queries or draws first comes in one CullSources (its MethodInfo::
+// needs says which it must be given): a DepthSource for the methods that read the depth
+// buffer, OcclusionQueries for the hardware-query methods (a GL application passes a
+// zread::BoxQuerySource), an OccluderSource for the occluder pre-pass of ddo and ddo+log.
+//
+//   stats = culler.cullFrame(camera, hierarchy, {&depth, &queries}, draw);   // log+hwq
 //
 // Contract for the frame: the depth buffer is cleared before cullFrame() (or what was
 // drawn into it before is announced in `drawn_before`), and everything drawn during it
@@ -15,55 +22,47 @@
 // else drawn during the frame is announced from inside the callback with noteDrawn(),
 // and a depth clear with noteDepthCleared().
 //
-// Traversals (LOG §3, §4):
-//   * two-list, for methods with occlusion-state semantics (MethodInfo::state_semantics):
+// Traversals (MethodInfo::traversal; LOG §3, §4):
+//   * two-list, for methods with occlusion-state semantics (MethodInfo::semantics):
 //     a test-list ordered by nearest key and a draw-list ordered by farthest key; a
 //     visible node's objects are drawn only once they lie in front of every box still to
 //     be tested, so that "every pixel holds something" means "hidden". A box for which
 //     the order cannot vouch (something of unknown or greater depth was drawn over the
-//     box's pixel rectangle: drawn_before, noteDrawn, temporal coherence; or anywhere: a
-//     mid-frame clear to a nearer value) is tested by depth instead, as the zfar variant
-//     tests every box (FrameStats::order_fallbacks). Areas drawn out of order are judged
-//     by their rectangles, up to 256 a frame; beyond that, for every box.
-//   * approximate front to back, for the others: the test-list only; visible objects are
-//     drawn at once.
+//     box's pixel rectangle: drawn_before, noteDrawn, temporal coherence, occluders drawn
+//     first; or anywhere: a mid-frame clear to a nearer value) is tested by depth instead,
+//     as the zfar variant tests every box (FrameStats::order_fallbacks). Areas drawn out
+//     of order are judged by their rectangles, up to 256 a frame; beyond that, for every
+//     box.
+//   * approximate front to back: the test-list only; visible objects are drawn at once.
+//   * a hardware-query schedule (hwq, chc, stat, nohc, log+hwq): each walks the hierarchy
+//     in its own order (log/src/query_*.cpp, settings in CullerDesc::queries) and draws
+//     what it finds visible at once; it keeps what it learns about each node across
+//     frames and forgets it when the hierarchy object or its revision() changes.
 // View-frustum culling is hierarchical: an outside node's children are never visited.
 //
-// Lookahead (CullerDesc::lookahead = K): with K = 1 each box is tested on its own, in
-// the paper's order (the grid reads one tile at a time and stops at the first visible
-// one). With K > 1 the boxes whose tiles the records cannot decide are set aside, up to
-// K of them, while the traversal goes on with what the records decide and draws what is
-// known visible; then one batch reads every tile they need (DepthSource::submit, one
-// collect) and they are decided. The renderer is then waited for once per batch, not
-// once per tile. Every K is exact; K = 1 gives the answers and reads of the paper's
-// order. CullerDesc::detect_colliding keeps boxes that overlap on screen out of one batch.
+// Lookahead (CullerDesc::lookahead = K, MethodTakes::lookahead): with K = 1 each box is
+// tested on its own, in the paper's order (the grid reads one tile at a time and stops at
+// the first visible one). With K > 1 the boxes whose tiles the records cannot decide are
+// set aside, up to K of them, while the traversal goes on with what the records decide
+// and draws what is known visible; then one batch reads every tile they need
+// (DepthSource::submit, one collect) and they are decided. The renderer is then waited
+// for once per batch, not once per tile. Every K is exact; K = 1 gives the answers and
+// reads of the paper's order. CullerDesc::detect_colliding keeps boxes that overlap on
+// screen out of one batch.
 //
-// Hardware occlusion queries (MethodInfo::box_queries: hwq, chc, stat, nohc, log+hwq):
-// these methods test boxes with queries the application's OcclusionQueries answers
-// (occlusion_queries.hpp; zread::BoxQuerySource over a GL framebuffer). Each walks the
-// hierarchy with its own schedule (log/src/query_*.cpp, settings in CullerDesc::queries)
-// and draws what it finds visible at once; they keep what they learn about each node
-// across frames and forget it when the hierarchy object or its revision() changes. A GL
-// application passes its query source:
-//
-//   logrid::zread::BoxQuerySource queries(framebuffer);            // once
-//   stats = culler.cullFrame(camera, hierarchy, queries, draw);    // hwq, chc, stat, nohc
-//   stats = culler.cullFrame(camera, hierarchy, depth, queries, draw);  // log+hwq: its
-//                                                     // grid reads through `depth`
-// CullerDesc::lookahead and temporal_coherence apply to the grid methods only.
-//
-// Temporal coherence (CullerDesc::temporal_coherence): the leaves found visible last
-// frame are drawn first, without tests, the grid's outdated tiles are refreshed in one
-// batch, and then the hierarchy is traversed as usual; a leaf drawn first is not drawn
-// again. Conservative by construction: whatever was not drawn first is tested against
-// this frame's depth. The culler remembers leaves by NodeId, and forgets them when the
-// hierarchy object or its revision() changes.
+// Temporal coherence (CullerDesc::temporal_coherence, MethodTakes::temporal_coherence):
+// the leaves found visible last frame are drawn first, without tests, the grid's outdated
+// tiles are refreshed in one batch, and then the hierarchy is traversed as usual; a leaf
+// drawn first is not drawn again. Conservative by construction: whatever was not drawn
+// first is tested against this frame's depth. The culler remembers leaves by NodeId, and
+// forgets them when the hierarchy object or its revision() changes.
 #pragma once
 
 #include <cstdint>
 #include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -72,6 +71,7 @@
 #include "logrid/grid.hpp"
 #include "logrid/hierarchy.hpp"
 #include "logrid/method.hpp"
+#include "logrid/occluder_source.hpp"
 #include "logrid/occlusion_queries.hpp"
 #include "logrid/projection.hpp"
 #include "logrid/query_schedule.hpp"
@@ -98,14 +98,15 @@ struct CullerDesc {
   //                       that were skipped vanish (log-*, bog).
   // Knobs combine: with visible_pixels and full_free_fraction together, tiles counted
   // as full contribute no pixels to the visible-pixel count. Which method takes which
-  // knob is in its MethodInfo.
+  // knob is in its MethodInfo::takes.
   GridApproximation approximation;
 
   // Boxes whose undecided tiles are read in one batch: 1 (the paper's order, one box at
-  // a time) up to kUnlimitedLookahead. Methods without MethodInfo::lookahead, and
+  // a time) up to kUnlimitedLookahead. Methods that do not take it (MethodTakes), and
   // counting tests (approximation.visible_pixels with a grid), test one box at a time.
   std::uint32_t lookahead = 1;
-  // Draw last frame's visible leaves first, then refresh the grid in one batch.
+  // Draw last frame's visible leaves first, then refresh the grid in one batch (methods
+  // that take it, MethodTakes).
   bool temporal_coherence = false;
   // Detection of colliding queries (ternary-tree paper, §3.5): with lookahead > 1, a box
   // whose pixel rectangle overlaps that of a box already set aside for the batch is not
@@ -122,14 +123,18 @@ struct CullerDesc {
 // Returns an empty string if the descriptor is usable, else a message naming the field.
 std::string validateCullerDesc(const CullerDesc& desc);
 
+// The hardware-query schedule a culler with `desc` runs: the method's own (hwq, chc, stat,
+// nohc), CullerDesc::queries.schedule for log+hwq, nothing for the other methods.
+std::optional<QuerySchedule> querySchedule(const CullerDesc& desc);
+
 using DrawCallback = std::function<void(ObjectId)>;
 
-// Something drawn into the depth buffer besides the culler's own draws.
-struct DrawnArea {
-  PixelRect rect;  // pixels it may cover (clipped to the viewport)
-  // Its farthest depth key (with the margin of its rounding added); +infinity when
-  // unknown: then every later occlusion-state test is done by depth.
-  float far_key = std::numeric_limits<float>::infinity();
+// What a method reads, queries and draws first (MethodInfo::needs says which it needs;
+// the others may be null and are not used).
+struct CullSources {
+  DepthSource* depth = nullptr;         // the application's depth buffer
+  OcclusionQueries* queries = nullptr;  // hardware occlusion queries
+  OccluderSource* occluders = nullptr;  // the occluder pre-pass (ddo, ddo+log)
 };
 
 // Optional hooks for overlays and debugging; called synchronously during cullFrame().
@@ -141,8 +146,9 @@ class CullObserver {
 };
 
 namespace detail {
+struct MethodDef;
 class BoxTester;
-class QuerySchedule;
+class Schedule;
 class GridPrefilter;
 }  // namespace detail
 
@@ -159,21 +165,15 @@ class Culler {
   // Culls and draws one frame. `drawn_before`: what the application drew into the depth
   // buffer after clearing it and before this call (e.g. occluders drawn first); the
   // grid starts with those tiles outdated. Throws logrid::Error for an invalid camera
-  // (validateCamera), a depth source that cannot serve it, or a method the source
-  // cannot answer (MethodInfo::needs_depth_values); boxes with NaN or inverted bounds
-  // are drawn and counted in FrameStats::invalid_boxes.
+  // (validateCamera), a source the method needs but was not given (MethodInfo::needs), a
+  // depth source that cannot serve the camera or does not read the depth values the
+  // method needs; boxes with NaN or inverted bounds are drawn and counted in
+  // FrameStats::invalid_boxes.
+  FrameStats cullFrame(const Camera& camera, const Hierarchy& hierarchy, const CullSources& sources,
+                       const DrawCallback& draw, const std::vector<DrawnArea>& drawn_before = {});
+  // The same for the methods that need a depth source and nothing else.
   FrameStats cullFrame(const Camera& camera, const Hierarchy& hierarchy, DepthSource& depth,
                        const DrawCallback& draw, const std::vector<DrawnArea>& drawn_before = {});
-  // The same for the hardware-query methods (MethodInfo::box_queries): `queries` answers
-  // their occlusion queries. hwq, chc, stat and nohc read no depth values and take the
-  // form without a DepthSource; log+hwq also reads its grid's tiles through `depth`. The
-  // form without `queries` throws logrid::Error for a query method, and the form without
-  // `depth` for a method that reads the depth buffer.
-  FrameStats cullFrame(const Camera& camera, const Hierarchy& hierarchy, OcclusionQueries& queries,
-                       const DrawCallback& draw, const std::vector<DrawnArea>& drawn_before = {});
-  FrameStats cullFrame(const Camera& camera, const Hierarchy& hierarchy, DepthSource& depth,
-                       OcclusionQueries& queries, const DrawCallback& draw,
-                       const std::vector<DrawnArea>& drawn_before = {});
 
   // For use inside the draw callback (outside cullFrame() they throw logrid::Error):
   // the application drew something more than the callback's own object, over `area`
@@ -201,44 +201,42 @@ class Culler {
     NodeId node;
     BoxProjection projection;
   };
-  FrameStats cull(const Camera& camera, const Hierarchy& hierarchy, DepthSource* depth,
-                  OcclusionQueries* queries, const DrawCallback& draw,
-                  const std::vector<DrawnArea>& drawn_before);
-  void prepare(const Camera& camera, const DepthSource& depth);
-  // The grid methods' traversals (two-list or approximate front to back, lookahead).
-  void traverse(const Hierarchy& hierarchy, DepthSource& depth, const DrawCallback& draw);
+  void prepare(const Camera& camera, const CullSources& sources);
+  // Two-list or approximate front to back, with lookahead.
+  void traverse(const Hierarchy& hierarchy, const DrawCallback& draw);
   // The query methods': their schedule, with log+hwq's grid as the pre-filter.
-  void runSchedule(const Hierarchy& hierarchy, DepthSource& depth, OcclusionQueries& queries,
-                   const DrawCallback& draw);
+  void runSchedule(const Hierarchy& hierarchy, const DrawCallback& draw);
   void pushTest(const Hierarchy& hierarchy, NodeId node);
   // Decides what needs no occlusion test (view culled, invalid, crossing the near
   // plane, no occlusion test for this method); nothing if the box must be tested.
   bool forced(const Entry& entry, Visibility& result);
   bool collidesWithPending(const PixelRect& rect) const;
   float thresholdFor(const Entry& entry);
-  void finish(const Entry& entry, Visibility v, const Hierarchy& hierarchy, DepthSource& depth,
+  void finish(const Entry& entry, Visibility v, const Hierarchy& hierarchy,
               const DrawCallback& draw);
-  void resolvePending(const Hierarchy& hierarchy, DepthSource& depth, const DrawCallback& draw);
-  void drawEntry(const Entry& entry, const Hierarchy& hierarchy, DepthSource& depth,
-                 const DrawCallback& draw);
-  void drawCoherent(const Hierarchy& hierarchy, DepthSource& depth, const DrawCallback& draw);
+  void resolvePending(const Hierarchy& hierarchy, const DrawCallback& draw);
+  void drawEntry(const Entry& entry, const Hierarchy& hierarchy, const DrawCallback& draw);
+  void drawCoherent(const Hierarchy& hierarchy, const DrawCallback& draw);
   // `ordered`: drawn in two-list order (in front of every box still to be tested, up to
   // rounding); else remembered in unordered_.
-  void noteDrawnWith(const DrawnArea& area, DepthSource& depth, bool ordered);
-  DepthSource& currentSource(const char* who) const;
+  void noteDrawnWith(const DrawnArea& area, bool ordered);
+  // Throws unless called during cullFrame().
+  void requireFrame(const char* who) const;
 
   CullerDesc desc_;
+  const detail::MethodDef* method_;
   std::unique_ptr<detail::BoxTester> tester_;
   std::unique_ptr<Projector> projector_;
   CullObserver* observer_ = nullptr;
-  DepthSource* current_source_ = nullptr;        // set during cullFrame()
-  OcclusionQueries* current_queries_ = nullptr;  // set during cullFrame(), if given
+  bool in_frame_ = false;
+  CullSources sources_;  // this frame's (during cullFrame())
   FrameStats stats_;
   GridTestCounts grid_counts_;
   float drawn_back_ = 0;  // farthest key + margin of what was drawn in order so far this
                           // frame (and of unordered areas beyond kMaxUnorderedAreas)
-  std::vector<DrawnArea> unordered_;  // drawn out of order this frame (clipped rects)
-  std::uint32_t lookahead_ = 1;       // this frame's
+  std::vector<DrawnArea> unordered_;       // drawn out of order this frame (clipped rects)
+  std::vector<DrawnArea> occluder_areas_;  // this frame's occluders drawn first
+  std::uint32_t lookahead_ = 1;            // this frame's
   std::vector<Entry> test_list_;
   std::vector<Entry> draw_list_;
   std::vector<Entry> pending_;   // set aside for the next batch, in test-list order
@@ -251,7 +249,7 @@ class Culler {
   std::uint64_t coherent_revision_ = 0;
   // Query methods: the schedule and its frame count, for which hierarchy; mid-frame
   // depth clears (answers issued before one no longer hold).
-  std::unique_ptr<detail::QuerySchedule> schedule_;
+  std::unique_ptr<detail::Schedule> schedule_;
   std::uint32_t schedule_frame_ = 0;
   const Hierarchy* schedule_hierarchy_ = nullptr;
   std::uint64_t schedule_revision_ = 0;

@@ -6,7 +6,7 @@
 // reduction or hardware occlusion queries; those in cpu/ read a buffer in memory; a
 // Vulkan or software renderer writes its own.
 //
-// Asking and waiting are separate (DESIGN.md, "One frame"):
+// Asking and waiting are separate (docs/DESIGN.md, "Depth sources: asking and waiting apart"):
 //   submit()   takes a batch of requests, from as many boxes as the caller gathered,
 //              and the array their answers go to;
 //   collect()  waits until every answer submitted since the last collect() is written.

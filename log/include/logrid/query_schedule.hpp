@@ -4,11 +4,26 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
-#include "logrid/method.hpp"
-
 namespace logrid {
+
+// The hardware-query schedules. The methods hwq, chc, stat and nohc each run theirs over
+// the whole hierarchy; log+hwq runs QueryScheduleDesc::schedule over the boxes its grid's
+// records leave undecided.
+enum class QuerySchedule : std::uint8_t {
+  Hwq,   // stop and wait: each query's answer waited for at once
+  Chc,   // CHC++ (Mattausch, Bittner, Wimmer 2008)
+  Stat,  // statistically optimised queries (Kovalčík & Sochor 2005)
+  Nohc,  // near-optimal hierarchical culling (Guthe, Balázs, Klein 2006)
+};
+
+const char* toString(QuerySchedule schedule);
+// Parses "hwq", "chc", "stat" or "nohc"; nothing for another name.
+std::optional<QuerySchedule> parseQuerySchedule(const std::string& name);
+// "hwq, chc, stat, nohc" for messages and help texts.
+std::string querySchedules();
 
 // The hardware-dependent times of Guthe et al.'s cost model (NOHC §3.2, Table 2), in
 // seconds, measured on the current context at start-up (zread/calibration.hpp). The
@@ -37,9 +52,8 @@ enum class QueryShape : std::uint8_t {
 };
 
 struct QueryScheduleDesc {
-  // log+hwq: the schedule of the boxes the grid's records leave undecided: hwq, chc,
-  // stat or nohc.
-  Method schedule = Method::Stat;
+  // log+hwq: the schedule of the boxes the grid's records leave undecided.
+  QuerySchedule schedule = QuerySchedule::Stat;
   QueryShape shape = QueryShape::Box;
   // chc (CHC++ §3.2, §4): previously invisible nodes gathered before their multi-queries
   // are issued, and n_av, the frames a visible leaf goes without a query (the first
@@ -54,8 +68,7 @@ struct QueryScheduleDesc {
   HardwareParameters hardware;
 };
 
-// Empty if the settings are usable for `method` (a query method, or log+hwq with its
-// schedule), else a message naming the field.
-std::string validateQuerySchedule(Method method, const QueryScheduleDesc& desc);
+// Empty if the settings are usable for `schedule`, else a message naming the field.
+std::string validateQuerySchedule(QuerySchedule schedule, const QueryScheduleDesc& desc);
 
 }  // namespace logrid

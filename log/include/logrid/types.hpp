@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 
 namespace logrid {
 
@@ -77,6 +78,15 @@ struct PixelRect {
 
   bool empty() const { return x1 <= x0 || y1 <= y0; }
   std::int64_t area() const { return empty() ? 0 : std::int64_t{x1 - x0} * std::int64_t{y1 - y0}; }
+};
+
+// Something drawn into the depth buffer besides the culler's own draws (Culler::noteDrawn,
+// cullFrame's drawn_before, an occluder pre-pass).
+struct DrawnArea {
+  PixelRect rect;  // pixels it may cover (clipped to the viewport)
+  // Its farthest depth key (with the margin of its rounding added); +infinity when
+  // unknown: then every later occlusion-state test is done by depth.
+  float far_key = std::numeric_limits<float>::infinity();
 };
 
 // The three answers of an occlusion test.

@@ -2,7 +2,7 @@
 // and optionally an R32UI object-ID buffer, set up for one depth convention; single- or
 // multisampled (every attachment a multisampled texture with the same sample count).
 //
-// Conventions (DESIGN.md "Depth conventions"):
+// Conventions (docs/DESIGN.md, "Depth conventions and depth keys"):
 //   standard  glClipControl(GL_LOWER_LEFT, clip range), cleared to 1, GL_LESS
 //   reversed  glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE), cleared to 0, GL_GREATER
 // Rows read back are bottom-up, like glReadPixels.

@@ -1,5 +1,5 @@
 // The object-ID oracle: the check that a culled frame missed no visible object
-// (DESIGN.md, "Conservative means"). It renders an ID pass of the whole scene into a
+// (docs/DESIGN.md, "The oracle"). It renders an ID pass of the whole scene into a
 // framebuffer with an object-ID attachment and reads back which objects the full render
 // shows; a conservative culler must have drawn every one of them. `logrid walk --verify`
 // and the oracle tests use it, and an application verifies its own integration with it:

@@ -10,7 +10,7 @@
 //                     buffer and fences it, collect() waits for the fences and answers
 //                     from the mapped memory. The GPU path (the "parallel pixel-level
 //                     queries" LOG §6 leaves as future work); on Mesa llvmpipe a read
-//                     into a PBO blocks like a direct read (PLATFORM.md §2b).
+//                     into a PBO blocks like a direct read (docs/PLATFORM.md).
 //   QuerySource       hardware occlusion queries, asynchronous: counts the pixels at or
 //                     beyond a depth by drawing the rectangle (scissored) at that depth
 //                     with GL_SAMPLES_PASSED and no writes; submit() issues the queries,

@@ -7,7 +7,7 @@
 //
 // Two kernels:
 //   PerRequest    one invocation per rectangle, a serial loop over its pixels: the fast
-//                 one on llvmpipe, where barriers are expensive (PLATFORM.md §2d);
+//                 one on llvmpipe, where barriers are expensive (docs/PLATFORM.md);
 //   PerWorkgroup  one 16x16 workgroup per rectangle with a shared-memory reduction: the
 //                 one for GPUs.
 // Kernel::Auto picks PerRequest on software renderers and PerWorkgroup elsewhere.
