@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cassert>
 #include <chrono>
+#include <exception>
+#include <functional>
 #include <limits>
 #include <sstream>
 
@@ -92,8 +94,24 @@ bool overlaps(const PixelRect& a, const PixelRect& b) {
 void require(bool given, const MethodInfo& info, const char* what, const char* how) {
   if (given) return;
   throw Error(ErrorCode::InvalidArgument, std::string("culler: method ") + info.name + " " + what +
-                                              "; pass " + how + " in cullFrame()'s CullSources");
+                                              "; pass " + how + " in the frame's CullSources");
 }
+
+// Abandons the culler's frame when an exception leaves the scope it guards.
+class AbandonOnThrow {
+ public:
+  explicit AbandonOnThrow(std::function<void()> abandon)
+      : abandon_(std::move(abandon)), exceptions_(std::uncaught_exceptions()) {}
+  ~AbandonOnThrow() {
+    if (std::uncaught_exceptions() > exceptions_) abandon_();
+  }
+  AbandonOnThrow(const AbandonOnThrow&) = delete;
+  AbandonOnThrow& operator=(const AbandonOnThrow&) = delete;
+
+ private:
+  std::function<void()> abandon_;
+  int exceptions_;
+};
 
 }  // namespace
 
@@ -131,15 +149,33 @@ FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy, D
 FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy,
                              const CullSources& sources, const DrawCallback& draw,
                              const std::vector<DrawnArea>& drawn_before) {
+  beginFrame(camera, hierarchy, sources, drawn_before);
+  const AbandonOnThrow guard([this] { abandonFrame(); });  // e.g. thrown by `draw`
+  for (DrawBatch batch = nextBatch(); !batch.empty(); batch = nextBatch()) {
+    for (ObjectId id : batch) draw(id);
+  }
+  return endFrame();
+}
+
+void Culler::beginFrame(const Camera& camera, const Hierarchy& hierarchy,
+                        const CullSources& sources, const std::vector<DrawnArea>& drawn_before) {
+  if (in_frame_) {
+    throw Error(ErrorCode::InvalidArgument,
+                "Culler::beginFrame: the last frame was not ended; call nextBatch() until it "
+                "returns an empty batch, then endFrame()");
+  }
   const MethodInfo& info = method_->info;
-  const auto start = std::chrono::steady_clock::now();
+  start_ = std::chrono::steady_clock::now();
   prepare(camera, sources);
+  in_frame_ = true;
+  const AbandonOnThrow guard([this] { abandonFrame(); });
   DepthSource* depth = sources_.depth;
   OcclusionQueries* queries = sources_.queries;
   if (depth) depth->beginFrame(camera);
   if (queries) queries->beginQueryFrame(camera);
-  const ReadCounters before = depth ? depth->counters() : ReadCounters{};
-  const QueryCounters queries_before = queries ? queries->queryCounters() : QueryCounters{};
+  depth_before_ = depth ? depth->counters() : ReadCounters{};
+  queries_before_ = queries ? queries->queryCounters() : QueryCounters{};
+  hierarchy_ = &hierarchy;
   stats_ = {};
   grid_counts_ = {};
   drawn_back_ = kNothingDrawn;
@@ -147,18 +183,17 @@ FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy,
   draw_list_.clear();
   pending_.clear();
   deferred_.clear();
+  testing_.reset();
+  resolve_due_ = false;
+  batch_.clear();
+  batch_areas_.clear();
+  culled_undrawn_.clear();
+  after_draw_.clear();
   visible_leaves_.clear();
   drawn_first_.clear();
-  in_frame_ = true;
-  struct Reset {  // noteDrawn() outside this frame must throw, even after an exception
-    Culler& culler;
-    ~Reset() {
-      culler.in_frame_ = false;
-      culler.sources_ = {};
-    }
-  } reset{*this};
-
   unordered_.clear();
+  coherence_ = desc_.temporal_coherence && info.takes.temporal_coherence;
+
   for (const DrawnArea& area : drawn_before) noteDrawnWith(area, false);
   if (info.occluders != OccluderUse::None) {
     // The occluder pre-pass: selected for this camera, drawn first where the method
@@ -168,81 +203,172 @@ FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy,
         camera, desc_.projection, info.occluders == OccluderUse::Drawn, occluder_areas_);
     for (const DrawnArea& area : occluder_areas_) noteDrawnWith(area, false);
   }
-  const bool coherence = desc_.temporal_coherence && info.takes.temporal_coherence;
   if (schedule_) {
-    runSchedule(hierarchy, draw);
+    if (schedule_hierarchy_ != &hierarchy || schedule_revision_ != hierarchy.revision()) {
+      schedule_->forget();
+      schedule_hierarchy_ = &hierarchy;
+      schedule_revision_ = hierarchy.revision();
+    }
+    if (info.grid) prefilter_ = std::make_unique<detail::GridPrefilter>(*tester_, grid_counts_);
+    detail::QueryFrame::Wiring wiring;
+    wiring.hierarchy = &hierarchy;
+    wiring.projector = projector_.get();
+    wiring.queries = sources_.queries;
+    wiring.prefilter = prefilter_.get();
+    wiring.shape = desc_.queries.shape;
+    wiring.stats = &stats_;
+    wiring.clear_epoch = &clear_epoch_;
+    wiring.undrawn = &batch_;
+    wiring.draw = [this](const detail::QueryNode& n) { drawEntry({n.order, n.id, n.projection}); };
+    if (observer_) {
+      wiring.observe = [this](const detail::QueryNode& n, Visibility v) {
+        observer_->onTested(n.id, n.projection, v);
+      };
+    }
+    query_frame_ = std::make_unique<detail::QueryFrame>(wiring, ++schedule_frame_);
+    schedule_->begin(*query_frame_);
+    phase_ = Phase::Schedule;
   } else {
-    if (coherence) drawCoherent(hierarchy, draw);
-    traverse(hierarchy, draw);
+    phase_ = coherence_ ? Phase::Coherent : Phase::Traverse;
+    const NodeId root = hierarchy.root();
+    if (root != kNoNode) pushTest(root);
   }
-  if (depth) depth->endFrame();
-  if (queries) queries->endQueryFrame();
+}
 
+DrawBatch Culler::nextBatch() {
+  requireFrame("nextBatch");
+  const AbandonOnThrow guard([this] { abandonFrame(); });
+  // The last batch is drawn: what waited for it can go on.
+  batch_.clear();
+  batch_areas_.clear();
+  culled_undrawn_.clear();
+  if (query_frame_) query_frame_->flushDeferred();
+  advance();
+  if (!batch_.empty()) ++stats_.draw_batches;
+  return {batch_.data(), batch_.size()};
+}
+
+FrameStats Culler::endFrame() {
+  requireFrame("endFrame");
+  if (phase_ != Phase::Done || !batch_.empty()) {
+    abandonFrame();
+    throw Error(ErrorCode::InvalidArgument,
+                "Culler::endFrame: the frame is not done; call nextBatch() until it returns an "
+                "empty batch (the frame is abandoned)");
+  }
+  DepthSource* depth = sources_.depth;
+  OcclusionQueries* queries = sources_.queries;
+  {
+    const AbandonOnThrow guard([this] { abandonFrame(); });
+    if (depth) depth->endFrame();
+    if (queries) queries->endQueryFrame();
+  }
   // Next frame's coherent set: the leaves this frame found visible.
-  if (coherence) {
+  if (coherence_) {
     coherent_.swap(visible_leaves_);
-    coherent_hierarchy_ = &hierarchy;
-    coherent_revision_ = hierarchy.revision();
+    coherent_hierarchy_ = hierarchy_;
+    coherent_revision_ = hierarchy_->revision();
   }
-
   stats_.tiles_tested = grid_counts_.tiles_tested;
   stats_.tiles_read = grid_counts_.tiles_read;
   if (depth) {
     const ReadCounters& after = depth->counters();
-    stats_.reads = after.reads - before.reads;
-    stats_.pixels_read = after.pixels - before.pixels;
-    stats_.bytes_read = after.bytes - before.bytes;
-    stats_.queries = after.queries - before.queries;
-    stats_.batches = after.batches - before.batches;
-    stats_.flushes = after.flushes - before.flushes;
-    stats_.read_seconds = after.seconds - before.seconds;
+    stats_.reads = after.reads - depth_before_.reads;
+    stats_.pixels_read = after.pixels - depth_before_.pixels;
+    stats_.bytes_read = after.bytes - depth_before_.bytes;
+    stats_.queries = after.queries - depth_before_.queries;
+    stats_.batches = after.batches - depth_before_.batches;
+    stats_.flushes = after.flushes - depth_before_.flushes;
+    stats_.read_seconds = after.seconds - depth_before_.seconds;
   }
   if (queries) {
     const QueryCounters& q = queries->queryCounters();
-    stats_.queries += q.queries - queries_before.queries;
-    stats_.query_boxes = q.boxes - queries_before.boxes;
-    stats_.query_polls = q.polls - queries_before.polls;
-    stats_.query_waits = q.waits - queries_before.waits;
-    stats_.flushes += q.flushes - queries_before.flushes;
-    stats_.read_seconds += q.seconds - queries_before.seconds;
+    stats_.queries += q.queries - queries_before_.queries;
+    stats_.query_boxes = q.boxes - queries_before_.boxes;
+    stats_.query_polls = q.polls - queries_before_.polls;
+    stats_.query_waits = q.waits - queries_before_.waits;
+    stats_.flushes += q.flushes - queries_before_.flushes;
+    stats_.read_seconds += q.seconds - queries_before_.seconds;
   }
-  stats_.seconds = secondsSince(start);
+  stats_.seconds = secondsSince(start_);
+  abandonFrame();  // the frame's state is let go of
   return stats_;
 }
 
-void Culler::runSchedule(const Hierarchy& hierarchy, const DrawCallback& draw) {
-  if (schedule_hierarchy_ != &hierarchy || schedule_revision_ != hierarchy.revision()) {
-    schedule_->forget();
-    schedule_hierarchy_ = &hierarchy;
-    schedule_revision_ = hierarchy.revision();
-  }
-  std::optional<detail::GridPrefilter> prefilter;
-  if (method_->info.grid) prefilter.emplace(*tester_, grid_counts_);
-  detail::QueryFrame::Wiring wiring;
-  wiring.hierarchy = &hierarchy;
-  wiring.projector = projector_.get();
-  wiring.queries = sources_.queries;
-  wiring.prefilter = prefilter ? &*prefilter : nullptr;
-  wiring.shape = desc_.queries.shape;
-  wiring.stats = &stats_;
-  wiring.clear_epoch = &clear_epoch_;
-  wiring.draw = [&](const detail::QueryNode& n) {
-    drawEntry({n.order, n.id, n.projection}, hierarchy, draw);
-  };
-  if (observer_) {
-    wiring.observe = [this](const detail::QueryNode& n, Visibility v) {
-      observer_->onTested(n.id, n.projection, v);
-    };
-  }
-  detail::QueryFrame frame(wiring, ++schedule_frame_);
-  schedule_->run(frame);
+void Culler::abandonFrame() {
+  in_frame_ = false;
+  phase_ = Phase::Done;
+  sources_ = {};
+  hierarchy_ = nullptr;
+  query_frame_.reset();
+  prefilter_.reset();
+  testing_.reset();
 }
 
-void Culler::traverse(const Hierarchy& hierarchy, const DrawCallback& draw) {
-  const NodeId root = hierarchy.root();
-  if (root != kNoNode) pushTest(hierarchy, root);
-
+void Culler::advance() {
   for (;;) {
+    if (!afterBatchDrawn()) return;
+    switch (phase_) {
+      case Phase::Coherent:
+        drawCoherent();
+        phase_ = Phase::CoherentRefresh;
+        break;
+      case Phase::CoherentRefresh:
+        // Refreshes the tiles the coherent leaves made outdated: after they are drawn.
+        if (!drawn_first_.empty()) {
+          if (!batch_.empty()) return;
+          tester_->refreshOutdated(grid_counts_);
+        }
+        phase_ = Phase::Traverse;
+        break;
+      case Phase::Traverse:
+        if (!traverse()) return;
+        phase_ = Phase::Done;
+        break;
+      case Phase::Schedule:
+        if (!schedule_->resume(*query_frame_)) {
+          assert(!batch_.empty() && "Culler: a schedule waits although nothing is to be drawn");
+          return;
+        }
+        phase_ = Phase::Done;
+        break;
+      case Phase::Done: return;
+    }
+  }
+}
+
+bool Culler::afterBatchDrawn() {
+  if (after_draw_.empty()) return true;
+  if (!batch_.empty()) return false;
+  for (const PixelRect& r : after_draw_) tester_->afterDraw(r);
+  after_draw_.clear();
+  return true;
+}
+
+bool Culler::traverse() {
+  const Hierarchy& hierarchy = *hierarchy_;
+  for (;;) {
+    // What must wait until the batch is drawn: a busy refresh, a batch of reads, a test
+    // that reads.
+    if (!afterBatchDrawn()) return false;
+    if (resolve_due_) {
+      if (!batch_.empty()) return false;
+      resolve_due_ = false;
+      resolvePending();
+      continue;
+    }
+    if (testing_) {
+      // The threshold from what is drawn now: the batch may have announced more.
+      const Entry entry = *testing_;
+      bool by_state = false;
+      const float threshold = thresholdFor(entry, by_state);
+      if (!batch_.empty() && tester_->mayRead(entry.projection.rect, threshold)) return false;
+      testing_.reset();
+      countFallback(by_state);
+      const Visibility v = tester_->test(entry.projection.rect, threshold, grid_counts_);
+      decided(entry, v);
+      continue;
+    }
     // Two-list order (LOG §3, fig. 2): draw the frontmost visible node once it lies in
     // front of the frontmost node still to be tested, or set aside for the next batch.
     if (!draw_list_.empty()) {
@@ -253,7 +379,7 @@ void Culler::traverse(const Hierarchy& hierarchy, const DrawCallback& draw) {
         std::pop_heap(draw_list_.begin(), draw_list_.end(), laterFirst<Entry>);
         const Entry entry = draw_list_.back();
         draw_list_.pop_back();
-        drawEntry(entry, hierarchy, draw);
+        drawEntry(entry);
         continue;
       }
     }
@@ -272,50 +398,53 @@ void Culler::traverse(const Hierarchy& hierarchy, const DrawCallback& draw) {
           ++stats_.colliding_waits;
           test_list_.push_back(entry);
           std::push_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
-          resolvePending(hierarchy, draw);
+          resolve_due_ = true;
           continue;
         }
-        const float threshold = thresholdFor(entry);
         ++stats_.boxes_tested;
         if (lookahead_ == 1) {
-          v = tester_->test(entry.projection.rect, threshold, grid_counts_);
-        } else {
-          const bool leaf = hierarchy.objectCount(entry.node) > 0;
-          std::optional<Visibility> planned =
-              tester_->plan(entry.projection.rect, threshold, grid_counts_, leaf);
-          if (!planned) {
-            if (leaf) {
-              pending_.push_back(entry);
-              continue;
-            }
-            // An inner node the records cannot decide is opened rather than waited for:
-            // its children are tested instead (what a visible answer would do anyway), so
-            // a descent through the hierarchy costs no batch per level.
-            ++stats_.nodes_opened;
-            planned = Visibility::Visible;
-          } else if (*planned == Visibility::Visible && leaf && !pending_.empty()) {
-            // Visible by the records, but leaves in front of it are still undecided and
-            // what they hold back from drawing may hide it: test it again after them.
-            deferred_.push_back(entry);
+          testing_ = entry;  // tested at the top, once the batch is drawn if it reads
+          continue;
+        }
+        bool by_state = false;
+        const float threshold = thresholdFor(entry, by_state);
+        countFallback(by_state);
+        const bool leaf = hierarchy.objectCount(entry.node) > 0;
+        std::optional<Visibility> planned =
+            tester_->plan(entry.projection.rect, threshold, grid_counts_, leaf);
+        if (!planned) {
+          if (leaf) {
+            pending_.push_back(entry);
+            pending_.back().by_state = by_state;
             continue;
           }
-          v = *planned;
+          // An inner node the records cannot decide is opened rather than waited for:
+          // its children are tested instead (what a visible answer would do anyway), so
+          // a descent through the hierarchy costs no batch per level.
+          ++stats_.nodes_opened;
+          planned = Visibility::Visible;
+        } else if (*planned == Visibility::Visible && leaf && !pending_.empty()) {
+          // Visible by the records, but leaves in front of it are still undecided and
+          // what they hold back from drawing may hide it: test it again after them.
+          deferred_.push_back(entry);
+          continue;
         }
-        if (v == Visibility::Occluded) ++stats_.boxes_occluded;
+        decided(entry, *planned);
+        continue;
       }
-      finish(entry, v, hierarchy, draw);
+      finish(entry, v);
       continue;
     }
     if (!pending_.empty()) {
-      resolvePending(hierarchy, draw);
+      resolve_due_ = true;
       continue;
     }
-    if (test_list_.empty()) break;
+    if (test_list_.empty()) return true;
   }
 }
 
-void Culler::pushTest(const Hierarchy& hierarchy, NodeId node) {
-  Entry entry{0, node, projector_->project(hierarchy.bounds(node))};
+void Culler::pushTest(NodeId node) {
+  Entry entry{0, node, projector_->project(hierarchy_->bounds(node))};
   if (entry.projection.cls == ProjectionClass::Outside) {
     ++stats_.boxes_view_culled;  // children never visited
     return;
@@ -324,7 +453,6 @@ void Culler::pushTest(const Hierarchy& hierarchy, NodeId node) {
   test_list_.push_back(entry);
   std::push_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
 }
-
 bool Culler::forced(const Entry& entry, Visibility& result) {
   switch (entry.projection.cls) {
     case ProjectionClass::Outside: result = Visibility::ViewCulled; return true;
@@ -354,27 +482,44 @@ bool Culler::collidesWithPending(const PixelRect& r) const {
   return false;
 }
 
-float Culler::thresholdFor(const Entry& entry) {
+bool Culler::orderVouches(const Entry& entry) const {
   // The occlusion-state semantics (any drawn pixel occludes) hold only if everything
   // drawn so far lies in front of this box. The two-list order guarantees it up to the
   // rounding of margins between parent and child boxes and for what the application
   // announced with a depth; where it does not, test by depth, which holds in any order.
-  if (method_->info.semantics == TestSemantics::OcclusionState) {
-    bool in_front = drawn_back_ < entry.order;
-    for (std::size_t i = 0; in_front && i < unordered_.size(); ++i) {
-      // NaN (unknown) is not in front; an area that shares no pixel with the box's
-      // rectangle stores nothing the test looks at.
-      const DrawnArea& a = unordered_[i];
-      in_front = a.far_key < entry.order || !overlaps(a.rect, entry.projection.rect);
-    }
-    if (in_front) return projector_->clearKey();
-    ++stats_.order_fallbacks;
+  bool in_front = drawn_back_ < entry.order;
+  for (std::size_t i = 0; in_front && i < unordered_.size(); ++i) {
+    // NaN (unknown) is not in front; an area that shares no pixel with the box's
+    // rectangle stores nothing the test looks at.
+    const DrawnArea& a = unordered_[i];
+    in_front = a.far_key < entry.order || !overlaps(a.rect, entry.projection.rect);
   }
-  return entry.projection.occlusionThreshold();
+  return in_front;
 }
 
-void Culler::finish(const Entry& entry, Visibility v, const Hierarchy& hierarchy,
-                    const DrawCallback& draw) {
+float Culler::thresholdFor(const Entry& entry, bool& by_state) const {
+  by_state = method_->info.semantics == TestSemantics::OcclusionState && orderVouches(entry);
+  return by_state ? projector_->clearKey() : entry.projection.occlusionThreshold();
+}
+
+void Culler::countFallback(bool by_state) {
+  if (!by_state && method_->info.semantics == TestSemantics::OcclusionState) {
+    ++stats_.order_fallbacks;
+  }
+}
+
+void Culler::decided(const Entry& entry, Visibility v) {
+  if (v == Visibility::Occluded) {
+    ++stats_.boxes_occluded;
+    // Decided before the batch handed out is drawn: a depth clear while it is drawn
+    // would take away what hides the box. Remembered until then (noteDepthCleared).
+    if (!batch_.empty()) culled_undrawn_.push_back(entry);
+  }
+  finish(entry, v);
+}
+
+void Culler::finish(const Entry& entry, Visibility v) {
+  const Hierarchy& hierarchy = *hierarchy_;
   if (observer_) observer_->onTested(entry.node, entry.projection, v);
   if (v != Visibility::Visible) return;
   if (hierarchy.objectCount(entry.node) > 0) {
@@ -385,14 +530,14 @@ void Culler::finish(const Entry& entry, Visibility v, const Hierarchy& hierarchy
       draw_list_.push_back(drawn);
       std::push_heap(draw_list_.begin(), draw_list_.end(), laterFirst<Entry>);
     } else {
-      drawEntry(entry, hierarchy, draw);
+      drawEntry(entry);
     }
   }
   const std::uint32_t children = hierarchy.childCount(entry.node);
-  for (std::uint32_t c = 0; c < children; ++c) pushTest(hierarchy, hierarchy.child(entry.node, c));
+  for (std::uint32_t c = 0; c < children; ++c) pushTest(hierarchy.child(entry.node, c));
 }
 
-void Culler::resolvePending(const Hierarchy& hierarchy, const DrawCallback& draw) {
+void Culler::resolvePending() {
   // One batch for every box set aside: the renderer is waited for once.
   tester_->submitBatch();
   sources_.depth->collect();
@@ -401,9 +546,15 @@ void Culler::resolvePending(const Hierarchy& hierarchy, const DrawCallback& draw
   std::vector<Entry> batch;
   batch.swap(pending_);
   for (std::size_t i = 0; i < batch.size(); ++i) {
-    const Visibility v = tester_->resolve(i, grid_counts_);
-    if (v == Visibility::Occluded) ++stats_.boxes_occluded;
-    finish(batch[i], v, hierarchy, draw);
+    Visibility v = tester_->resolve(i, grid_counts_);
+    if (v == Visibility::Occluded && batch[i].by_state && !orderVouches(batch[i])) {
+      // Planned as "any drawn pixel hides it", but something was drawn behind it since
+      // (announced out of order): no longer sound. Tested again, by depth.
+      test_list_.push_back(batch[i]);
+      std::push_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
+      continue;
+    }
+    decided(batch[i], v);
   }
   tester_->clearBatch();
   batch.clear();
@@ -415,20 +566,23 @@ void Culler::resolvePending(const Hierarchy& hierarchy, const DrawCallback& draw
   deferred_.clear();
 }
 
-void Culler::drawEntry(const Entry& entry, const Hierarchy& hierarchy, const DrawCallback& draw) {
+void Culler::drawEntry(const Entry& entry) {
   if (!drawn_first_.empty() &&
       std::binary_search(drawn_first_.begin(), drawn_first_.end(), entry.node)) {
     return;  // drawn before the traversal (temporal coherence)
   }
-  const std::uint32_t n = hierarchy.objectCount(entry.node);
-  for (std::uint32_t i = 0; i < n; ++i) draw(hierarchy.object(entry.node, i));
+  const std::uint32_t n = hierarchy_->objectCount(entry.node);
+  for (std::uint32_t i = 0; i < n; ++i) batch_.push_back(hierarchy_->object(entry.node, i));
   stats_.objects_drawn += n;
   ++stats_.leaves_drawn;
   noteDrawnWith({entry.projection.rect, entry.projection.far_key + entry.projection.margin}, true);
+  batch_areas_.push_back(
+      {{entry.projection.rect, entry.projection.far_key + entry.projection.margin}, true});
   if (observer_) observer_->onDrawn(entry.node, entry.projection);
 }
 
-void Culler::drawCoherent(const Hierarchy& hierarchy, const DrawCallback& draw) {
+void Culler::drawCoherent() {
+  const Hierarchy& hierarchy = *hierarchy_;
   if (coherent_hierarchy_ != &hierarchy || coherent_revision_ != hierarchy.revision()) {
     coherent_.clear();
   }
@@ -436,17 +590,17 @@ void Culler::drawCoherent(const Hierarchy& hierarchy, const DrawCallback& draw) 
     const BoxProjection p = projector_->project(hierarchy.bounds(node));
     if (p.cls == ProjectionClass::Outside) continue;
     const std::uint32_t n = hierarchy.objectCount(node);
-    for (std::uint32_t i = 0; i < n; ++i) draw(hierarchy.object(node, i));
+    for (std::uint32_t i = 0; i < n; ++i) batch_.push_back(hierarchy.object(node, i));
     stats_.objects_drawn += n;
     ++stats_.leaves_drawn;
     ++stats_.coherent_leaves;
     drawn_first_.push_back(node);
     // Drawn out of order: later occlusion-state tests of boxes in front of it go by depth.
     noteDrawnWith({p.rect, p.far_key + p.margin}, false);
+    batch_areas_.push_back({{p.rect, p.far_key + p.margin}, false});
     if (observer_) observer_->onDrawn(node, p);
   }
   std::sort(drawn_first_.begin(), drawn_first_.end());
-  if (!drawn_first_.empty()) tester_->refreshOutdated(grid_counts_);
 }
 
 void Culler::noteDrawnWith(const DrawnArea& area, bool ordered) {
@@ -465,6 +619,7 @@ void Culler::noteDrawnWith(const DrawnArea& area, bool ordered) {
   if (sources_.depth) sources_.depth->noteDraw();
   if (sources_.queries) sources_.queries->noteDraw();
   tester_->noteDrawn(r);
+  if (tester_->readsAfterDraw()) after_draw_.push_back(r);
 }
 
 void Culler::requireFrame(const char* who) const {
@@ -508,6 +663,15 @@ void Culler::noteDepthCleared(float window_depth) {
   // depth: occlusion-state tests of boxes in front of it must go by depth.
   drawn_back_ = key < projector_->clearKey() ? key : kNothingDrawn;
   unordered_.clear();
+  // The batch being drawn may be drawn partly after the clear: it counts as drawn again.
+  for (const BatchArea& b : batch_areas_) noteDrawnWith(b.area, b.ordered);
+  // What was found hidden while it waited to be drawn is placed after it: tested again.
+  for (const Entry& e : culled_undrawn_) {
+    test_list_.push_back(e);
+    std::push_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
+  }
+  culled_undrawn_.clear();
+  if (query_frame_) query_frame_->reconsiderCulled(*schedule_);
 }
 
 void Culler::forgetCoherence() {

@@ -52,7 +52,7 @@ class ChcSchedule final : public Schedule {
   ChcSchedule(std::uint32_t batch, std::uint32_t visible_interval)
       : batch_(batch), interval_(visible_interval) {}
 
-  void run(QueryFrame& f) override {
+  void begin(QueryFrame& f) override {
     distance_.clear();
     queries_.clear();
     v_queue_.clear();
@@ -61,19 +61,22 @@ class ChcSchedule final : public Schedule {
       memory_[root->id].parent = kNoNode;
       distance_.push_back(std::move(*root));
     }
+  }
+
+  bool resume(QueryFrame& f) override {
     while (!distance_.empty() || !queries_.empty() || !i_queue_.empty() || !v_queue_.empty()) {
       // Answers that are there; while waiting with nothing to traverse, issue what waits.
       while (!queries_.empty()) {
         if (f.ready(queries_.front().handle)) {
-          handle(f);
+          if (!handle(f)) return false;
         } else if (!distance_.empty()) {
           break;  // traverse meanwhile
         } else if (!i_queue_.empty()) {
           issueBatch(f);
         } else if (!v_queue_.empty()) {
-          issueVisible(f, 1);  // §3.1: fill the wait
-        } else {
-          handle(f);  // nothing left to do but wait
+          issueVisible(f, 1);     // §3.1: fill the wait
+        } else if (!handle(f)) {  // nothing left to do but wait
+          return false;
         }
       }
       if (!distance_.empty()) {
@@ -87,8 +90,13 @@ class ChcSchedule final : public Schedule {
         issueVisible(f, v_queue_.size());  // the end of the frame
       }
     }
+    return true;
   }
 
+  void reconsider(QueryFrame&, QueryNode node) override {
+    distance_.push_back(std::move(node));
+    std::push_heap(distance_.begin(), distance_.end(), fartherFirst);
+  }
   void forget() override { memory_.clear(); }
 
  private:
@@ -159,7 +167,10 @@ class ChcSchedule final : public Schedule {
     }
   }
 
-  void handle(QueryFrame& f) {
+  // The answer of the oldest query; false (nothing done) if it must wait for the objects
+  // handed out to be drawn.
+  bool handle(QueryFrame& f) {
+    if (!f.answerable(queries_.front().handle)) return false;
     Pending p = std::move(queries_.front());
     queries_.pop_front();
     const Visibility v = f.answer(p.handle);
@@ -169,12 +180,12 @@ class ChcSchedule final : public Schedule {
       } else {
         for (const QueryNode& n : p.nodes) occluded(f, n);
       }
-      return;
+      return true;
     }
     QueryNode& n = p.nodes.front();
     if (v != Visibility::Visible) {
       occluded(f, n);
-      return;
+      return true;
     }
     f.tested(n, v);
     Record& r = memory_[n.id];
@@ -186,6 +197,7 @@ class ChcSchedule final : public Schedule {
       traverse(f, n);
     }
     pullUp(n.id);
+    return true;
   }
 
   void occluded(QueryFrame& f, const QueryNode& n) {

@@ -9,8 +9,7 @@ namespace logrid::detail {
 QueryFrame::QueryFrame(const Wiring& wiring, std::uint32_t frame)
     : w_(wiring),
       frame_(frame),
-      pixels_(wiring.projector->camera().width * wiring.projector->camera().height),
-      epoch_at_start_(*wiring.clear_epoch) {}
+      pixels_(wiring.projector->camera().width * wiring.projector->camera().height) {}
 
 QueryNode QueryFrame::project(NodeId node) const {
   QueryNode n;
@@ -59,6 +58,7 @@ std::optional<Visibility> QueryFrame::withoutQuery(QueryNode& n) {
     if (const auto decided = w_.prefilter->decide(n.projection)) {
       ++w_.stats->records_decided;
       tested(n, *decided);
+      if (*decided == Visibility::Occluded && undrawn()) culled_undrawn_.push_back(n);
       return decided;
     }
   }
@@ -77,40 +77,71 @@ std::optional<Visibility> QueryFrame::withoutQuery(QueryNode& n) {
 
 QueryHandle QueryFrame::issue(const QueryNode* const* nodes, std::size_t count) {
   assert(count > 0 && "QueryFrame::issue: a query needs a node");
-  QueryHandle h;
+  Slot slot;
   if (w_.shape == QueryShape::Box) {
-    boxes_.clear();
+    slot.first = boxes_.size();
     for (std::size_t i = 0; i < count; ++i) {
       assert(nodes[i]->box && "QueryFrame::issue: call withoutQuery() first");
       boxes_.push_back(*nodes[i]->box);
     }
-    h = w_.queries->issueBoxes(boxes_.data(), boxes_.size());
   } else {
-    rects_.clear();
+    slot.first = rects_.size();
     for (std::size_t i = 0; i < count; ++i) {
       const BoxProjection& p = nodes[i]->projection;
       rects_.push_back({p.rect, p.occlusionThreshold()});
     }
-    h = w_.queries->issueRects(rects_.data(), rects_.size());
   }
+  slot.count = count;
   if (count > 1) ++w_.stats->multi_queries;
-  if (*w_.clear_epoch != epoch_at_start_) issued_epoch_[h] = *w_.clear_epoch;
-  return h;
+  const QueryHandle local = QueryHandle(slots_.size());
+  slots_.push_back(slot);
+  deferred_.push_back(local);
+  if (!undrawn()) flushDeferred();
+  return local;
 }
 
-bool QueryFrame::ready(QueryHandle handle) { return w_.queries->ready(handle); }
+void QueryFrame::send(QueryHandle local) {
+  Slot& slot = slots_[local];
+  slot.handle = w_.shape == QueryShape::Box
+                    ? w_.queries->issueBoxes(boxes_.data() + slot.first, slot.count)
+                    : w_.queries->issueRects(rects_.data() + slot.first, slot.count);
+  slot.sent = true;
+  slot.epoch = *w_.clear_epoch;
+}
 
-Visibility QueryFrame::answer(QueryHandle handle) {
+void QueryFrame::flushDeferred() {
+  for (QueryHandle local : deferred_) send(local);
+  deferred_.clear();
+  boxes_.clear();  // nothing recorded waits any more
+  rects_.clear();
+  culled_undrawn_.clear();
+}
+
+void QueryFrame::reconsiderCulled(Schedule& schedule) {
+  for (QueryNode& n : culled_undrawn_) schedule.reconsider(*this, std::move(n));
+  culled_undrawn_.clear();
+}
+
+bool QueryFrame::ready(QueryHandle local) {
+  const Slot& slot = slots_[local];
+  return slot.sent && w_.queries->ready(slot.handle);
+}
+
+bool QueryFrame::answerable(QueryHandle local) {
+  (void)local;
+  if (undrawn()) return false;
+  flushDeferred();
+  return true;
+}
+
+Visibility QueryFrame::answer(QueryHandle local) {
+  assert(answerable(local) && "QueryFrame::answer: the objects handed out must be drawn first");
   // log+hwq: the wait flushes the renderer anyway; bring the records the schedule asked
   // about up to date first, so that the boxes after this wait find them decided.
   if (w_.prefilter) w_.prefilter->refresh();
-  const std::uint32_t count = w_.queries->result(handle);
-  if (*w_.clear_epoch != epoch_at_start_) {
-    const auto it = issued_epoch_.find(handle);
-    const std::uint64_t issued = it == issued_epoch_.end() ? epoch_at_start_ : it->second;
-    if (it != issued_epoch_.end()) issued_epoch_.erase(it);
-    if (issued != *w_.clear_epoch) return Visibility::Visible;  // cleared since
-  }
+  const Slot& slot = slots_[local];
+  const std::uint32_t count = w_.queries->result(slot.handle);
+  if (slot.epoch != *w_.clear_epoch) return Visibility::Visible;  // cleared since
   return count > 0 ? Visibility::Visible : Visibility::Occluded;
 }
 

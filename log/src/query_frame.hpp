@@ -66,6 +66,7 @@ class NodeMemory {
 
 // log+hwq (query_prefilter.cpp): the lazy grid's records decide what they can.
 class GridPrefilter;
+class Schedule;
 
 class QueryFrame {
  public:
@@ -79,6 +80,9 @@ class QueryFrame {
     const std::uint64_t* clear_epoch = nullptr;  // advanced by each mid-frame depth clear
     std::function<void(const QueryNode&)> draw;  // the culler's draw of a node's objects
     std::function<void(const QueryNode&, Visibility)> observe;  // CullObserver::onTested
+    // Objects handed out to draw and not drawn yet (the culler's batch): a query issued
+    // now waits until they are drawn (flushDeferred()).
+    const std::vector<ObjectId>* undrawn = nullptr;
   };
   QueryFrame(const Wiring& wiring, std::uint32_t frame);
 
@@ -102,16 +106,31 @@ class QueryFrame {
   // (counted as a test). Nothing if a query must decide; then n.box is set.
   std::optional<Visibility> withoutQuery(QueryNode& n);
 
-  // Issues one query over the given nodes (each with its box set by withoutQuery()).
+  // Issues one query over the given nodes (each with its box set by withoutQuery()). While
+  // objects handed out to draw are not drawn yet, the query is only recorded and goes to
+  // the renderer once they are (flushDeferred()), so that it sees them as it would in
+  // draw order. The handle is the frame's own.
   QueryHandle issue(const QueryNode* const* nodes, std::size_t count);
   QueryHandle issue(const QueryNode& n) {
     const QueryNode* p = &n;
     return issue(&p, 1);
   }
+  // Is the answer there without waiting? (Never for a query not issued yet.)
   bool ready(QueryHandle handle);
+  // Can answer() be called now? Only once the objects handed out are drawn: what the
+  // answer decides comes after them in the frame (a depth clear while they are drawn
+  // makes earlier answers "visible"). If not, the schedule returns from resume() and is
+  // resumed once they are.
+  bool answerable(QueryHandle handle);
   // The answer, waited for if needed: Visible where any sample passed, or where the
   // depth buffer was cleared after the query was issued (its answer no longer holds).
+  // Precondition: answerable(handle).
   Visibility answer(QueryHandle handle);
+  // The objects handed out are drawn: the recorded queries go to the renderer, in order.
+  void flushDeferred();
+  // A depth clear while the objects handed out are drawn: the nodes log+hwq's records
+  // found hidden while they waited go back to the schedule (Schedule::reconsider).
+  void reconsiderCulled(Schedule& schedule);
 
   // Draws the node's objects (culler: callback, statistics, drawn area).
   void draw(const QueryNode& n) { w_.draw(n); }
@@ -119,22 +138,42 @@ class QueryFrame {
   void tested(const QueryNode& n, Visibility v);
 
  private:
+  bool undrawn() const { return w_.undrawn && !w_.undrawn->empty(); }
+  // Sends the recorded query `local` to the renderer.
+  void send(QueryHandle local);
+
+  // A query of this frame, by the frame's handle.
+  struct Slot {
+    QueryHandle handle = 0;  // the renderer's, once sent
+    bool sent = false;
+    std::uint64_t epoch = 0;  // the clear epoch it was sent in
+    std::size_t first = 0;    // its boxes or rectangles in boxes_ / rects_ until sent
+    std::size_t count = 0;
+  };
   Wiring w_;
   std::uint32_t frame_;
   std::uint32_t pixels_;
-  std::uint64_t epoch_at_start_;
-  // Issue epochs of the queries in flight, only once a clear has happened this frame.
-  std::unordered_map<QueryHandle, std::uint64_t> issued_epoch_;
-  std::vector<QueryBox> boxes_;
-  std::vector<RectQuery> rects_;
+  std::vector<Slot> slots_;
+  std::vector<QueryHandle> deferred_;      // recorded, not sent, in issue order
+  std::vector<QueryNode> culled_undrawn_;  // hidden by log+hwq's records while undrawn
+  std::vector<QueryBox> boxes_;            // of the recorded queries (QueryShape::Box)
+  std::vector<RectQuery> rects_;           // of the recorded queries (QueryShape::Rect)
 };
 
 // A query schedule at work: a query method's traversal. One object per Culler; it keeps
-// its node memory across frames.
+// its node memory across frames. A frame is begun, then resumed until it is done: a
+// schedule returns from resume() (false) where it must wait for an answer that needs the
+// objects handed out to be drawn first (QueryFrame::answerable), and is resumed in the
+// same state once they are; so its state between calls lives in its members.
 class Schedule {
  public:
   virtual ~Schedule() = default;
-  virtual void run(QueryFrame& frame) = 0;
+  virtual void begin(QueryFrame& frame) = 0;
+  // True when the frame is done.
+  virtual bool resume(QueryFrame& frame) = 0;
+  // A node found hidden earlier in the frame is to be taken up again (a depth clear took
+  // away what hid it): back into the schedule's queue.
+  virtual void reconsider(QueryFrame& frame, QueryNode node) = 0;
   // The hierarchy changed (another object or revision): forget every node.
   virtual void forget() = 0;
 };

@@ -57,7 +57,7 @@ class NohcSchedule final : public Schedule {
     use_poll_ = hw.poll <= hw.query_setup;
   }
 
-  void run(QueryFrame& f) override {
+  void begin(QueryFrame& f) override {
     if (!subtrees_ready_) measureSubtrees(f.hierarchy());
     distance_.clear();
     queries_.clear();
@@ -67,8 +67,13 @@ class NohcSchedule final : public Schedule {
       memory_[root->id].parent = kNoNode;
       distance_.push_back(std::move(*root));
     }
+  }
+
+  bool resume(QueryFrame& f) override {
     while (!distance_.empty() || !queries_.empty()) {
-      while (!queries_.empty() && (distance_.empty() || firstFinished(f))) answer(f);
+      while (!queries_.empty() && (distance_.empty() || firstFinished(f))) {
+        if (!answer(f)) return false;
+      }
       if (distance_.empty()) continue;
       std::pop_heap(distance_.begin(), distance_.end(), fartherFirst);
       QueryNode n = std::move(distance_.back());
@@ -76,8 +81,13 @@ class NohcSchedule final : public Schedule {
       if (cancelled(f, n.id)) continue;
       visit(f, n);
     }
+    return true;
   }
 
+  void reconsider(QueryFrame&, QueryNode node) override {
+    distance_.push_back(std::move(node));
+    std::push_heap(distance_.begin(), distance_.end(), fartherFirst);
+  }
   void forget() override {
     memory_.clear();
     subtrees_ready_ = false;
@@ -267,11 +277,14 @@ class NohcSchedule final : public Schedule {
     }
   }
 
-  void answer(QueryFrame& f) {
+  // The answer of the oldest query; false (nothing done) if it must wait for the objects
+  // handed out to be drawn.
+  bool answer(QueryFrame& f) {
+    if (!f.answerable(queries_.front().handle)) return false;
     Pending p = std::move(queries_.front());
     queries_.pop_front();
     const Visibility v = f.answer(p.handle);
-    if (cancelled(f, p.node.id)) return;  // an ancestor was found occluded meanwhile
+    if (cancelled(f, p.node.id)) return true;  // an ancestor was found occluded meanwhile
     f.tested(p.node, v);
     if (v == Visibility::Visible) {
       memory_[p.node.id].state = State::Visible;
@@ -282,6 +295,7 @@ class NohcSchedule final : public Schedule {
       // Its subtree was queued at once: withdraw what is still queued of it.
       if (!p.wait) memory_[p.node.id].cancelled = f.frame();
     }
+    return true;
   }
 
   HardwareParameters hw_;

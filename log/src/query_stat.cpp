@@ -37,30 +37,42 @@ class StatSchedule final : public Schedule {
   StatSchedule(std::uint32_t in_flight, std::uint32_t base_frames)
       : in_flight_limit_(in_flight), base_(base_frames) {}
 
-  void run(QueryFrame& f) override {
+  void begin(QueryFrame& f) override {
     queue_.clear();
+    in_flight_.clear();
+    children_.clear();
+    answered_ = 0;
     if (auto root = f.root()) queue_.push_back(std::move(*root));
-    while (!queue_.empty()) {
-      // First pass: down the queue until enough queries are in flight.
-      while (!queue_.empty() && in_flight_.size() < in_flight_limit_) {
-        QueryNode n = std::move(queue_.front());
-        queue_.pop_front();
-        switch (action(f, n)) {
-          case Action::Skip: break;
-          case Action::Render:
-            render(f, n, children_);
-            insertFront(children_);
-            break;
-          case Action::Query: {
-            const QueryHandle h = f.issue(n);
-            in_flight_.push_back({std::move(n), h});
-            break;
+  }
+
+  bool resume(QueryFrame& f) override {
+    for (;;) {
+      if (in_flight_.empty()) {
+        if (queue_.empty()) return true;
+        // First pass: down the queue until enough queries are in flight.
+        while (!queue_.empty() && in_flight_.size() < in_flight_limit_) {
+          QueryNode n = std::move(queue_.front());
+          queue_.pop_front();
+          switch (action(f, n)) {
+            case Action::Skip: break;
+            case Action::Render:
+              render(f, n, children_);
+              insertFront(children_);
+              break;
+            case Action::Query: {
+              const QueryHandle h = f.issue(n);
+              in_flight_.push_back({std::move(n), h});
+              break;
+            }
           }
         }
+        answered_ = 0;
+        children_.clear();
       }
       // Second pass: every query in flight, in the order issued.
-      children_.clear();
-      for (Flight& q : in_flight_) {
+      for (; answered_ < in_flight_.size(); ++answered_) {
+        Flight& q = in_flight_[answered_];
+        if (!f.answerable(q.handle)) return false;
         const Visibility v = f.answer(q.handle);
         f.tested(q.node, v);
         save(f, q.node.id, v == Visibility::Visible);
@@ -71,6 +83,7 @@ class StatSchedule final : public Schedule {
     }
   }
 
+  void reconsider(QueryFrame&, QueryNode node) override { queue_.push_front(std::move(node)); }
   void forget() override { memory_.clear(); }
 
  private:
@@ -128,6 +141,7 @@ class StatSchedule final : public Schedule {
   NodeMemory<Record> memory_;
   std::deque<QueryNode> queue_;
   std::vector<Flight> in_flight_;
+  std::size_t answered_ = 0;  // of in_flight_, in the second pass
   std::vector<QueryNode> children_;
 };
 

@@ -37,6 +37,11 @@ class GridTester final : public BoxTester {
   Visibility test(const PixelRect& rect, float threshold, GridTestCounts& counts) override {
     return grid_->test(rect, threshold, *source_, counts);
   }
+  bool mayRead(const PixelRect& rect, float threshold) override {
+    if (desc_.approximation.visible_pixels > 0) return true;  // counting tests read
+    GridTestCounts scratch;  // what steps 1 and 2 of test() decide, without a read
+    return !grid_->plan(rect, threshold, source_->traits(), nullptr, scratch);
+  }
   std::optional<Visibility> plan(const PixelRect& rect, float threshold, GridTestCounts& counts,
                                  bool read) override {
     return grid_->plan(rect, threshold, source_->traits(), read ? &batch_ : nullptr, counts);
@@ -48,12 +53,10 @@ class GridTester final : public BoxTester {
   }
   void clearBatch() override { batch_.clear(); }
   void noteDrawn(const PixelRect& rect) override {
-    if (refresh_ == GridRefresh::Busy) {
-      grid_->refreshNow(rect, *source_);
-    } else {
-      grid_->markOutdated(rect);
-    }
+    if (refresh_ == GridRefresh::Lazy) grid_->markOutdated(rect);
   }
+  bool readsAfterDraw() const override { return refresh_ == GridRefresh::Busy; }
+  void afterDraw(const PixelRect& rect) override { grid_->refreshNow(rect, *source_); }
   void noteCleared(float key) override { grid_->fill(key); }
   void refreshOutdated(GridTestCounts& counts) override {
     grid_->refreshOutdated(*source_, counts);
@@ -93,7 +96,9 @@ class PyramidTester final : public BoxTester {
   Visibility test(const PixelRect& rect, float threshold, GridTestCounts& counts) override {
     return pyramid_->test(rect, threshold, counts.tiles_tested);
   }
-  void noteDrawn(const PixelRect& rect) override { pyramid_->update(rect, *source_); }
+  void noteDrawn(const PixelRect&) override {}
+  bool readsAfterDraw() const override { return true; }
+  void afterDraw(const PixelRect& rect) override { pyramid_->update(rect, *source_); }
   void noteCleared(float key) override { pyramid_->reset(key); }
 
  private:
@@ -113,6 +118,7 @@ class RectCountTester final : public BoxTester {
     assert(source_ && "RectCountTester: the culler checks that the method's depth source is given");
     clearBatch();
   }
+  bool mayRead(const PixelRect&, float) override { return true; }
   Visibility test(const PixelRect& rect, float threshold, GridTestCounts& counts) override {
     std::uint32_t count = 0;
     source_->countAtOrBeyond(&rect, 1, threshold, &count);

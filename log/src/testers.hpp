@@ -23,6 +23,13 @@ class BoxTester {
   virtual void beginFrame(const Camera& camera, float clear_key, const CullSources& sources) = 0;
   // Is any pixel of `rect` at or beyond `threshold`? Tested on its own.
   virtual Visibility test(const PixelRect& rect, float threshold, GridTestCounts& counts) = 0;
+  // Would test() read the depth source (then what was handed out to draw must be drawn
+  // first)? Counts nothing.
+  virtual bool mayRead(const PixelRect& rect, float threshold) {
+    (void)rect;
+    (void)threshold;
+    return false;
+  }
 
   // Batched tests, for methods that take a lookahead: plan() answers at once what needs
   // no read, else (if `read`) adds the test to the batch; submitBatch(), the source's
@@ -35,8 +42,12 @@ class BoxTester {
   virtual Visibility resolve(std::size_t index, GridTestCounts& counts);
   virtual void clearBatch() {}
 
-  // Something was drawn over `rect` (clipped to the viewport).
+  // Something is drawn over `rect` (clipped to the viewport): bookkeeping at once.
   virtual void noteDrawn(const PixelRect& rect) = 0;
+  // Testers that read what was drawn right after the draw (busy grid, pyramid): the
+  // culler calls afterDraw() once it is drawn, before any test.
+  virtual bool readsAfterDraw() const { return false; }
+  virtual void afterDraw(const PixelRect& rect) { (void)rect; }
   // The depth buffer was cleared mid-frame to `key`.
   virtual void noteCleared(float key) = 0;
   // Brings every outdated record up to date in one batch (temporal coherence).

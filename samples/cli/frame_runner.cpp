@@ -386,8 +386,18 @@ FrameRecord FrameRunner::render(const CameraPose& pose, std::size_t frame, bool 
   } else {
     reader_->beginFrame(camera);
     if (hooks.before_cull) hooks.before_cull();
-    rec.stats = culler_->cullFrame(camera, hierarchy(),
-                                   {&reader_->source(), queries_.get(), occluders_.get()}, draw);
+    // The pull form (the callback form is a loop over it): each batch drawn, then the next.
+    culler_->beginFrame(camera, hierarchy(),
+                        {&reader_->source(), queries_.get(), occluders_.get()});
+    try {
+      for (DrawBatch batch = culler_->nextBatch(); !batch.empty(); batch = culler_->nextBatch()) {
+        for (ObjectId id : batch) draw(id);
+      }
+    } catch (...) {
+      culler_->abandonFrame();  // a draw failed: the runner stays usable (the viewer goes on)
+      throw;
+    }
+    rec.stats = culler_->endFrame();
     if (occluders_) rec.occluders = std::int64_t(rec.stats.occluders);
     if (auto* cpu = dynamic_cast<CpuFrameReader*>(reader_.get())) rec.cpu = cpu->takeFrameStats();
     if (hooks.after_cull) hooks.after_cull();

@@ -69,7 +69,7 @@ samples::RunConfig configFor(const samples::RunConfig& base, const CullSettings&
     if (!validateHardwareParameters(check.queries.hardware).empty()) {
       check.queries.hardware.render_setup = check.queries.hardware.query_setup = 1;
     }
-    const std::string problem = validateCullerDesc(check);
+    problem = validateCullerDesc(check);
     if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
   }
   return c;

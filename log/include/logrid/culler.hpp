@@ -1,12 +1,22 @@
 // The culler: walks a Hierarchy front to back for one camera, tests each box with the
 // method CullerDesc::method names (method.hpp), and hands the objects of every potentially
-// visible node to the application's draw callback.
+// visible node to the application to draw, in batches.
 //
-// Typical use, once per frame:
+// Typical use, once per frame, in either form:
 //
 //   glClear(GL_DEPTH_BUFFER_BIT | GL_COLOR_BUFFER_BIT);      // the frame starts cleared
+//   // pull: the application draws each batch as it likes (one multi-draw, a command list)
+//   culler.beginFrame(camera, hierarchy, {&depth_source});
+//   for (logrid::DrawBatch b = culler.nextBatch(); !b.empty(); b = culler.nextBatch())
+//     drawObjects(b.begin(), b.end());                        // with the depth test
+//   logrid::FrameStats stats = culler.endFrame();
+//   // callback: the same loop inside one call
 //   logrid::FrameStats stats = culler.cullFrame(camera, hierarchy, depth_source,
-//       [&](logrid::ObjectId id) { drawObject(id); });        // draws with the depth test
+//       [&](logrid::ObjectId id) { drawObject(id); });
+//
+// A batch holds what can be drawn before the next depth read or query needs it drawn:
+// the reads happen inside nextBatch(), so an application that records its draws (command
+// lists, a render graph, several threads) submits each batch before asking for the next.
 //
 // What a method reads, queries or draws first comes in one CullSources (its MethodInfo::
 // needs says which it must be given): a DepthSource for the methods that read the depth
@@ -15,12 +25,12 @@
 //
 //   stats = culler.cullFrame(camera, hierarchy, {&depth, &queries}, draw);   // log+hwq
 //
-// Contract for the frame: the depth buffer is cleared before cullFrame() (or what was
-// drawn into it before is announced in `drawn_before`), and everything drawn during it
-// is drawn through the callback, with a depth test that keeps the nearer fragment
+// Contract for the frame: the depth buffer is cleared before it begins (or what was drawn
+// into it before is announced in `drawn_before`), and everything drawn during it is what
+// the batches hand out, drawn with a depth test that keeps the nearer fragment
 // (GL_LESS/LEQUAL standard, GL_GREATER/GEQUAL reversed) and depth writes on. Anything
-// else drawn during the frame is announced from inside the callback with noteDrawn(),
-// and a depth clear with noteDepthCleared().
+// else drawn during the frame is announced with noteDrawn(), and a depth clear with
+// noteDepthCleared() (from the callback, or between batches).
 //
 // Traversals (MethodInfo::traversal; LOG §3, §4):
 //   * two-list, for methods with occlusion-state semantics (MethodInfo::semantics):
@@ -58,6 +68,8 @@
 // forgets them when the hierarchy object or its revision() changes.
 #pragma once
 
+#include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -150,7 +162,25 @@ struct MethodDef;
 class BoxTester;
 class Schedule;
 class GridPrefilter;
+class QueryFrame;
 }  // namespace detail
+
+// The objects of one batch of the pull form (Culler::nextBatch), in the order the
+// traversal handed them out. Valid until the next nextBatch() or endFrame().
+class DrawBatch {
+ public:
+  DrawBatch() = default;
+  DrawBatch(const ObjectId* first, std::size_t count) : first_(first), count_(count) {}
+  const ObjectId* begin() const { return first_; }
+  const ObjectId* end() const { return first_ + count_; }
+  std::size_t size() const { return count_; }
+  bool empty() const { return count_ == 0; }
+  ObjectId operator[](std::size_t i) const { return first_[i]; }
+
+ private:
+  const ObjectId* first_ = nullptr;
+  std::size_t count_ = 0;
+};
 
 class Culler {
  public:
@@ -162,30 +192,64 @@ class Culler {
 
   const CullerDesc& desc() const { return desc_; }
 
-  // Culls and draws one frame. `drawn_before`: what the application drew into the depth
-  // buffer after clearing it and before this call (e.g. occluders drawn first); the
-  // grid starts with those tiles outdated. Throws logrid::Error for an invalid camera
-  // (validateCamera), a source the method needs but was not given (MethodInfo::needs), a
-  // depth source that cannot serve the camera or does not read the depth values the
-  // method needs; boxes with NaN or inverted bounds are drawn and counted in
-  // FrameStats::invalid_boxes.
+  // ---- The pull form: the application draws each batch however it likes. ----
+  //
+  //   culler.beginFrame(camera, hierarchy, sources);
+  //   for (logrid::DrawBatch batch = culler.nextBatch(); !batch.empty();
+  //        batch = culler.nextBatch())
+  //     for (logrid::ObjectId id : batch) drawObject(id);   // or one multi-draw, or threads
+  //   logrid::FrameStats stats = culler.endFrame();
+  //
+  // beginFrame() starts a frame (the same contract as cullFrame's, below). nextBatch()
+  // runs the traversal until it has objects to draw and a depth read or query needs them
+  // drawn first, or until the frame is done, and returns those objects (empty: done).
+  // Asking for the next batch says the last one is drawn: every object of it, with the
+  // depth test that keeps the nearer fragment and depth writes on, by any number of draw
+  // calls, in any order, from any thread the application synchronises before asking. The
+  // depth reads and queries of the frame happen inside nextBatch(), never between.
+  // Between batches the application may announce what else it drew (noteDrawn()) and a
+  // depth clear (noteDepthCleared()). `hierarchy` and the sources must live until
+  // endFrame(). Throws logrid::Error as cullFrame() does; an exception ends the frame.
+  void beginFrame(const Camera& camera, const Hierarchy& hierarchy, const CullSources& sources,
+                  const std::vector<DrawnArea>& drawn_before = {});
+  DrawBatch nextBatch();
+  // Ends the frame once nextBatch() returned an empty batch, and returns what it did
+  // (FrameStats::seconds: from beginFrame() to here, the application's drawing included).
+  // Throws logrid::Error (and abandons the frame) if the traversal is not done.
+  FrameStats endFrame();
+  // Ends a frame early (the application gave up on it, e.g. after an error of its own):
+  // what was not handed out is not drawn, and the next beginFrame() starts afresh. Does
+  // nothing outside a frame.
+  void abandonFrame();
+
+  // ---- The callback form: one call, a loop over the pull form. ----
+  //
+  // Culls and draws one frame: `draw` is called for each object of each batch, in order.
+  // `drawn_before`: what the application drew into the depth buffer after clearing it
+  // and before this call (e.g. occluders drawn first); the grid starts with those tiles
+  // outdated. Throws logrid::Error for an invalid camera (validateCamera), a source the
+  // method needs but was not given (MethodInfo::needs), a depth source that cannot serve
+  // the camera or does not read the depth values the method needs; boxes with NaN or
+  // inverted bounds are drawn and counted in FrameStats::invalid_boxes.
   FrameStats cullFrame(const Camera& camera, const Hierarchy& hierarchy, const CullSources& sources,
                        const DrawCallback& draw, const std::vector<DrawnArea>& drawn_before = {});
   // The same for the methods that need a depth source and nothing else.
   FrameStats cullFrame(const Camera& camera, const Hierarchy& hierarchy, DepthSource& depth,
                        const DrawCallback& draw, const std::vector<DrawnArea>& drawn_before = {});
 
-  // For use inside the draw callback (outside cullFrame() they throw logrid::Error):
-  // the application drew something more than the callback's own object, over `area`
-  // (e.g. a decal or a particle beside it), or over the pixels of a world-space box.
+  // During a frame (from the draw callback, or between batches of the pull form; outside
+  // a frame they throw logrid::Error): the application drew something more than the
+  // culler's objects, over `area` (e.g. a decal or a particle beside them), or over the
+  // pixels of a world-space box.
   void noteDrawn(const DrawnArea& area);
   void noteDrawn(const Aabb& box);
   // ... or it cleared the depth buffer: to the convention's clear value, or to another
-  // window depth (as glClearDepth takes it).
+  // window depth (as glClearDepth takes it). A clear in the middle of a batch is safe:
+  // what the batch holds counts as drawn after it.
   void noteDepthCleared();
   void noteDepthCleared(float window_depth);
 
-  // The projection of a world-space box for this frame's camera (inside cullFrame()).
+  // The projection of a world-space box for this frame's camera (during a frame).
   BoxProjection project(const Aabb& box) const;
 
   // The grid of the last frame (nullptr for methods without one), for overlays.
@@ -200,27 +264,39 @@ class Culler {
     float order;  // test-list: nearest key - margin; draw-list: farthest key + margin
     NodeId node;
     BoxProjection projection;
+    bool by_state = false;  // pending: planned with the occlusion-state threshold
   };
+  // Where the frame's traversal stands between two batches.
+  enum class Phase : std::uint8_t { Coherent, CoherentRefresh, Traverse, Schedule, Done };
   void prepare(const Camera& camera, const CullSources& sources);
-  // Two-list or approximate front to back, with lookahead.
-  void traverse(const Hierarchy& hierarchy, const DrawCallback& draw);
-  // The query methods': their schedule, with log+hwq's grid as the pre-filter.
-  void runSchedule(const Hierarchy& hierarchy, const DrawCallback& draw);
-  void pushTest(const Hierarchy& hierarchy, NodeId node);
+  // Runs the frame until the batch must be drawn before going on, or the frame is done.
+  void advance();
+  // Two-list or approximate front to back, with lookahead: true when done, false when
+  // the batch must be drawn first.
+  bool traverse();
+  // Work that waits for the batch to be drawn (busy refreshes); false if it still waits.
+  bool afterBatchDrawn();
+  void pushTest(NodeId node);
   // Decides what needs no occlusion test (view culled, invalid, crossing the near
   // plane, no occlusion test for this method); nothing if the box must be tested.
   bool forced(const Entry& entry, Visibility& result);
   bool collidesWithPending(const PixelRect& rect) const;
-  float thresholdFor(const Entry& entry);
-  void finish(const Entry& entry, Visibility v, const Hierarchy& hierarchy,
-              const DrawCallback& draw);
-  void resolvePending(const Hierarchy& hierarchy, const DrawCallback& draw);
-  void drawEntry(const Entry& entry, const Hierarchy& hierarchy, const DrawCallback& draw);
-  void drawCoherent(const Hierarchy& hierarchy, const DrawCallback& draw);
+  // Does everything drawn so far lie in front of the box (occlusion-state semantics)?
+  bool orderVouches(const Entry& entry) const;
+  // The box's test threshold: the clear key where the order vouches (`by_state`), else
+  // its nearest key minus its margin.
+  float thresholdFor(const Entry& entry, bool& by_state) const;
+  void countFallback(bool by_state);  // FrameStats::order_fallbacks
+  // A test's answer: counted, and an occluded box remembered while the batch is undrawn.
+  void decided(const Entry& entry, Visibility v);
+  void finish(const Entry& entry, Visibility v);
+  void resolvePending();
+  void drawEntry(const Entry& entry);
+  void drawCoherent();
   // `ordered`: drawn in two-list order (in front of every box still to be tested, up to
   // rounding); else remembered in unordered_.
   void noteDrawnWith(const DrawnArea& area, bool ordered);
-  // Throws unless called during cullFrame().
+  // Throws unless called during a frame.
   void requireFrame(const char* who) const;
 
   CullerDesc desc_;
@@ -228,10 +304,25 @@ class Culler {
   std::unique_ptr<detail::BoxTester> tester_;
   std::unique_ptr<Projector> projector_;
   CullObserver* observer_ = nullptr;
+
+  // This frame's (from beginFrame() to endFrame()).
   bool in_frame_ = false;
-  CullSources sources_;  // this frame's (during cullFrame())
+  Phase phase_ = Phase::Done;
+  const Hierarchy* hierarchy_ = nullptr;
+  CullSources sources_;
+  std::chrono::steady_clock::time_point start_;
+  ReadCounters depth_before_;
+  QueryCounters queries_before_;
+  bool coherence_ = false;
   FrameStats stats_;
   GridTestCounts grid_counts_;
+  std::vector<ObjectId> batch_;  // handed out by the last nextBatch()
+  struct BatchArea {
+    DrawnArea area;
+    bool ordered;
+  };
+  std::vector<BatchArea> batch_areas_;  // the batch's leaves, noted again after a clear
+  std::vector<PixelRect> after_draw_;   // drawn; the tester reads them once drawn (busy)
   float drawn_back_ = 0;  // farthest key + margin of what was drawn in order so far this
                           // frame (and of unordered areas beyond kMaxUnorderedAreas)
   std::vector<DrawnArea> unordered_;       // drawn out of order this frame (clipped rects)
@@ -239,8 +330,11 @@ class Culler {
   std::uint32_t lookahead_ = 1;            // this frame's
   std::vector<Entry> test_list_;
   std::vector<Entry> draw_list_;
-  std::vector<Entry> pending_;   // set aside for the next batch, in test-list order
-  std::vector<Entry> deferred_;  // visible by the records behind pending_: test again
+  std::vector<Entry> pending_;         // set aside for the next batch, in test-list order
+  std::vector<Entry> deferred_;        // visible by the records behind pending_: test again
+  std::optional<Entry> testing_;       // taken off the test-list, its test may need the batch
+  std::vector<Entry> culled_undrawn_;  // found occluded while the batch waits to be drawn
+  bool resolve_due_ = false;           // pending_ is to be read and resolved
   // Temporal coherence: last frame's visible leaves, for which hierarchy.
   std::vector<NodeId> coherent_;
   std::vector<NodeId> visible_leaves_;  // this frame's
@@ -250,6 +344,8 @@ class Culler {
   // Query methods: the schedule and its frame count, for which hierarchy; mid-frame
   // depth clears (answers issued before one no longer hold).
   std::unique_ptr<detail::Schedule> schedule_;
+  std::unique_ptr<detail::GridPrefilter> prefilter_;  // log+hwq, this frame's
+  std::unique_ptr<detail::QueryFrame> query_frame_;   // this frame's
   std::uint32_t schedule_frame_ = 0;
   const Hierarchy* schedule_hierarchy_ = nullptr;
   std::uint64_t schedule_revision_ = 0;
