@@ -5,15 +5,12 @@
 #include <cmath>
 #include <sstream>
 
+#include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
 #include "logrid/ternary_tree.hpp"
 
 namespace logrid::bvh {
 namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 void checkUpdate(const char* who, const MotionUpdate& u, std::size_t objects) {
   if (!u.boxes || !u.moved) {

@@ -8,6 +8,7 @@
 #include <limits>
 #include <sstream>
 
+#include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
 
 namespace logrid::bvh {
@@ -62,10 +63,6 @@ std::uint64_t nextTreeRevision() {
 
 // Rows of a tall rectangle a pixel-reading source counts for the statistics (measure()).
 constexpr std::int32_t kSampledRows = 8;
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 }  // namespace
 

@@ -11,6 +11,7 @@
 #include <thread>
 #include <utility>
 
+#include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
 #include "raster/raster_triangle.hpp"
 #include "triangle_setup.hpp"
@@ -82,10 +83,6 @@ std::string validateOcclusionBufferDesc(const OcclusionBufferDesc& d) {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // Bins are tiles of the buffer, kBinViewport viewport pixels on a side at full resolution
 // (a grid tile of the default size), never narrower than one 8-wide store.

@@ -3,14 +3,9 @@
 #include <cassert>
 #include <chrono>
 
+#include "logrid/elapsed.hpp"
+
 namespace logrid::cpu {
-namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-}  // namespace
 
 void PixelReader::submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) {
   if (count == 0) return;

@@ -8,6 +8,7 @@
 #include <limits>
 #include <sstream>
 
+#include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
 #include "methods/method_def.hpp"
 #include "query_frame.hpp"
@@ -77,10 +78,6 @@ namespace {
 template <typename E>
 bool laterFirst(const E& a, const E& b) {
   return a.order > b.order;
-}
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 constexpr float kNothingDrawn = -std::numeric_limits<float>::infinity();

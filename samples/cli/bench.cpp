@@ -3,26 +3,28 @@
 // ratios that matter, the depth readers side by side, plots, and where the targets of
 // the benchmark issue stand. `--tradeoff` runs the speed-for-accuracy sweep instead
 // (tradeoff.cpp), `--traversal` the lookahead / coherence / reader sweep
-// (traversal_sweep.cpp).
+// (traversal_sweep.cpp), `--motion` the hierarchies for moving objects (bench_motion.cpp);
+// all four run on the skeleton of experiment.hpp.
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
-#include <ctime>
-#include <filesystem>
+#include <iterator>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "cli/bench_motion.hpp"
 #include "cli/commands.hpp"
-#include "cli/common.hpp"
 #include "cli/experiment.hpp"
+#include "cli/option_checks.hpp"
 #include "cli/plot.hpp"
 #include "cli/readers.hpp"
 #include "cli/report.hpp"
 #include "cli/tradeoff.hpp"
 #include "cli/traversal_sweep.hpp"
+#include "cli/values.hpp"
 #include "logrid/error.hpp"
 #include "logrid/method.hpp"
+#include "scene/generators.hpp"
 
 namespace logrid::samples {
 namespace {
@@ -104,10 +106,12 @@ struct Row {
   bool conservative = true;
 };
 
-// A table row from a configuration's result and its runSummary().
-Row makeRow(const std::string& label, const ConfigResult& r, const nlohmann::json& s) {
+// A table row from a configuration's outcome.
+Row makeRow(const Measured& m) {
+  const ConfigResult& r = m.result;
+  const FrameAverages& a = m.frames;
   Row row;
-  row.label = label;
+  row.label = m.label;
   row.method = r.config.method.name();
   // Only methods that read the depth buffer use a reader (MethodNeeds::depth).
   row.reader = r.config.method.method && methodInfo(*r.config.method.method).needs.depth
@@ -115,26 +119,22 @@ Row makeRow(const std::string& label, const ConfigResult& r, const nlohmann::jso
                    : "–";
   row.ms = r.avg_ms();
   row.spread = r.spread();
-  row.objects = s["avg_drawn_objects"];
-  row.triangles = s["avg_drawn_triangles"];
-  row.pixels = s["avg_read_pixels"];
-  row.tiles_per_box = s["avg_tiles_per_box"];
-  row.read_share = row.ms > 0 ? s["avg_read_ms"].get<double>() / row.ms : 0;
-  double flushes = 0;
-  for (const FrameRecord& f : r.records) flushes += double(f.stats.flushes);
-  row.flushes = r.records.empty() ? 0 : flushes / double(r.records.size());
-  if (s.contains("avg_occluders")) row.occluders = s["avg_occluders"];
+  row.objects = a.objects;
+  row.triangles = a.triangles;
+  row.pixels = a.pixels_read;
+  row.tiles_per_box = a.tiles_per_box;
+  row.read_share = row.ms > 0 ? a.read_ms / row.ms : 0;
+  row.flushes = a.flushes;
+  if (a.occluders) row.occluders = *a.occluders;
   if (r.config.method.method && methodInfo(*r.config.method.method).needs.queries) {
     row.box_queries = true;
-    row.queries = s["avg_queries"];
-    row.query_waits = s["avg_query_waits"];
-    double boxes = 0;
-    for (const FrameRecord& f : r.records) boxes += double(f.stats.query_boxes);
-    row.query_boxes = r.records.empty() ? 0 : boxes / double(r.records.size());
+    row.queries = a.queries;
+    row.query_waits = a.query_waits;
+    row.query_boxes = a.query_boxes;
   }
-  if (s.contains("missed_visible_objects")) {
-    row.missed = s["missed_visible_objects"];
-    row.missed_artifacts = s["missed_depth_artifact_objects"];
+  if (a.verified) {
+    row.missed = a.missed;
+    row.missed_artifacts = a.missed_artifacts;
   }
   row.conservative = r.config.method.method && *r.config.method.method != Method::Vfc
                          ? r.config.culler.approximation.exact()
@@ -149,52 +149,28 @@ const Row* findRow(const std::vector<Row>& rows, const std::string& label) {
   return nullptr;
 }
 
-// The hardware-query methods of a cell (issue 12): queries and waits per frame, and the
-// papers' ratios: queries against hwq (Kovalčík & Sochor, CHC++), frame time against the
-// oracle (NOHC's Table 4 compares with an optimum). Nothing when no such method ran.
-void writeQueryTable(std::ostream& md, const std::vector<Row>& rows) {
-  const Row* hwq = findRow(rows, "hwq");
-  const Row* oracle = findRow(rows, "oracle");
-  bool any = false;
-  for (const Row& r : rows) any = any || r.box_queries;
-  if (!any) return;
-  md << "\nHardware occlusion queries (per frame; a multi-query counts once and draws several "
-        "boxes):\n\n"
-        "| method | queries | boxes queried | waited for | flushes | queries ÷ hwq | time ÷ hwq "
-        "| time ÷ oracle |\n|---|--:|--:|--:|--:|--:|--:|--:|\n";
-  for (const Row& r : rows) {
-    if (!r.box_queries) continue;
-    md << "| " << r.label << " | " << formatFixed(r.queries, 1) << " | "
-       << formatFixed(r.query_boxes, 1) << " | " << formatFixed(r.query_waits, 1) << " | "
-       << formatFixed(r.flushes, 1) << " | " << (hwq ? ratio(r.queries, hwq->queries) : "–")
-       << " | " << (hwq ? ratio(r.ms, hwq->ms) : "–") << " | "
-       << (oracle ? ratio(r.ms, oracle->ms) : "–") << " |\n";
-  }
+void writeMethodTable(std::ostream& md, const std::vector<Row>& rows) {
+  const std::vector<Column<Row>> columns = {
+      {"method", "---", [](const Row& r) { return r.label; }},
+      {"reader", "---", [](const Row& r) { return r.reader; }},
+      {"ms/frame", "--:", [](const Row& r) { return formatFixed(r.ms); }},
+      {"spread", "--:", [](const Row& r) { return formatFixed(100 * r.spread, 0) + "%"; }},
+      {"drawn objects", "--:", [](const Row& r) { return grouped(r.objects); }},
+      {"drawn triangles", "--:", [](const Row& r) { return grouped(r.triangles); }},
+      {"pixels read", "--:", [](const Row& r) { return grouped(r.pixels); }},
+      {"tiles/box", "--:",
+       [](const Row& r) { return r.tiles_per_box > 0 ? formatFixed(r.tiles_per_box) : "–"; }},
+      {"read share", "--:", [](const Row& r) { return formatFixed(100 * r.read_share, 0) + "%"; }},
+      {"flushes", "--:", [](const Row& r) { return formatFixed(r.flushes, 1); }},
+      {"missed", "--:", [](const Row& r) {
+         return (r.missed >= 0 ? std::to_string(r.missed) : "–") +
+                (r.missed_artifacts > 0 ? " (+" + std::to_string(r.missed_artifacts) + " artifact)"
+                                        : "");
+       }}};
+  writeTable(md, columns, rows);
 }
 
-// The markdown of one scene × size cell: the measured table, the ratios beside the
-// paper's, and the targets.
-void writeCell(std::ostream& md, const std::string& scene, std::uint32_t width,
-               std::uint32_t height, const std::vector<Row>& rows, const RunConfig& config,
-               std::size_t repeats, const std::string& plot_prefix) {
-  md << "\n### " << scene << " " << width << "×" << height << "\n\n";
-  md << framesAlong(config.frames, config.time_step) << ", " << repeats
-     << " interleaved repetitions; ms/frame is the average over frames of the per-frame median, "
-        "spread is (max − min) / median of the repetitions' averages.\n\n";
-  md << "| method | reader | ms/frame | spread | drawn objects | drawn triangles | pixels read "
-        "| tiles/box | read share | flushes | missed |\n";
-  md << "|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n";
-  for (const Row& r : rows) {
-    md << "| " << r.label << " | " << r.reader << " | " << formatFixed(r.ms) << " | "
-       << formatFixed(100 * r.spread, 0) << "% | " << grouped(r.objects) << " | "
-       << grouped(r.triangles) << " | " << grouped(r.pixels) << " | "
-       << (r.tiles_per_box > 0 ? formatFixed(r.tiles_per_box) : "–") << " | "
-       << formatFixed(100 * r.read_share, 0) << "% | " << formatFixed(r.flushes, 1) << " | "
-       << (r.missed >= 0 ? std::to_string(r.missed) : "–")
-       << (r.missed_artifacts > 0 ? " (+" + std::to_string(r.missed_artifacts) + " artifact)" : "")
-       << " |\n";
-  }
-
+void writeOccluderLines(std::ostream& md, const std::vector<Row>& rows) {
   for (const Row& r : rows) {
     if (r.occluders >= 0) {
       md << "\n"
@@ -204,24 +180,67 @@ void writeCell(std::ostream& md, const std::string& scene, std::uint32_t width,
          << " per frame.\n";
     }
   }
+}
 
-  writeQueryTable(md, rows);
+// The hardware-query methods of a cell (issue 12): queries and waits per frame, and the
+// papers' ratios: queries against hwq (Kovalčík & Sochor, CHC++), frame time against the
+// oracle (NOHC's Table 4 compares with an optimum). Nothing when no such method ran.
+void writeQueryTable(std::ostream& md, const std::vector<Row>& rows) {
+  std::vector<Row> queried;
+  std::copy_if(rows.begin(), rows.end(), std::back_inserter(queried),
+               [](const Row& r) { return r.box_queries; });
+  if (queried.empty()) return;
+  const Row* hwq = findRow(rows, "hwq");
+  const Row* oracle = findRow(rows, "oracle");
+  auto against = [](const Row* base, double Row::*field) {
+    return [base, field](const Row& r) { return base ? ratio(r.*field, base->*field) : "–"; };
+  };
+  md << "\nHardware occlusion queries (per frame; a multi-query counts once and draws several "
+        "boxes):\n\n";
+  writeTable<Row>(
+      md,
+      {{"method", "---", [](const Row& r) { return r.label; }},
+       {"queries", "--:", [](const Row& r) { return formatFixed(r.queries, 1); }},
+       {"boxes queried", "--:", [](const Row& r) { return formatFixed(r.query_boxes, 1); }},
+       {"waited for", "--:", [](const Row& r) { return formatFixed(r.query_waits, 1); }},
+       {"flushes", "--:", [](const Row& r) { return formatFixed(r.flushes, 1); }},
+       {"queries ÷ hwq", "--:", against(hwq, &Row::queries)},
+       {"time ÷ hwq", "--:", against(hwq, &Row::ms)},
+       {"time ÷ oracle", "--:", against(oracle, &Row::ms)}},
+      queried);
+}
 
-  const Row* log = findRow(rows, "log-state");
-  if (!log) return;
-  const PaperCell* paper = paperCell(scene, width);
-  md << "\nRatios against LOG (log-state, " << log->reader << ")"
+// Every method against LOG, beside the paper's Table 1 where it has the cell.
+void writeRatios(std::ostream& md, const std::vector<Row>& rows, const Row& log,
+                 const PaperCell* paper) {
+  md << "\nRatios against LOG (log-state, " << log.reader << ")"
      << (paper ? ", beside the paper's Table 1" : "") << ":\n\n";
-  md << "| method | pixels read ÷ LOG | paper | time ÷ LOG | paper |\n|---|--:|--:|--:|--:|\n";
-  for (const Row& r : rows) {
-    if (r.label == "log-state") continue;
-    const int col = paperColumn(r.label);
-    md << "| " << r.label << " | " << (r.pixels > 0 ? ratio(r.pixels, log->pixels) : "–") << " | "
-       << (paper && col >= 1 && col <= 3 ? ratio(paper->pixels[col], paper->pixels[0]) : "")
-       << " | " << ratio(r.ms, log->ms) << " | "
-       << (paper && col >= 1 ? ratio(paper->seconds[col], paper->seconds[0]) : "") << " |\n";
-  }
+  std::vector<Row> others;
+  std::copy_if(rows.begin(), rows.end(), std::back_inserter(others),
+               [](const Row& r) { return r.label != "log-state"; });
+  writeTable<Row>(
+      md,
+      {{"method", "---", [](const Row& r) { return r.label; }},
+       {"pixels read ÷ LOG",
+        "--:", [&log](const Row& r) { return r.pixels > 0 ? ratio(r.pixels, log.pixels) : "–"; }},
+       {"paper", "--:",
+        [paper](const Row& r) {
+          const int col = paperColumn(r.label);
+          return paper && col >= 1 && col <= 3 ? ratio(paper->pixels[col], paper->pixels[0])
+                                               : std::string();
+        }},
+       {"time ÷ LOG", "--:", [&log](const Row& r) { return ratio(r.ms, log.ms); }},
+       {"paper", "--:",
+        [paper](const Row& r) {
+          const int col = paperColumn(r.label);
+          return paper && col >= 1 ? ratio(paper->seconds[col], paper->seconds[0]) : std::string();
+        }}},
+      others);
+}
 
+// Where the targets of the benchmark issue stand in this cell.
+void writeTargets(std::ostream& md, const std::string& scene, const std::vector<Row>& rows,
+                  const Row& log, const PaperCell* paper) {
   md << "\nTargets (benchmark issue):\n\n";
   auto target = [&](bool met, const std::string& what) {
     md << "- " << (met ? "met" : "**not met**") << ": " << what << "\n";
@@ -230,8 +249,8 @@ void writeCell(std::ostream& md, const std::string& scene, std::uint32_t width,
     for (int col = 1; col <= 3; ++col) {
       const char* names[] = {"", "bog", "hzb", "pq"};
       const Row* other = findRow(rows, names[col]);
-      if (!other || log->pixels <= 0) continue;
-      const double ours = other->pixels / log->pixels;
+      if (!other || log.pixels <= 0) continue;
+      const double ours = other->pixels / log.pixels;
       const double theirs = paper->pixels[col] / paper->pixels[0];
       target(ours >= theirs, std::string(names[col]) + " reads " + formatFixed(ours, 1) +
                                  "× LOG's pixels (paper " + formatFixed(theirs, 1) + "×)");
@@ -239,217 +258,232 @@ void writeCell(std::ostream& md, const std::string& scene, std::uint32_t width,
   }
   for (const char* name : {"bog", "hzb", "pq", "vfc"}) {
     if (const Row* other = findRow(rows, name)) {
-      target(log->ms < other->ms, std::string("LOG faster than ") + name + ": " +
-                                      formatFixed(log->ms) + " vs " + formatFixed(other->ms) +
-                                      " ms (" + ratio(other->ms, log->ms) + ")");
+      target(log.ms < other->ms, std::string("LOG faster than ") + name + ": " +
+                                     formatFixed(log.ms) + " vs " + formatFixed(other->ms) +
+                                     " ms (" + ratio(other->ms, log.ms) + ")");
     }
   }
   const Row* vfc = findRow(rows, "vfc");
   if (scene == "city" && vfc) {
-    target(vfc->ms >= 20 * log->ms,
-           "city: LOG at least 20× faster than VFC: " + ratio(vfc->ms, log->ms));
+    target(vfc->ms >= 20 * log.ms,
+           "city: LOG at least 20× faster than VFC: " + ratio(vfc->ms, log.ms));
   }
   if (const Row* oracle = findRow(rows, "oracle")) {
-    target(log->ms <= 1.15 * oracle->ms,
-           "LOG within 1.15× of the oracle: " + ratio(log->ms, oracle->ms));
+    target(log.ms <= 1.15 * oracle->ms,
+           "LOG within 1.15× of the oracle: " + ratio(log.ms, oracle->ms));
   }
   if (const Row* both = findRow(rows, "ddo+log")) {
-    target(both->flushes < log->flushes,
+    target(both->flushes < log.flushes,
            "ddo+log makes fewer flushes than log-state: " + formatFixed(both->flushes, 1) + " vs " +
-               formatFixed(log->flushes, 1));
-    target(both->objects <= log->objects,
+               formatFixed(log.flushes, 1));
+    target(both->objects <= log.objects,
            "ddo+log draws no more objects than log-state: " + formatFixed(both->objects, 1) +
-               " vs " + formatFixed(log->objects, 1));
-    target(both->ms < log->ms, "ddo+log faster than log-state: " + formatFixed(both->ms) + " vs " +
-                                   formatFixed(log->ms) + " ms (" + ratio(both->ms, log->ms) + ")");
+               " vs " + formatFixed(log.objects, 1));
+    target(both->ms < log.ms, "ddo+log faster than log-state: " + formatFixed(both->ms) + " vs " +
+                                  formatFixed(log.ms) + " ms (" + ratio(both->ms, log.ms) + ")");
   }
   if (paper && paper->tiles_per_box > 0) {
-    target(log->tiles_per_box <= paper->tiles_per_box, "tiles tested per box at most the paper's " +
-                                                           formatFixed(paper->tiles_per_box, 1) +
-                                                           ": " + formatFixed(log->tiles_per_box));
-  }
-  if (!plot_prefix.empty()) {
-    md << "\n![frame time](" << plot_prefix << "_ms.png) ![pixels read](" << plot_prefix
-       << "_pixels.png)\n";
+    target(log.tiles_per_box <= paper->tiles_per_box, "tiles tested per box at most the paper's " +
+                                                          formatFixed(paper->tiles_per_box, 1) +
+                                                          ": " + formatFixed(log.tiles_per_box));
   }
 }
 
-int runBench(const BenchOptions& o) {
-  if (o.tradeoff)
-    return runTradeoff(o.walk, splitList(o.scenes), splitList(o.sizes), o.forest_scale,
-                       o.city_scale, o.repeat, o.markdown, o.json, o.plots);
-  if (o.motion.enabled) {
-    return runMotionBench(
-        o.motion, {o.walk, splitList(o.scenes), splitList(o.sizes), o.forest_scale, o.city_scale,
-                   o.repeat, o.warmup, !o.no_verify, o.markdown, o.json, o.plots});
-  }
-  if (o.traversal) {
-    TraversalSweepOptions t;
-    t.scenes = splitList(o.scenes);
-    t.sizes = splitList(o.sizes);
-    t.readers = {o.walk.reader};
-    for (const std::string& r : splitList(o.readers)) {
-      if (std::find(t.readers.begin(), t.readers.end(), r) == t.readers.end())
-        t.readers.push_back(r);
+// The markdown of one scene × size cell: the measured table, the ratios beside the
+// paper's, the targets and the plots.
+void writeCell(std::ostream& md, const std::string& scene, std::uint32_t width,
+               std::uint32_t height, const std::vector<Row>& rows, const RunConfig& config,
+               std::size_t repeats, const std::string& images) {
+  md << "\n### " << scene << " " << width << "×" << height << "\n\n";
+  md << framesAlong(config.frames, config.time_step) << ", " << repeats
+     << " interleaved repetitions; ms/frame is the average over frames of the per-frame median, "
+        "spread is (max − min) / median of the repetitions' averages.\n\n";
+  writeMethodTable(md, rows);
+  writeOccluderLines(md, rows);
+  writeQueryTable(md, rows);
+  const Row* log = findRow(rows, "log-state");
+  if (!log) return;
+  const PaperCell* paper = paperCell(scene, width);
+  writeRatios(md, rows, *log, paper);
+  writeTargets(md, scene, rows, *log, paper);
+  if (!images.empty()) md << "\n" << images << "\n";
+}
+
+// The cell's figures: the scene's description and every configuration's summary with its
+// frame times and pixels read per frame.
+nlohmann::json cellJson(const nlohmann::json& scene, std::uint32_t width, std::uint32_t height,
+                        const std::vector<Measured>& measured, const std::vector<Row>& rows) {
+  nlohmann::json cell = scene;
+  cell["width"] = width;
+  cell["height"] = height;
+  cell["configs"] = nlohmann::json::array();
+  const Row* log = findRow(rows, "log-state");
+  for (std::size_t c = 0; c < measured.size(); ++c) {
+    const ConfigResult& r = measured[c].result;
+    nlohmann::json j = runSummary(r.records, r.config, false);
+    std::vector<std::uint64_t> pixels;
+    for (const FrameRecord& f : r.records) pixels.push_back(f.stats.pixels_read);
+    j["label"] = rows[c].label;
+    j["avg_frame_ms"] = r.avg_ms();
+    j["spread"] = r.spread();
+    j["repetition_ms"] = r.repetition_ms;
+    j["frame_ms"] = r.frame_ms;
+    j["frame_read_pixels"] = pixels;
+    if (log) {
+      j["time_vs_log"] = log->ms > 0 ? rows[c].ms / log->ms : 0;
+      j["pixels_vs_log"] = log->pixels > 0 ? rows[c].pixels / log->pixels : 0;
     }
-    t.lookaheads = splitList(o.lookaheads);
-    t.forest_scale = o.forest_scale;
-    t.city_scale = o.city_scale;
-    t.repeat = o.repeat;
-    t.markdown = o.markdown;
-    t.json = o.json;
-    t.plots = o.plots;
-    return runTraversalSweep(o.walk, t);
+    cell["configs"].push_back(std::move(j));
   }
-  if (o.repeat < 1) throw Error(ErrorCode::InvalidArgument, "--repeat must be at least 1");
-  const std::vector<std::string> scenes = splitList(o.scenes);
-  const std::vector<std::string> sizes = splitList(o.sizes);
-  const std::vector<std::string> methods = splitList(o.methods);
-  const std::vector<std::string> readers = splitList(o.readers);
-  if (scenes.empty() || sizes.empty() || methods.empty()) {
-    throw Error(ErrorCode::InvalidArgument, "bench: --scenes, --sizes and --methods need an entry");
+  return cell;
+}
+
+// Frame time and pixels read per frame, a panel per method family, the oracle's frame
+// time as a band (fastest to slowest repetition) in each panel of frame times.
+void plotCell(const Experiment& e, const std::string& stem, const std::string& title,
+              const std::vector<Measured>& measured, const std::vector<Row>& rows) {
+  std::optional<PlotSeries> oracle;
+  for (const Measured& m : measured) {
+    const ConfigResult& r = m.result;
+    if (m.label == "oracle") oracle = {"oracle", r.frame_ms, {}, r.frame_ms_low, r.frame_ms_high};
   }
-  for (const std::string& s : sizes) parseSize(s);  // bad sizes fail before any work
+  const auto ms = familyPanels(
+      measured,
+      [](const Measured& m) -> std::optional<PlotSeries> {
+        if (m.label == "oracle") return std::nullopt;
+        return PlotSeries{m.label, m.result.frame_ms, {}, {}, {}};
+      },
+      oracle);
+  const auto px = familyPanels(measured, [&](const Measured& m) -> std::optional<PlotSeries> {
+    if (!(findRow(rows, m.label)->pixels > 0)) return std::nullopt;
+    PlotSeries s{m.label, {}, {}, {}, {}};
+    for (const FrameRecord& f : m.result.records) s.y.push_back(double(f.stats.pixels_read));
+    return s;
+  });
+  plotPanels(e.plotStem(stem + "_ms"), title + ": frame time",
+             {"frame", "ms", PlotScale::Auto, false, {}, true}, ms);
+  plotPanels(e.plotStem(stem + "_pixels"), title + ": depth pixels read",
+             {"frame", "pixels", PlotScale::Auto, false, {}, true}, px);
+}
+
+// The scene's heading: its size, hierarchy, and the DDO octree when it has one.
+void writeScene(std::ostream& md, const LoadedScene& scene, const WalkOptions& so) {
+  md << "\n## " << scene.prepared.name << "\n\n"
+     << grouped(double(scene.prepared.triangles)) << " triangles in "
+     << grouped(double(scene.prepared.mesh.draws.size())) << " objects (scale " << so.scale
+     << ", seed " << so.seed << "); hierarchy of " << scene.prepared.hierarchy.nodes().size()
+     << " nodes built in " << formatFixed(scene.prepared.bvh_build_ms, 0) << " ms; generated in "
+     << formatFixed(scene.generate_ms, 0) << " ms; peak memory "
+     << formatFixed(double(scene.peak_rss_bytes) / double(1 << 20), 0) << " MiB.\n";
+  if (scene.ddo) {
+    const ddo::Octree& octree = *scene.ddo->octree;
+    md << "DDO octree: " << octree.nodes().size() << " nodes, " << octree.params().regions
+       << " regions a face, "
+       << (scene.ddo->loaded
+               ? "loaded from " + scene.ddo->file + " in " + formatFixed(scene.ddo->load_ms, 0) +
+                     " ms"
+               : "built in " + formatFixed(scene.ddo->report.total_ms / 1000, 1) + " s with " +
+                     std::to_string(scene.ddo->report.threads) + " threads")
+       << "; masks " << formatFixed(double(octree.maskBytes()) / double(1 << 20), 1) << " MiB.\n";
+  }
+}
+
+constexpr const char* kIntro =
+    "Every method renders the same frames in turn (interleaved per frame), through the "
+    "same traversal and renderer; frame time is clear + cull + draw + glFinish. The "
+    "oracle draws exactly the objects an untimed ID pass found visible: the floor no "
+    "culling method can beat. `missed` counts visible objects a method did not draw, "
+    "checked on every frame of the first repetition against the object-ID oracle; "
+    "objects the ID pass shows only through fragments nearer than their own box allows "
+    "(llvmpipe's depth extrapolation on edge-on sliver triangles, see "
+    "logrid/gl/object_id_oracle.hpp) are counted apart as artifacts.\n";
+
+// The methods (each with the command's reader), then log-state with each other reader.
+std::vector<Variant> methodVariants(const std::vector<std::string>& methods,
+                                    const std::vector<std::string>& readers,
+                                    const std::string& reader) {
+  std::vector<Variant> out;
+  for (const std::string& m : methods) out.push_back({m, [m](WalkOptions& o) { o.method = m; }});
+  for (const std::string& r : readers) {
+    if (r == reader) continue;
+    out.push_back({"log-state (" + r + ")", [r](WalkOptions& o) {
+                     o.method = "log-state";
+                     o.reader = r;
+                   }});
+  }
+  return out;
+}
+
+int runMethods(const ExperimentOptions& eo, const std::vector<std::string>& methods,
+               const std::vector<std::string>& readers) {
+  if (methods.empty()) throw Error(ErrorCode::InvalidArgument, "bench: --methods needs an entry");
   for (const std::string& m : methods) {
     std::string problem;
     if (!parseMethodChoice(m, &problem))
       throw Error(ErrorCode::InvalidArgument, "bench: " + problem);
   }
-  if (!o.plots.empty()) std::filesystem::create_directories(o.plots);
-
-  gl::Context context(contextDesc(o.walk));
-  const nlohmann::json machine = machineInfo(context);
-  std::time_t now = std::time(nullptr);
-  char date[32];
-  std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
-
-  std::ostringstream md;
-  md << "# logrid benchmark\n\n";
-  md << "Machine: " << machineLine(machine) << ". " << date << ".\n\n";
-  md << "Command: `" << commandLine() << "`\n\n";
-  md << "Every method renders the same frames in turn (interleaved per frame), through the "
-        "same traversal and renderer; frame time is clear + cull + draw + glFinish. The "
-        "oracle draws exactly the objects an untimed ID pass found visible: the floor no "
-        "culling method can beat. `missed` counts visible objects a method did not draw, "
-        "checked on every frame of the first repetition against the object-ID oracle; "
-        "objects the ID pass shows only through fragments nearer than their own box allows "
-        "(llvmpipe's depth extrapolation on edge-on sliver triangles, see "
-        "logrid/gl/object_id_oracle.hpp) are counted apart as artifacts.\n";
-
-  nlohmann::json report = {{"command", commandLine()},
-                           {"machine", machine},
-                           {"date", date},
-                           {"repeat", o.repeat},
-                           {"cells", nlohmann::json::array()}};
+  Experiment e(eo, "bench", "logrid benchmark", kIntro);
+  e.report()["cells"] = nlohmann::json::array();
+  const std::vector<Variant> variants = methodVariants(methods, readers, eo.walk.reader);
   bool any_missed = false;
-  for (const std::string& scene_name : scenes) {
-    const WalkOptions so = optionsForScene(o.walk, scene_name, o.forest_scale, o.city_scale);
-    bool with_ddo = false;
-    for (const std::string& m : methods) with_ddo = with_ddo || needsDdo(m);
-    LoadedScene scene = loadScene(so, true, with_ddo);
+  for (const std::string& scene_name : eo.scenes) {
+    const WalkOptions so = e.sceneOptions(scene_name);
+    const LoadedScene scene = e.load(so, variants);
     const nlohmann::json described = scene.describe();
-    md << "\n## " << scene.prepared.name << "\n\n"
-       << grouped(double(scene.prepared.triangles)) << " triangles in "
-       << grouped(double(scene.prepared.mesh.draws.size())) << " objects (scale " << so.scale
-       << ", seed " << so.seed << "); hierarchy of " << scene.prepared.hierarchy.nodes().size()
-       << " nodes built in " << formatFixed(scene.prepared.bvh_build_ms, 0) << " ms; generated in "
-       << formatFixed(scene.generate_ms, 0) << " ms; peak memory "
-       << formatFixed(double(scene.peak_rss_bytes) / double(1 << 20), 0) << " MiB.\n";
-    if (scene.ddo) {
-      const ddo::Octree& octree = *scene.ddo->octree;
-      md << "DDO octree: " << octree.nodes().size() << " nodes, " << octree.params().regions
-         << " regions a face, "
-         << (scene.ddo->loaded
-                 ? "loaded from " + scene.ddo->file + " in " + formatFixed(scene.ddo->load_ms, 0) +
-                       " ms"
-                 : "built in " + formatFixed(scene.ddo->report.total_ms / 1000, 1) + " s with " +
-                       std::to_string(scene.ddo->report.threads) + " threads")
-         << "; masks " << formatFixed(double(octree.maskBytes()) / double(1 << 20), 1) << " MiB.\n";
-    }
-
-    for (const std::string& size : sizes) {
-      std::vector<RunConfig> configs;
-      std::vector<std::string> labels;
-      auto add = [&](const std::string& method, const std::string& reader,
-                     const std::string& label) {
-        WalkOptions mo = so;
-        mo.method = method;
-        mo.reader = reader;
-        mo.size = size;
-        mo.verify = !o.no_verify;
-        configs.push_back(runConfig(mo, scene.prepared));
-        labels.push_back(label);
-      };
-      for (const std::string& m : methods) add(m, so.reader, m);
-      for (const std::string& reader : readers) {
-        if (reader != so.reader) add("log-state", reader, "log-state (" + reader + ")");
-      }
-      const auto [w, h] = parseSize(size);
-      const std::string label = "bench " + scene.prepared.name + " " + size;
-      const std::vector<ConfigResult> results =
-          runInterleaved(scene.prepared, *scene.renderer, configs, o.repeat, label, o.warmup);
-
+    writeScene(e.md(), scene, so);
+    for (const std::string& size : eo.sizes) {
+      WalkOptions cell = so;
+      cell.size = size;
+      const std::string name = scene.prepared.name;
+      const std::vector<Measured> measured =
+          e.run(scene, cell, variants, "bench " + name + " " + size);
       std::vector<Row> rows;
-      std::vector<std::vector<std::uint64_t>> frame_pixels(
-          results.size());  // per config, per frame
-      nlohmann::json cell = described;
-      cell["width"] = w;
-      cell["height"] = h;
-      cell["configs"] = nlohmann::json::array();
-      for (std::size_t c = 0; c < results.size(); ++c) {
-        nlohmann::json j = runSummary(results[c].records, results[c].config, false);
-        rows.push_back(makeRow(labels[c], results[c], j));
-        for (const FrameRecord& f : results[c].records) {
-          frame_pixels[c].push_back(f.stats.pixels_read);
-        }
-        j["label"] = labels[c];
-        j["avg_frame_ms"] = results[c].avg_ms();
-        j["spread"] = results[c].spread();
-        j["repetition_ms"] = results[c].repetition_ms;
-        j["frame_ms"] = results[c].frame_ms;
-        j["frame_read_pixels"] = frame_pixels[c];
-        cell["configs"].push_back(std::move(j));
-        if (rows.back().conservative && rows.back().missed > 0) any_missed = true;
-      }
-      if (const Row* log = findRow(rows, "log-state")) {
-        for (nlohmann::json& j : cell["configs"]) {
-          const Row* r = findRow(rows, j["label"]);
-          j["time_vs_log"] = log->ms > 0 ? r->ms / log->ms : 0;
-          j["pixels_vs_log"] = log->pixels > 0 ? r->pixels / log->pixels : 0;
-        }
-      }
-
-      std::string plot_prefix;
-      if (!o.plots.empty()) {
-        const std::string stem = scene.prepared.name + "_" + size;
-        std::vector<PlotSeries> ms, px;
-        for (std::size_t c = 0; c < results.size(); ++c) {
-          ms.push_back({labels[c], results[c].frame_ms, {}});
-          if (rows[c].pixels > 0) {
-            px.push_back({labels[c], {frame_pixels[c].begin(), frame_pixels[c].end()}, {}});
-          }
-        }
-        const std::string title = scene.prepared.name + " " + size;
-        plotLines(o.plots + "/" + stem + "_ms", title + ": frame time", "frame", "ms (log scale)",
-                  ms, true);
-        plotLines(o.plots + "/" + stem + "_pixels", title + ": depth pixels read", "frame",
-                  "pixels (log scale)", px, true);
-        if (!o.markdown.empty()) plot_prefix = linkFrom(o.markdown, o.plots) + "/" + stem;
-      }
-      writeCell(md, scene.prepared.name, w, h, rows, configs.front(), o.repeat, plot_prefix);
-      report["cells"].push_back(std::move(cell));
+      for (const Measured& m : measured) rows.push_back(makeRow(m));
+      for (const Row& r : rows) any_missed = any_missed || (r.conservative && r.missed > 0);
+      const auto [w, h] = parseSize(size);
+      const std::string stem = name + "_" + size;
+      if (!eo.plots.empty()) plotCell(e, stem, name + " " + size, measured, rows);
+      std::string images = e.plotImage("frame time", stem + "_ms");
+      if (!images.empty()) images += " " + e.plotImage("pixels read", stem + "_pixels");
+      writeCell(e.md(), name, w, h, rows, measured.front().result.config, eo.repeat, images);
+      e.report()["cells"].push_back(cellJson(described, w, h, measured, rows));
     }
   }
-  std::printf("%s", md.str().c_str());
-  if (!o.markdown.empty()) writeText(o.markdown, md.str());
-  if (!o.json.empty()) writeJson(o.json, report);
-  if (any_missed) {
-    std::fprintf(stderr,
-                 "bench: a conservative method missed visible objects (see 'missed'); "
-                 "that is a bug, please report it with the command line\n");
-    return 1;
+  return e.finish(any_missed ? "bench: a conservative method missed visible objects (see "
+                               "'missed'); that is a bug, please report it with the command line"
+                             : "");
+}
+
+// What bench's options give every experiment.
+ExperimentOptions experimentOptions(const BenchOptions& o) {
+  ExperimentOptions e;
+  e.walk = o.walk;
+  e.scenes = splitList(o.scenes);
+  e.sizes = splitList(o.sizes);
+  e.forest_scale = o.forest_scale;
+  e.city_scale = o.city_scale;
+  e.repeat = o.repeat;
+  e.warmup = o.warmup;
+  e.verify = !o.no_verify;
+  e.markdown = o.markdown;
+  e.json = o.json;
+  e.plots = o.plots;
+  return e;
+}
+
+int runBench(const BenchOptions& o) {
+  const ExperimentOptions e = experimentOptions(o);
+  if (o.tradeoff) return runTradeoff(e);
+  if (o.motion.enabled) return runMotionBench(e, o.motion);
+  if (o.traversal) {
+    // The command's reader first, then --readers.
+    std::vector<std::string> readers = {o.walk.reader};
+    for (const std::string& r : splitList(o.readers)) {
+      if (std::find(readers.begin(), readers.end(), r) == readers.end()) readers.push_back(r);
+    }
+    return runTraversalSweep(e, {"log-state", "log-zfar"}, readers, splitList(o.lookaheads));
   }
-  return 0;
+  return runMethods(e, splitList(o.methods), splitList(o.readers));
 }
 
 }  // namespace
@@ -459,17 +493,22 @@ void addBenchCommand(CLI::App& app) {
   o->walk.frames = 40;
   CLI::App* bench = app.add_subcommand("bench", "every method on the same frames, side by side");
   bench->add_option("--scenes", o->scenes, "comma-separated: forest, city, office, model files");
-  bench->add_option("--sizes", o->sizes, "comma-separated viewport sizes WIDTHxHEIGHT");
+  bench->add_option("--sizes", o->sizes, "comma-separated viewport sizes " + sizeForm())
+      ->check(sizeListCheck());
   bench->add_option("--methods", o->methods, "comma-separated: " + methodChoiceHelp());
   bench->add_option("--readers", o->readers,
                     "log-state again with these depth readers (comma-separated: " + readerNames() +
                         "; '' for none)");
   addWalkthroughOptions(*bench, o->walk);
   addViewOptions(*bench, o->walk);  // --tile, --reader, depth, projection, approximate knobs
-  bench->add_option("--forest-scale", o->forest_scale, "scale of the forest (default --scale)");
-  bench->add_option("--city-scale", o->city_scale, "scale of the city (default --scale)");
-  bench->add_option("--repeat", o->repeat, "interleaved repetitions; medians are reported");
-  bench->add_option("--warmup", o->warmup, "frames each method renders first, untimed");
+  addNumber(*bench, "--forest-scale", o->forest_scale, closed(0.0, kMaxForestScale),
+            "scale of the forest (default 0: --scale)");
+  addNumber(*bench, "--city-scale", o->city_scale, closed(0.0, kMaxCityScale),
+            "scale of the city (default 0: --scale)");
+  addNumber(*bench, "--repeat", o->repeat, closed<std::size_t>(1, kMaxRepeats),
+            "interleaved repetitions; medians are reported");
+  addNumber(*bench, "--warmup", o->warmup, closed<std::size_t>(0, kMaxRepeats),
+            "frames each configuration renders first, untimed");
   bench->add_flag("--no-verify", o->no_verify, "skip the object-ID check of the first repetition");
   bench->add_option("--markdown", o->markdown, "write the report as markdown");
   bench->add_option("--json", o->json, "write every figure as JSON");
@@ -479,7 +518,11 @@ void addBenchCommand(CLI::App& app) {
   bench->add_flag("--traversal", o->traversal,
                   "sweep lookahead K x temporal coherence x --readers for log-state and log-zfar "
                   "instead: flushes, batches, bytes, time against the oracle");
-  bench->add_option("--lookaheads", o->lookaheads, "with --traversal: the K values to sweep");
+  bench
+      ->add_option(
+          "--lookaheads", o->lookaheads,
+          "with --traversal: the K values to sweep, comma-separated; each " + lookaheadRange())
+      ->check(lookaheadListCheck());
   addMotionBenchOptions(*bench, o->motion);
   bench->final_callback([o] { throw CLI::RuntimeError(runBench(*o)); });
 }

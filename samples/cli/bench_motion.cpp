@@ -1,15 +1,12 @@
 #include "cli/bench_motion.hpp"
 
-#include <cmath>
 #include <cstdio>
-#include <ctime>
-#include <filesystem>
 #include <map>
 #include <sstream>
 
-#include "cli/experiment.hpp"
-#include "cli/plot.hpp"
+#include "cli/option_checks.hpp"
 #include "cli/report.hpp"
+#include "cli/values.hpp"
 #include "logrid/error.hpp"
 #include "scene/movers.hpp"
 
@@ -31,64 +28,44 @@ constexpr PaperRow kPaper[] = {{"power plant + moving bunnies", 0.71, 0.50, 3.82
 // of the first repetition, frame time the average of per-frame medians.
 struct Row {
   std::string hierarchy;
+  std::uint32_t movers = 0;
   double frame_ms = 0;
   double spread = 0;
-  double update_ms = 0;
-  double measure_ms = 0;
-  double objects = 0;
-  double triangles = 0;
-  double tests = 0;       // occlusion tests of the culler
-  double additional = 0;  // the ternary tree's Count requests (§3.3)
-  double moved = 0;
-  double waits = 0;
-  std::uint64_t rebuilds = 0, splits = 0, merges = 0, relocated = 0;
   std::int64_t missed = -1;
-  double queries() const { return tests + additional; }
-  double updateShare() const { return frame_ms > 0 ? update_ms / frame_ms : 0; }
+  FrameAverages f;
+  double tests() const { return f.boxes_tested; }          // occlusion tests of the culler
+  double additional() const { return f.measure_counted; }  // the ternary tree's (§3.3)
+  double queries() const { return tests() + additional(); }
+  double updateShare() const { return frame_ms > 0 ? f.update_ms / frame_ms : 0; }
 };
 
-Row makeRow(const std::string& hierarchy, const ConfigResult& r) {
-  Row row;
-  row.hierarchy = hierarchy;
-  row.frame_ms = r.avg_ms();
-  row.spread = r.spread();
-  const double n = r.records.empty() ? 1.0 : double(r.records.size());
-  for (const FrameRecord& f : r.records) {
-    row.update_ms += f.update.seconds * 1e3 / n;
-    row.measure_ms += f.measure.seconds * 1e3 / n;
-    row.objects += double(f.stats.objects_drawn) / n;
-    row.triangles += double(f.triangles) / n;
-    row.tests += double(f.stats.boxes_tested) / n;
-    row.additional += double(f.measure.counted) / n;
-    row.moved += double(f.moved) / n;
-    row.waits += double(f.stats.colliding_waits) / n;
-    row.rebuilds += f.update.rebuilds;
-    row.splits += f.update.splits;
-    row.merges += f.update.merges;
-    row.relocated += f.update.relocated;
-    if (f.missed >= 0) row.missed = std::max<std::int64_t>(row.missed, 0) + f.missed;
-  }
-  return row;
+Row makeRow(const Measured& m, std::uint32_t movers) {
+  return {m.label,
+          movers,
+          m.result.avg_ms(),
+          m.result.spread(),
+          m.frames.verified ? m.frames.missed : -1,
+          m.frames};
 }
 
 nlohmann::json rowJson(const Row& r) {
   return {{"hierarchy", r.hierarchy},
           {"frame_ms", r.frame_ms},
           {"spread", r.spread},
-          {"update_ms", r.update_ms},
+          {"update_ms", r.f.update_ms},
           {"update_share", r.updateShare()},
-          {"measure_ms", r.measure_ms},
-          {"drawn_objects", r.objects},
-          {"drawn_triangles", r.triangles},
-          {"occlusion_tests", r.tests},
-          {"additional_queries", r.additional},
+          {"measure_ms", r.f.measure_ms},
+          {"drawn_objects", r.f.objects},
+          {"drawn_triangles", r.f.triangles},
+          {"occlusion_tests", r.tests()},
+          {"additional_queries", r.additional()},
           {"queries", r.queries()},
-          {"moved_objects", r.moved},
-          {"colliding_waits", r.waits},
-          {"rebuilds", r.rebuilds},
-          {"splits", r.splits},
-          {"merges", r.merges},
-          {"relocated", r.relocated},
+          {"moved_objects", r.f.moved},
+          {"colliding_waits", r.f.colliding_waits},
+          {"rebuilds", r.f.rebuilds},
+          {"splits", r.f.splits},
+          {"merges", r.f.merges},
+          {"relocated", r.f.relocated},
           {"missed_visible_objects", r.missed}};
 }
 
@@ -106,201 +83,117 @@ struct Cell {
   std::vector<Row> rows;
 };
 
-}  // namespace
-
-void addMotionBenchOptions(CLI::App& bench, MotionBenchOptions& o) {
-  bench.add_flag("--motion", o.enabled,
-                 "benchmark the hierarchies for moving objects instead (docs/MOTION.md)");
-  bench.add_option("--movers-list", o.movers, "with --motion: mover counts, comma-separated");
-  bench.add_option("--hierarchies", o.hierarchies,
-                   "with --motion: hierarchies, comma-separated (" + bvh::motionNames() + ")");
-  bench.add_option("--motion-method", o.method, "with --motion: the culling method");
+// Every hierarchy's row of the cells of one scene and size, by movers.
+void writeRows(std::ostream& md, const std::vector<const Cell*>& cells) {
+  std::vector<Row> rows;
+  for (const Cell* c : cells) rows.insert(rows.end(), c->rows.begin(), c->rows.end());
+  writeTable<Row>(
+      md,
+      {{"movers", "--:", [](const Row& r) { return grouped(r.movers); }},
+       {"hierarchy", "---", [](const Row& r) { return r.hierarchy; }},
+       {"update ms", "--:", [](const Row& r) { return formatFixed(r.f.update_ms, 3); }},
+       {"share", "--:", [](const Row& r) { return formatFixed(100 * r.updateShare(), 1) + "%"; }},
+       {"stats ms", "--:", [](const Row& r) { return formatFixed(r.f.measure_ms, 2); }},
+       {"frame ms", "--:", [](const Row& r) { return formatFixed(r.frame_ms); }},
+       {"spread", "--:", [](const Row& r) { return formatFixed(100 * r.spread, 0) + "%"; }},
+       {"drawn objects", "--:", [](const Row& r) { return grouped(r.f.objects); }},
+       {"drawn triangles", "--:", [](const Row& r) { return grouped(r.f.triangles); }},
+       {"queries (tests + additional)", "--:",
+        [](const Row& r) {
+          return grouped(r.queries()) + " (" + grouped(r.tests()) + " + " +
+                 grouped(r.additional()) + ")";
+        }},
+       {"rebuilds / splits / merges", "--:",
+        [](const Row& r) {
+          return std::to_string(r.f.rebuilds) + " / " + std::to_string(r.f.splits) + " / " +
+                 std::to_string(r.f.merges);
+        }},
+       {"missed",
+        "--:", [](const Row& r) { return r.missed >= 0 ? std::to_string(r.missed) : "–"; }}},
+      rows);
 }
 
-int runMotionBench(const MotionBenchOptions& m, const MotionBenchRun& run) {
-  std::vector<std::uint32_t> counts;
-  for (const std::string& c : splitList(m.movers)) {
-    char* end = nullptr;
-    const unsigned long v = std::strtoul(c.c_str(), &end, 10);
-    if (!end || *end || c.empty() || c[0] == '-' || v > kMaxMovers) {
-      throw Error(ErrorCode::InvalidArgument, "bench --motion: mover count '" + c +
-                                                  "' is invalid; use whole numbers up to " +
-                                                  std::to_string(kMaxMovers));
-    }
-    counts.push_back(std::uint32_t(v));
+// The paper's Table 1 columns: new (ternary) against old (binary), and against refit.
+void writeRatios(std::ostream& md, const std::vector<const Cell*>& cells) {
+  md << "\nTable 1 columns as ratios (time, rendered objects, queries per frame):\n\n";
+  std::vector<const Cell*> with_ternary;
+  for (const Cell* c : cells) {
+    if (find(c->rows, "ternary")) with_ternary.push_back(c);
   }
-  const std::vector<std::string> hierarchies = splitList(m.hierarchies);
-  for (const std::string& h : hierarchies) {
-    if (!bvh::parseMotionKind(h)) {
-      throw Error(ErrorCode::InvalidArgument,
-                  "bench --motion: hierarchy '" + h + "' is unknown; use " + bvh::motionNames());
-    }
+  auto against = [](const char* other, auto value) {
+    return [other, value](const Cell* c) {
+      const Row* o = find(c->rows, other);
+      return o ? formatRatio(value(*find(c->rows, "ternary")), value(*o)) : "–";
+    };
+  };
+  const auto time = [](const Row& r) { return r.frame_ms; };
+  const auto objects = [](const Row& r) { return r.f.objects; };
+  const auto queries = [](const Row& r) { return r.queries(); };
+  writeTable<const Cell*>(md,
+                          {{"movers", "--:", [](const Cell* c) { return grouped(c->movers); }},
+                           {"ternary ÷ binary: time", "--:", against("binary", time)},
+                           {"objects", "--:", against("binary", objects)},
+                           {"queries", "--:", against("binary", queries)},
+                           {"ternary ÷ refit: time", "--:", against("refit", time)},
+                           {"objects", "--:", against("refit", objects)},
+                           {"queries", "--:", against("refit", queries)}},
+                          with_ternary);
+  md << "\nThe paper (new ÷ old, its Table 1):";
+  for (const PaperRow& p : kPaper) {
+    md << " " << p.scene << " " << formatFixed(p.time, 2) << " / " << formatFixed(p.objects, 2)
+       << " / " << formatFixed(p.queries, 2) << ";";
   }
-  if (counts.empty() || hierarchies.empty() || run.scenes.empty() || run.sizes.empty()) {
-    throw Error(ErrorCode::InvalidArgument,
-                "bench --motion: --movers-list, --hierarchies, --scenes and --sizes need an entry");
-  }
-  for (const std::string& s : run.sizes) parseSize(s);
-  std::string problem;
-  const auto choice = parseMethodChoice(m.method, &problem);
-  if (!choice || choice->oracle()) {
-    throw Error(
-        ErrorCode::InvalidArgument,
-        "bench --motion: " +
-            (choice ? "method oracle is not a culling method; use " + methodNames() : problem));
-  }
-  if (run.repeat < 1) throw Error(ErrorCode::InvalidArgument, "--repeat must be at least 1");
-  if (!run.plots.empty()) std::filesystem::create_directories(run.plots);
+  md << "\n";
+}
 
-  gl::Context context(contextDesc(run.walk));
-  const nlohmann::json machine = machineInfo(context);
-  std::time_t now = std::time(nullptr);
-  char date[32];
-  std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
-  nlohmann::json report = {
-      {"command", commandLine()}, {"machine", machine}, {"date", date},
-      {"repeat", run.repeat},     {"method", m.method}, {"cells", nlohmann::json::array()}};
-  std::ostringstream md;
-  md << "# logrid motion benchmark\n\nMachine: " << machineLine(machine) << ". " << date
-     << ".\n\nCommand: `" << commandLine() << "`\n\n"
-     << "Every hierarchy culls the same frames (interleaved per frame, method " << m.method
-     << ", lookahead " << run.walk.lookahead
-     << "; the ternary tree with colliding-query detection, §3.5). Frame time is hierarchy "
-        "update + clear + cull + draw + the ternary tree's statistics pass + glFinish. `update` "
-        "is the hierarchy's update per frame, `share` its part of the frame time, `stats` "
-        "the ternary tree's additional queries (§3.3). `queries` = occlusion tests + "
-        "additional queries. `missed`: visible objects not drawn, every frame of the first "
-        "repetition checked against the object-ID oracle.\n";
-
-  std::vector<Cell> cells;
-  bool any_missed = false;
-  for (const std::string& scene_name : run.scenes) {
-    for (std::uint32_t n : counts) {
-      WalkOptions so = optionsForScene(run.walk, scene_name, run.forest_scale, run.city_scale);
-      so.movers = n;
-      LoadedScene scene = loadScene(so);
-      for (const std::string& size : run.sizes) {
-        std::vector<RunConfig> configs;
-        for (const std::string& h : hierarchies) {
-          WalkOptions ho = so;
-          ho.method = m.method;
-          ho.size = size;
-          ho.hierarchy = h;
-          ho.verify = run.verify;
-          ho.colliding = h == "ternary" || so.colliding;
-          configs.push_back(runConfig(ho, scene.prepared));
+// Update time, frame time and drawn objects against the number of movers.
+void plotCells(Experiment& e, const std::string& scene, const std::string& size,
+               const std::vector<const Cell*>& cells, const std::vector<std::string>& hierarchies) {
+  PlotAxes axes{"movers", "", PlotScale::Auto, false, {}, true};
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    axes.xtics.push_back({double(i), grouped(cells[i]->movers)});
+  }
+  auto series = [&](auto value) {
+    std::vector<PlotSeries> out;
+    for (const std::string& h : hierarchies) {
+      PlotSeries s{h, {}, {}, {}, {}};
+      for (std::size_t i = 0; i < cells.size(); ++i) {
+        if (const Row* r = find(cells[i]->rows, h)) {
+          s.x.push_back(double(i));
+          s.y.push_back(value(*r));
         }
-        const std::string label =
-            "bench --motion " + scene.prepared.name + " " + std::to_string(n) + " movers " + size;
-        const std::vector<ConfigResult> results =
-            runInterleaved(scene.prepared, *scene.renderer, configs, run.repeat, label, run.warmup);
-        Cell cell{scene.prepared.name, size, n, {}};
-        nlohmann::json cj = scene.describe();
-        cj["movers"] = n;
-        cj["size"] = size;
-        cj["rows"] = nlohmann::json::array();
-        for (std::size_t c = 0; c < results.size(); ++c) {
-          cell.rows.push_back(makeRow(hierarchies[c], results[c]));
-          if (cell.rows.back().missed > 0) any_missed = true;
-          nlohmann::json rj = rowJson(cell.rows.back());
-          rj["frame_ms_per_frame"] = results[c].frame_ms;
-          cj["rows"].push_back(rj);
-        }
-        report["cells"].push_back(cj);
-        cells.push_back(std::move(cell));
       }
+      out.push_back(std::move(s));
     }
+    return out;
+  };
+  const std::string stem = "motion_" + scene + "_" + size;
+  const std::string title = scene + " " + size;
+  axes.ylabel = "ms";
+  plotLines(e.plotStem(stem + "_update"), title + ": hierarchy update per frame", axes,
+            series([](const Row& r) { return r.f.update_ms; }));
+  plotLines(e.plotStem(stem + "_frame"), title + ": frame time", axes,
+            series([](const Row& r) { return r.frame_ms; }));
+  axes.ylabel = "objects per frame";
+  plotLines(e.plotStem(stem + "_objects"), title + ": drawn objects", axes,
+            series([](const Row& r) { return r.f.objects; }));
+  const std::string update = e.plotImage("update", stem + "_update");
+  if (!update.empty()) {
+    e.md() << "\n"
+           << update << " " << e.plotImage("frame", stem + "_frame") << " "
+           << e.plotImage("objects", stem + "_objects") << "\n";
   }
+}
 
-  // Tables per scene and size, rows by movers then hierarchy.
-  std::map<std::pair<std::string, std::string>, std::vector<const Cell*>> groups;
-  for (const Cell& c : cells) groups[{c.scene, c.size}].push_back(&c);
-  for (const auto& [key, list] : groups) {
-    const auto& [scene, size] = key;
-    md << "\n## " << scene << " " << size << "\n\n";
-    md << "| movers | hierarchy | update ms | share | stats ms | frame ms | spread | drawn objects "
-          "| drawn triangles | queries (tests + additional) | rebuilds / splits / merges | missed "
-          "|\n|--:|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n";
-    for (const Cell* c : list) {
-      for (const Row& r : c->rows) {
-        md << "| " << grouped(c->movers) << " | " << r.hierarchy << " | "
-           << formatFixed(r.update_ms, 3) << " | " << formatFixed(100 * r.updateShare(), 1)
-           << "% | " << formatFixed(r.measure_ms, 2) << " | " << formatFixed(r.frame_ms) << " | "
-           << formatFixed(100 * r.spread, 0) << "% | " << grouped(r.objects) << " | "
-           << grouped(r.triangles) << " | " << grouped(r.queries()) << " (" << grouped(r.tests)
-           << " + " << grouped(r.additional) << ") | " << r.rebuilds << " / " << r.splits << " / "
-           << r.merges << " | " << (r.missed >= 0 ? std::to_string(r.missed) : "–") << " |\n";
-      }
-    }
-    // The paper's Table 1 columns: new (ternary) against old (binary), and against refit.
-    md << "\nTable 1 columns as ratios (time, rendered objects, queries per frame):\n\n"
-          "| movers | ternary ÷ binary: time | objects | queries | ternary ÷ refit: time | "
-          "objects | queries |\n|--:|--:|--:|--:|--:|--:|--:|\n";
-    for (const Cell* c : list) {
-      const Row* t = find(c->rows, "ternary");
-      const Row* b = find(c->rows, "binary");
-      const Row* f = find(c->rows, "refit");
-      if (!t) continue;
-      md << "| " << grouped(c->movers) << " | " << (b ? formatRatio(t->frame_ms, b->frame_ms) : "–")
-         << " | " << (b ? formatRatio(t->objects, b->objects) : "–") << " | "
-         << (b ? formatRatio(t->queries(), b->queries()) : "–") << " | "
-         << (f ? formatRatio(t->frame_ms, f->frame_ms) : "–") << " | "
-         << (f ? formatRatio(t->objects, f->objects) : "–") << " | "
-         << (f ? formatRatio(t->queries(), f->queries()) : "–") << " |\n";
-    }
-    md << "\nThe paper (new ÷ old, its Table 1):";
-    for (const PaperRow& p : kPaper) {
-      md << " " << p.scene << " " << formatFixed(p.time, 2) << " / " << formatFixed(p.objects, 2)
-         << " / " << formatFixed(p.queries, 2) << ";";
-    }
-    md << "\n";
-
-    if (!run.plots.empty()) {
-      const std::string stem = run.plots + "/motion_" + scene + "_" + size;
-      std::string xtics = "set xtics (";
-      for (std::size_t i = 0; i < list.size(); ++i) {
-        xtics += std::string(i ? ", " : "") + "\"" + grouped(list[i]->movers) + "\" " +
-                 std::to_string(i);
-      }
-      xtics += ")\n";
-      auto series = [&](auto value) {
-        std::vector<PlotSeries> out;
-        for (const std::string& h : hierarchies) {
-          PlotSeries s{h, {}, {}};
-          for (std::size_t i = 0; i < list.size(); ++i) {
-            if (const Row* r = find(list[i]->rows, h)) {
-              s.x.push_back(double(i));
-              s.y.push_back(value(*r));
-            }
-          }
-          out.push_back(std::move(s));
-        }
-        return out;
-      };
-      const std::string title = scene + " " + size;
-      plotLines(stem + "_update", title + ": hierarchy update per frame", "movers",
-                "ms (log scale)", series([](const Row& r) { return r.update_ms; }), true, xtics);
-      plotLines(stem + "_frame", title + ": frame time", "movers", "ms",
-                series([](const Row& r) { return r.frame_ms; }), false, xtics);
-      plotLines(stem + "_objects", title + ": drawn objects", "movers", "objects per frame",
-                series([](const Row& r) { return r.objects; }), false, xtics);
-      if (!run.markdown.empty()) {
-        const std::string link =
-            linkFrom(run.markdown, run.plots) + "/motion_" + scene + "_" + size;
-        md << "\n![update](" << link << "_update.png) ![frame](" << link
-           << "_frame.png) ![objects](" << link << "_objects.png)\n";
-      }
-    }
-  }
-
-  // Where the targets stand.
+// Where the targets of the motion issue stand.
+void writeTargets(std::ostream& md, const std::vector<Cell>& cells) {
   md << "\n## Targets\n\n";
   for (const Cell& c : cells) {
     if (c.movers != 1000) continue;
     for (const Row& r : c.rows) {
       if (c.scene == "city" && c.size == "640x480") {
         md << "- " << (r.updateShare() <= 0.10 ? "met" : "**not met**") << ": city 640×480, "
-           << "1,000 movers, " << r.hierarchy << " update " << formatFixed(r.update_ms, 2)
+           << "1,000 movers, " << r.hierarchy << " update " << formatFixed(r.f.update_ms, 2)
            << " ms = " << formatFixed(100 * r.updateShare(), 1) << "% of the frame (≤ 10%)\n";
       }
     }
@@ -310,10 +203,11 @@ int runMotionBench(const MotionBenchOptions& m, const MotionBenchRun& run) {
     for (const char* name : {"ternary", "ternary-objects"}) {
       const Row* t = find(c.rows, name);
       if (!t || !f || c.movers == 0) continue;
-      md << "- " << (t->objects < f->objects ? "met" : "**not met**") << ": " << c.scene << " "
+      md << "- " << (t->f.objects < f->f.objects ? "met" : "**not met**") << ": " << c.scene << " "
          << c.size << ", " << grouped(c.movers) << " movers: " << name << " draws "
-         << formatRatio(t->objects, f->objects) << "× refit's objects (" << grouped(t->objects)
-         << " vs " << grouped(f->objects) << "; the paper: 0.37–0.93 against its old algorithm)\n";
+         << formatRatio(t->f.objects, f->f.objects) << "× refit's objects ("
+         << grouped(t->f.objects) << " vs " << grouped(f->f.objects)
+         << "; the paper: 0.37–0.93 against its old algorithm)\n";
     }
   }
   std::int64_t missed = 0;
@@ -329,15 +223,136 @@ int runMotionBench(const MotionBenchOptions& m, const MotionBenchRun& run) {
                        : "**not met**")
      << ": zero missed visible objects on every moving walkthrough"
      << (verified ? " (" + std::to_string(missed) + " missed)" : "") << "\n";
+}
 
-  std::printf("%s", md.str().c_str());
-  if (!run.markdown.empty()) writeText(run.markdown, md.str());
-  if (!run.json.empty()) writeJson(run.json, report);
-  if (any_missed) {
-    std::fprintf(stderr, "bench --motion: a hierarchy missed visible objects; that is a bug\n");
-    return 1;
+std::string intro(const std::string& method, const std::string& lookahead) {
+  return "Every hierarchy culls the same frames (interleaved per frame, method " + method +
+         ", lookahead " + lookahead +
+         "; the ternary tree with colliding-query detection, §3.5). Frame time is hierarchy "
+         "update + clear + cull + draw + the ternary tree's statistics pass + glFinish. `update` "
+         "is the hierarchy's update per frame, `share` its part of the frame time, `stats` "
+         "the ternary tree's additional queries (§3.3). `queries` = occlusion tests + "
+         "additional queries. `missed`: visible objects not drawn, every frame of the first "
+         "repetition checked against the object-ID oracle.\n";
+}
+
+// The hierarchies, each culling with `method` (the ternary tree with colliding-query
+// detection).
+std::vector<Variant> hierarchyVariants(const std::vector<std::string>& hierarchies,
+                                       const std::string& method) {
+  std::vector<Variant> out;
+  for (const std::string& h : hierarchies) {
+    out.push_back({h, [h, method](WalkOptions& o) {
+                     o.method = method;
+                     o.hierarchy = h;
+                     o.colliding = h == "ternary" || o.colliding;
+                   }});
   }
-  return 0;
+  return out;
+}
+
+// Every scene with each count of movers at each size: the hierarchies side by side.
+std::vector<Cell> measureCells(Experiment& e, const std::vector<std::uint32_t>& counts,
+                               const std::vector<Variant>& variants) {
+  std::vector<Cell> cells;
+  for (const std::string& scene_name : e.options().scenes) {
+    for (std::uint32_t n : counts) {
+      WalkOptions so = e.sceneOptions(scene_name);
+      so.movers = n;
+      const LoadedScene scene = e.load(so, variants);
+      for (const std::string& size : e.options().sizes) {
+        WalkOptions cell = so;
+        cell.size = size;
+        const std::string label =
+            "bench --motion " + scene.prepared.name + " " + std::to_string(n) + " movers " + size;
+        const std::vector<Measured> measured = e.run(scene, cell, variants, label);
+        Cell c{scene.prepared.name, size, n, {}};
+        nlohmann::json cj = scene.describe();
+        cj["movers"] = n;
+        cj["size"] = size;
+        cj["rows"] = nlohmann::json::array();
+        for (const Measured& r : measured) {
+          c.rows.push_back(makeRow(r, n));
+          nlohmann::json rj = rowJson(c.rows.back());
+          rj["frame_ms_per_frame"] = r.result.frame_ms;
+          cj["rows"].push_back(rj);
+        }
+        e.report()["cells"].push_back(cj);
+        cells.push_back(std::move(c));
+      }
+    }
+  }
+  return cells;
+}
+
+}  // namespace
+
+void addMotionBenchOptions(CLI::App& bench, MotionBenchOptions& o) {
+  bench.add_flag("--motion", o.enabled,
+                 "benchmark the hierarchies for moving objects instead (docs/MOTION.md)");
+  bench
+      .add_option("--movers-list", o.movers,
+                  "with --motion: mover counts, comma-separated; each in range " +
+                      closed(0u, kMaxMovers).text())
+      ->check(numberListCheck(closed(0u, kMaxMovers)));
+  bench.add_option("--hierarchies", o.hierarchies,
+                   "with --motion: hierarchies, comma-separated (" + bvh::motionNames() + ")");
+  bench.add_option("--motion-method", o.method, "with --motion: the culling method");
+}
+
+int runMotionBench(const ExperimentOptions& options, const MotionBenchOptions& m) {
+  std::vector<std::uint32_t> counts;
+  for (const std::string& c : splitList(m.movers)) {
+    std::uint32_t n = 0;
+    if (!parseNumber(c, n) || n > kMaxMovers) {  // the option's check, for callers without it
+      throw Error(ErrorCode::InvalidArgument, "bench --motion: mover count '" + c +
+                                                  "' is invalid; use whole numbers up to " +
+                                                  std::to_string(kMaxMovers));
+    }
+    counts.push_back(n);
+  }
+  const std::vector<std::string> hierarchies = splitList(m.hierarchies);
+  for (const std::string& h : hierarchies) {
+    if (!bvh::parseMotionKind(h)) {
+      throw Error(ErrorCode::InvalidArgument,
+                  "bench --motion: hierarchy '" + h + "' is unknown; use " + bvh::motionNames());
+    }
+  }
+  if (counts.empty() || hierarchies.empty()) {
+    throw Error(ErrorCode::InvalidArgument,
+                "bench --motion: --movers-list and --hierarchies need an entry");
+  }
+  std::string problem;
+  const auto choice = parseMethodChoice(m.method, &problem);
+  if (!choice || choice->oracle()) {
+    throw Error(
+        ErrorCode::InvalidArgument,
+        "bench --motion: " +
+            (choice ? "method oracle is not a culling method; use " + methodNames() : problem));
+  }
+  Experiment e(options, "bench --motion", "logrid motion benchmark",
+               intro(m.method, options.walk.lookahead));
+  e.report()["method"] = m.method;
+  e.report()["cells"] = nlohmann::json::array();
+  const std::vector<Cell> cells = measureCells(e, counts, hierarchyVariants(hierarchies, m.method));
+  bool any_missed = false;
+  for (const Cell& c : cells) {
+    for (const Row& r : c.rows) any_missed = any_missed || r.missed > 0;
+  }
+
+  // Tables per scene and size, rows by movers then hierarchy.
+  std::map<std::pair<std::string, std::string>, std::vector<const Cell*>> groups;
+  for (const Cell& c : cells) groups[{c.scene, c.size}].push_back(&c);
+  for (const auto& [key, list] : groups) {
+    const auto& [scene, size] = key;
+    e.md() << "\n## " << scene << " " << size << "\n\n";
+    writeRows(e.md(), list);
+    writeRatios(e.md(), list);
+    if (!options.plots.empty()) plotCells(e, scene, size, list, hierarchies);
+  }
+  writeTargets(e.md(), cells);
+  return e.finish(any_missed ? "bench --motion: a hierarchy missed visible objects; that is a bug"
+                             : "");
 }
 
 }  // namespace logrid::samples

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "cli/common.hpp"
+#include "cli/experiment.hpp"
 
 namespace logrid::samples {
 
@@ -26,22 +26,8 @@ struct MotionBenchOptions {
 // Adds --motion, --movers-list, --hierarchies and --motion-method to `bench`.
 void addMotionBenchOptions(CLI::App& bench, MotionBenchOptions& o);
 
-// What the rest of bench's options say.
-struct MotionBenchRun {
-  WalkOptions walk;  // view, reader, lookahead, time step, frames ...
-  std::vector<std::string> scenes;
-  std::vector<std::string> sizes;
-  double forest_scale = 0;
-  double city_scale = 0;
-  std::size_t repeat = 3;
-  std::size_t warmup = 2;
-  bool verify = true;
-  std::string markdown;
-  std::string json;
-  std::string plots;
-};
-
-// Runs it; returns the exit code (1 if a conservative run missed a visible object).
-int runMotionBench(const MotionBenchOptions& motion, const MotionBenchRun& run);
+// Runs it with the rest of bench's options; returns the exit code (1 if a conservative run
+// missed a visible object).
+int runMotionBench(const ExperimentOptions& options, const MotionBenchOptions& motion);
 
 }  // namespace logrid::samples

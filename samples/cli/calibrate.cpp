@@ -6,7 +6,9 @@
 #include <memory>
 
 #include "cli/commands.hpp"
-#include "cli/common.hpp"
+#include "cli/machine.hpp"
+#include "cli/option_checks.hpp"
+#include "cli/options.hpp"
 #include "cli/report.hpp"
 #include "logrid/zread/calibration.hpp"
 
@@ -81,13 +83,11 @@ void addCalibrateCommand(CLI::App& app) {
   auto o = std::make_shared<CalibrateOptions>();
   CLI::App* cmd = app.add_subcommand(
       "calibrate", "measure the hardware parameters of nohc's cost model (NOHC Table 2)");
-  cmd->add_option("--size", o->size, "framebuffer side in pixels")->check(CLI::Range(16, 4096));
-  cmd->add_option("--repeats", o->repeats, "runs per time (the median is kept)")
-      ->check(CLI::Range(1, 1000));
+  addNumber(*cmd, "--size", o->size, closed(16u, 4096u), "framebuffer side in pixels");
+  addNumber(*cmd, "--repeats", o->repeats, closed(1u, 1000u), "runs per time (the median is kept)");
   cmd->add_option("--json", o->json, "write the parameters as JSON");
   cmd->add_option("--platform", o->walk.platform, "EGL platform: auto, surfaceless or device");
-  cmd->add_option("--lp-threads", o->walk.lp_threads, "llvmpipe raster threads (LP_NUM_THREADS)")
-      ->check(CLI::Range(0, 64));
+  addLlvmpipeThreadsOption(*cmd, o->walk.lp_threads, "llvmpipe raster threads (LP_NUM_THREADS)");
   cmd->final_callback([o] { throw CLI::RuntimeError(runCalibrate(*o)); });
 }
 

@@ -5,7 +5,9 @@
 #include <memory>
 
 #include "cli/commands.hpp"
-#include "cli/common.hpp"
+#include "cli/loaded_scene.hpp"
+#include "cli/machine.hpp"
+#include "cli/report.hpp"
 
 namespace logrid::samples {
 namespace {

@@ -1,103 +1,154 @@
 #include "cli/experiment.hpp"
 
 #include <algorithm>
-#include <memory>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
 
 #include "cli/common.hpp"
+#include "cli/machine.hpp"
 #include "cli/report.hpp"
+#include "logrid/error.hpp"
 
 namespace logrid::samples {
-namespace {
 
-bool sameView(const ViewSettings& a, const ViewSettings& b) {
-  return a.width == b.width && a.height == b.height && a.fov_degrees == b.fov_degrees &&
-         a.orthographic == b.orthographic && a.near_plane == b.near_plane &&
-         a.far_plane == b.far_plane && a.depth.convention == b.depth.convention &&
-         a.depth.format == b.depth.format && a.depth.clip_range == b.depth.clip_range;
-}
-
-}  // namespace
-
-double ConfigResult::avg_ms() const {
-  double sum = 0;
-  for (double v : frame_ms) sum += v;
-  return frame_ms.empty() ? 0 : sum / double(frame_ms.size());
-}
-
-double ConfigResult::spread() const {
-  if (repetition_ms.size() < 2) return 0;
-  const auto [lo, hi] = std::minmax_element(repetition_ms.begin(), repetition_ms.end());
-  const double mid = median(repetition_ms);
-  return mid > 0 ? (*hi - *lo) / mid : 0;
-}
-
-std::vector<ConfigResult> runInterleaved(const PreparedScene& scene, gl::MeshRenderer& renderer,
-                                         const std::vector<RunConfig>& configs, std::size_t repeats,
-                                         const std::string& label, std::size_t warmup) {
-  const std::size_t frames = configs.front().frames;
-  std::vector<std::unique_ptr<FrameRunner>> runners;
-  std::vector<ConfigResult> results(configs.size());
-  // One ID pass per frame for all configurations with the same view.
-  std::vector<std::pair<ViewSettings, std::shared_ptr<OracleCache>>> caches;
-  auto cacheFor = [&](const ViewSettings& v) {
-    for (auto& [view, cache] : caches) {
-      if (sameView(view, v)) return cache;
-    }
-    caches.emplace_back(v, std::make_shared<OracleCache>());
-    return caches.back().second;
-  };
-  for (std::size_t c = 0; c < configs.size(); ++c) {
-    RunConfig timed = configs[c];
-    timed.frames = frames;
-    runners.push_back(std::make_unique<FrameRunner>(scene, renderer, timed));
-    runners.back()->shareOracle(cacheFor(timed.view));
-    results[c].config = timed;
-  }
-  for (std::size_t w = 0; w < warmup; ++w) {
-    for (auto& runner : runners) runner->renderFrame(w * frames / std::max<std::size_t>(warmup, 1));
-  }
-  std::vector<std::vector<double>> times(configs.size(), std::vector<double>(frames * repeats));
-  Progress progress(label, frames * repeats);
-  for (std::size_t rep = 0; rep < repeats; ++rep) {
-    for (std::size_t f = 0; f < frames; ++f) {
-      double round_ms = 0;
-      for (std::size_t c = 0; c < runners.size(); ++c) {
-        // Only the first repetition pays for the oracle check (it is not timed anyway).
-        FrameRecord rec = runners[c]->renderFrame(f);
-        times[c][rep * frames + f] = rec.ms;
-        round_ms += rec.ms;
-        if (rep == 0) results[c].records.push_back(std::move(rec));
-      }
-      progress.update(rep * frames + f + 1, round_ms);
-    }
-    if (rep == 0) {
-      // Later repetitions skip the ID pass: rebuild runners without verification.
-      for (std::size_t c = 0; c < runners.size(); ++c) {
-        if (!configs[c].verify) continue;
-        RunConfig quiet = results[c].config;
-        quiet.verify = false;
-        runners[c] = std::make_unique<FrameRunner>(scene, renderer, quiet);
-        runners[c]->shareOracle(cacheFor(quiet.view));
-        runners[c]->renderFrame(0);  // warm the new framebuffer's state
+std::vector<Variant> combine(const std::vector<Axis>& axes) {
+  std::vector<Variant> out{{"", [](WalkOptions&) {}}};
+  for (const Axis& axis : axes) {
+    std::vector<Variant> next;
+    for (const Variant& outer : out) {
+      for (const Variant& inner : axis) {
+        const std::string space = outer.label.empty() || inner.label.empty() ? "" : " ";
+        next.push_back(
+            {outer.label + space + inner.label, [a = outer.apply, b = inner.apply](WalkOptions& o) {
+               a(o);
+               b(o);
+             }});
       }
     }
+    out = std::move(next);
   }
-  progress.finish();
-  for (std::size_t c = 0; c < configs.size(); ++c) {
-    ConfigResult& r = results[c];
-    r.frame_ms.resize(frames);
-    for (std::size_t f = 0; f < frames; ++f) {
-      std::vector<double> samples;
-      for (std::size_t rep = 0; rep < repeats; ++rep) samples.push_back(times[c][rep * frames + f]);
-      r.frame_ms[f] = median(samples);
-    }
-    for (std::size_t rep = 0; rep < repeats; ++rep) {
-      double sum = 0;
-      for (std::size_t f = 0; f < frames; ++f) sum += times[c][rep * frames + f];
-      r.repetition_ms.push_back(sum / double(frames));
+  return out;
+}
+
+std::string methodFamily(const RunConfig& config) {
+  MethodChoice base = config.method;  // the name without traversal settings
+  base.lookahead.reset();
+  base.coherence = false;
+  return base.name();
+}
+
+std::vector<PlotPanel> familyPanels(
+    const std::vector<Measured>& measured,
+    const std::function<std::optional<PlotSeries>(const Measured&)>& series,
+    const std::optional<PlotSeries>& floor) {
+  std::vector<std::string> families;
+  std::vector<std::vector<PlotSeries>> members;
+  for (const Measured& m : measured) {
+    std::optional<PlotSeries> s = series(m);
+    if (!s) continue;
+    const std::string family = methodFamily(m.result.config);
+    const auto at = std::find(families.begin(), families.end(), family);
+    if (at == families.end()) {
+      families.push_back(family);
+      members.push_back({std::move(*s)});
+    } else {
+      members[std::size_t(at - families.begin())].push_back(std::move(*s));
     }
   }
-  return results;
+  std::vector<PlotPanel> panels;
+  PlotPanel others{"other methods", {}};
+  std::size_t single_families = 0;
+  for (std::size_t f = 0; f < families.size(); ++f) {
+    if (members[f].size() > 1) {
+      panels.push_back({families[f], std::move(members[f])});
+    } else {
+      ++single_families;
+      others.title = single_families == 1 ? families[f] : "other methods";
+      others.series.push_back(std::move(members[f].front()));
+    }
+  }
+  if (!others.series.empty()) panels.push_back(std::move(others));
+  if (floor) {
+    for (PlotPanel& p : panels) p.series.push_back(*floor);
+  }
+  return panels;
+}
+
+Experiment::Experiment(const ExperimentOptions& options, const std::string& name,
+                       const std::string& title, const std::string& intro)
+    : options_(options) {
+  if (options_.scenes.empty() || options_.sizes.empty()) {
+    throw Error(ErrorCode::InvalidArgument, name + ": --scenes and --sizes need an entry");
+  }
+  if (!options_.plots.empty()) std::filesystem::create_directories(options_.plots);
+  context_ = std::make_unique<gl::Context>(contextDesc(options_.walk));
+  const nlohmann::json machine = machineInfo(*context_);
+  std::time_t now = std::time(nullptr);
+  char date[32];
+  std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+  md_ << "# " << title << "\n\nMachine: " << machineLine(machine) << ". " << date
+      << ".\n\nCommand: `" << commandLine() << "`\n\n"
+      << intro;
+  report_ = {{"command", commandLine()},
+             {"machine", machine},
+             {"date", date},
+             {"repeat", options_.repeat}};
+}
+
+Experiment::~Experiment() = default;
+
+WalkOptions Experiment::sceneOptions(const std::string& scene) const {
+  return optionsForScene(options_.walk, scene, options_.forest_scale, options_.city_scale);
+}
+
+LoadedScene Experiment::load(const WalkOptions& scene_options,
+                             const std::vector<Variant>& variants) const {
+  bool with_ddo = false;
+  for (const Variant& v : variants) {
+    WalkOptions o = scene_options;
+    v.apply(o);
+    with_ddo = with_ddo || needsDdo(o.method);
+  }
+  return loadScene(scene_options, true, with_ddo);
+}
+
+std::vector<Measured> Experiment::run(const LoadedScene& scene, const WalkOptions& cell,
+                                      const std::vector<Variant>& variants,
+                                      const std::string& progress_label) const {
+  std::vector<RunConfig> configs;
+  for (const Variant& v : variants) {
+    WalkOptions o = cell;
+    o.verify = options_.verify;
+    v.apply(o);
+    configs.push_back(runConfig(o, scene.prepared));
+  }
+  std::vector<ConfigResult> results = runInterleaved(
+      scene.prepared, *scene.renderer, configs, options_.repeat, progress_label, options_.warmup);
+  std::vector<Measured> out;
+  for (std::size_t c = 0; c < results.size(); ++c) {
+    const FrameAverages frames = averageFrames(results[c].records);
+    out.push_back({variants[c].label, std::move(results[c]), frames});
+  }
+  return out;
+}
+
+std::string Experiment::plotStem(const std::string& name) const {
+  return options_.plots.empty() ? "" : options_.plots + "/" + name;
+}
+
+std::string Experiment::plotImage(const std::string& alt, const std::string& name) const {
+  if (options_.plots.empty() || options_.markdown.empty()) return "";
+  return "![" + alt + "](" + linkFrom(options_.markdown, plotStem(name) + ".png") + ")";
+}
+
+int Experiment::finish(const std::string& failure) {
+  std::printf("%s", md_.str().c_str());
+  if (!options_.markdown.empty()) writeText(options_.markdown, md_.str());
+  if (!options_.json.empty()) writeJson(options_.json, report_);
+  if (failure.empty()) return 0;
+  std::fprintf(stderr, "%s\n", failure.c_str());
+  return 1;
 }
 
 }  // namespace logrid::samples

@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "cli/commands.hpp"
-#include "cli/common.hpp"
+#include "cli/option_checks.hpp"
 #include "logrid/error.hpp"
 #include "scene/generators.hpp"
 #include "scene/obj_writer.hpp"
@@ -47,8 +47,10 @@ void addExportCommand(CLI::App& app) {
   CLI::App* cmd =
       app.add_subcommand("export", "write a procedural scene as an OBJ file and its path as JSON");
   cmd->add_option("--scene", options->scene, "forest or office")->required();
-  cmd->add_option("--scale", options->scale, "scene size relative to the paper's");
-  cmd->add_option("--seed", options->seed, "seed");
+  addNumber(*cmd, "--scale", options->scale, above(0, kMaxForestScale),
+            "scene size relative to the paper's (the office up to " +
+                std::to_string(int(kMaxOfficeScale)) + ")");
+  addNumber(*cmd, "--seed", options->seed, NumberRange<std::uint64_t>{}, "seed");
   cmd->add_option("--obj", options->obj, "the OBJ file to write")->required();
   cmd->add_option("--path-json", options->path_json, "the camera path JSON to write");
   cmd->final_callback([options] { throw CLI::RuntimeError(runExport(*options)); });

@@ -5,7 +5,7 @@
 #include <exception>
 
 #include "cli/commands.hpp"
-#include "cli/common.hpp"
+#include "cli/report.hpp"
 #include "logrid/error.hpp"
 
 int main(int argc, char** argv) {

@@ -3,16 +3,15 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 #include <sstream>
 
-#include "cli/experiment.hpp"
-#include "cli/plot.hpp"
+#include "cli/common.hpp"
+#include "cli/progress.hpp"
 #include "cli/report.hpp"
-#include "logrid/error.hpp"
 
 namespace logrid::samples {
 namespace {
@@ -85,165 +84,180 @@ struct Outcome {
   double differing = 0;  // per frame, average
   double psnr = 0;       // from the mean squared error over all frames; inf if identical
   double worst_differing = 0;
+  double time_vs_conservative = 0;
+  bool pareto = false;  // no other setting at least as good on time and differing pixels
 };
+
+// Every setting's images against the full render (every object in the frustum drawn),
+// frame by frame, untimed: differing pixels (average and worst frame) and PSNR.
+void compareWithFullRender(const LoadedScene& scene, const WalkOptions& so,
+                           const std::vector<Measured>& measured, std::vector<Outcome>& outcomes) {
+  WalkOptions full = so;
+  full.method = "vfc";
+  FrameRunner reference(scene.prepared, *scene.renderer, runConfig(full, scene.prepared));
+  std::vector<std::unique_ptr<FrameRunner>> runners;
+  for (const Measured& m : measured) {
+    RunConfig c = m.result.config;
+    c.verify = false;
+    runners.push_back(std::make_unique<FrameRunner>(scene.prepared, *scene.renderer, c));
+  }
+  const std::size_t frames = measured.front().result.config.frames;
+  std::vector<double> mse_sum(measured.size(), 0);
+  Progress progress("tradeoff " + scene.prepared.name + " images", frames);
+  for (std::size_t f = 0; f < frames; ++f) {
+    reference.renderFrame(f);
+    const std::vector<std::uint8_t> truth = reference.readColor();
+    for (std::size_t s = 0; s < measured.size(); ++s) {
+      runners[s]->renderFrame(f);
+      const ViewSettings& view = runners[s]->config().view;
+      const ImageError e = compareImages(truth, runners[s]->readColor(), view.width, view.height);
+      outcomes[s].differing += e.differing / double(frames);
+      outcomes[s].worst_differing = std::max(outcomes[s].worst_differing, e.differing);
+      mse_sum[s] += e.mse;
+    }
+    progress.update(f + 1, 0);
+  }
+  progress.finish();
+  for (std::size_t s = 0; s < measured.size(); ++s) {
+    const double mse = mse_sum[s] / double(frames);
+    outcomes[s].psnr = mse > 0 ? 10.0 * std::log10(1.0 / mse) : INFINITY;
+  }
+}
+
+// The Pareto front over (time, differing pixels): nothing else is at least as good on
+// both and better on one.
+void markPareto(std::vector<Outcome>& outcomes) {
+  for (Outcome& o : outcomes) {
+    o.pareto = true;
+    for (const Outcome& p : outcomes) {
+      if (&p != &o && p.ms <= o.ms && p.differing <= o.differing &&
+          (p.ms < o.ms || p.differing < o.differing)) {
+        o.pareto = false;
+      }
+    }
+  }
+}
+
+std::vector<Outcome> outcomesOf(const std::vector<Measured>& measured,
+                                const std::vector<Setting>& sweep) {
+  std::vector<Outcome> outcomes(measured.size());
+  const double log_ms = measured.front().result.avg_ms();
+  for (std::size_t s = 0; s < measured.size(); ++s) {
+    Outcome& o = outcomes[s];
+    const FrameAverages& a = measured[s].frames;
+    o.label = sweep[s].label;
+    o.approximation = sweep[s].approximation;
+    o.ms = measured[s].result.avg_ms();
+    o.spread = measured[s].result.spread();
+    o.time_vs_conservative = log_ms > 0 ? o.ms / log_ms : 0;
+    o.missed = a.missed;
+    o.visible = a.visible;
+    o.frames_with_misses = a.frames_with_misses;
+    o.pixels_read = a.pixels_read;
+  }
+  return outcomes;
+}
+
+void writeOutcomes(std::ostream& md, const std::vector<Outcome>& outcomes) {
+  writeTable<Outcome>(
+      md,
+      {{"setting", "---", [](const Outcome& o) { return o.label; }},
+       {"ms/frame", "--:", [](const Outcome& o) { return formatFixed(o.ms); }},
+       {"× conservative",
+        "--:", [](const Outcome& o) { return formatFixed(o.time_vs_conservative); }},
+       {"pixels read", "--:", [](const Outcome& o) { return formatFixed(o.pixels_read, 0); }},
+       {"missed objects (frames)", "--:",
+        [](const Outcome& o) {
+          return std::to_string(o.missed) + " of " + std::to_string(o.visible) + " (" +
+                 std::to_string(o.frames_with_misses) + ")";
+        }},
+       {"differing pixels/frame",
+        "--:", [](const Outcome& o) { return formatFixed(o.differing, 1); }},
+       {"worst frame", "--:", [](const Outcome& o) { return formatFixed(o.worst_differing, 0); }},
+       {"PSNR dB",
+        "--:", [](const Outcome& o) { return std::isinf(o.psnr) ? "∞" : formatFixed(o.psnr, 1); }},
+       {"Pareto", ":-:", [](const Outcome& o) { return o.pareto ? "●" : ""; }}},
+      outcomes);
+}
+
+nlohmann::json outcomeJson(const Outcome& o) {
+  return {{"label", o.label},
+          {"visible_pixels", o.approximation.visible_pixels},
+          {"full_free_fraction", o.approximation.full_free_fraction},
+          {"row_stride", o.approximation.row_stride},
+          {"avg_frame_ms", o.ms},
+          {"spread", o.spread},
+          {"time_vs_conservative", o.time_vs_conservative},
+          {"avg_read_pixels", o.pixels_read},
+          {"missed_visible_objects", o.missed},
+          {"visible_objects", o.visible},
+          {"frames_with_misses", o.frames_with_misses},
+          {"avg_differing_pixels", o.differing},
+          {"worst_differing_pixels", o.worst_differing},
+          {"psnr_db", std::isinf(o.psnr) ? nlohmann::json(nullptr) : nlohmann::json(o.psnr)},
+          {"pareto", o.pareto}};
+}
+
+constexpr const char* kIntro =
+    "Each approximate knob of `CullerDesc::approximation` (log/include/logrid/culler.hpp) "
+    "with log-state, on the same frames as the conservative grid (interleaved, medians "
+    "over repetitions). Error is measured against the full render (every object in the "
+    "frustum drawn): objects the oracle found visible but the method did not draw, pixels "
+    "whose colour differs, and PSNR (OpenImageIO `compare`; ∞ when every frame is "
+    "identical). The Pareto front holds the settings no other setting beats on both time "
+    "and differing pixels.\n";
 
 }  // namespace
 
-int runTradeoff(const WalkOptions& base, const std::vector<std::string>& scenes,
-                const std::vector<std::string>& sizes, double forest_scale, double city_scale,
-                std::size_t repeats, const std::string& markdown, const std::string& json,
-                const std::string& plots) {
-  if (scenes.empty() || sizes.empty()) {
-    throw Error(ErrorCode::InvalidArgument, "bench --tradeoff: --scenes and --sizes need an entry");
-  }
-  if (!plots.empty()) std::filesystem::create_directories(plots);
-  gl::Context context(contextDesc(base));
-  const nlohmann::json machine = machineInfo(context);
+int runTradeoff(const ExperimentOptions& options) {
+  ExperimentOptions checked = options;
+  checked.verify = true;  // the objects each setting misses are its error
+  Experiment e(checked, "bench --tradeoff", "logrid: speed for accuracy", kIntro);
+  e.report()["scenes"] = nlohmann::json::array();
   const std::vector<Setting> sweep = settings();
-
-  std::ostringstream md;
-  md << "# logrid: speed for accuracy\n\n"
-     << "Machine: " << machineLine(machine) << ".\n\nCommand: `" << commandLine() << "`\n\n"
-     << "Each approximate knob of `CullerDesc::approximation` (log/include/logrid/culler.hpp) "
-        "with log-state, on the same frames as the conservative grid (interleaved, medians "
-        "over repetitions). Error is measured against the full render (every object in the "
-        "frustum drawn): objects the oracle found visible but the method did not draw, pixels "
-        "whose colour differs, and PSNR (OpenImageIO `compare`; ∞ when every frame is "
-        "identical). The Pareto front holds the settings no other setting beats on both time "
-        "and differing pixels.\n";
-  nlohmann::json report = {
-      {"command", commandLine()}, {"machine", machine}, {"scenes", nlohmann::json::array()}};
+  std::vector<Variant> variants;
+  for (const Setting& s : sweep) {
+    variants.push_back({s.label, [a = s.approximation](WalkOptions& o) { o.approximation = a; }});
+  }
   bool conservative_missed = false;
-
-  for (const std::string& scene_name : scenes) {
-    WalkOptions so = optionsForScene(base, scene_name, forest_scale, city_scale);
-    so.size = sizes.front();
+  for (const std::string& scene_name : options.scenes) {
+    WalkOptions so = e.sceneOptions(scene_name);
+    so.size = options.sizes.front();
     so.method = "log-state";
-    LoadedScene scene = loadScene(so);
-
-    std::vector<RunConfig> configs;
-    for (const Setting& s : sweep) {
-      WalkOptions mo = so;
-      mo.approximation = s.approximation;
-      mo.verify = true;
-      configs.push_back(runConfig(mo, scene.prepared));
-    }
-    const std::vector<ConfigResult> results = runInterleaved(
-        scene.prepared, *scene.renderer, configs, repeats, "tradeoff " + scene.prepared.name);
-
-    // Images: every setting against the full render, frame by frame (untimed).
-    WalkOptions full = so;
-    full.method = "vfc";
-    FrameRunner reference(scene.prepared, *scene.renderer, runConfig(full, scene.prepared));
-    std::vector<std::unique_ptr<FrameRunner>> runners;
-    for (RunConfig c : configs) {
-      c.verify = false;
-      runners.push_back(std::make_unique<FrameRunner>(scene.prepared, *scene.renderer, c));
-    }
-    const std::size_t frames = configs.front().frames;
-    std::vector<Outcome> outcomes(sweep.size());
-    std::vector<double> mse_sum(sweep.size(), 0);
-    Progress progress("tradeoff " + scene.prepared.name + " images", frames);
-    for (std::size_t f = 0; f < frames; ++f) {
-      reference.renderFrame(f);
-      const std::vector<std::uint8_t> truth = reference.readColor();
-      for (std::size_t s = 0; s < sweep.size(); ++s) {
-        runners[s]->renderFrame(f);
-        const ImageError e = compareImages(truth, runners[s]->readColor(), configs[s].view.width,
-                                           configs[s].view.height);
-        outcomes[s].differing += e.differing / double(frames);
-        outcomes[s].worst_differing = std::max(outcomes[s].worst_differing, e.differing);
-        mse_sum[s] += e.mse;
-      }
-      progress.update(f + 1, 0);
-    }
-    progress.finish();
-
-    const double log_ms = results.front().avg_ms();
-    for (std::size_t s = 0; s < sweep.size(); ++s) {
-      Outcome& o = outcomes[s];
-      o.label = sweep[s].label;
-      o.approximation = sweep[s].approximation;
-      o.ms = results[s].avg_ms();
-      o.spread = results[s].spread();
-      for (const FrameRecord& r : results[s].records) {
-        o.missed += r.missed;
-        o.visible += r.visible;
-        o.frames_with_misses += r.missed > 0;
-        o.pixels_read += double(r.stats.pixels_read) / double(frames);
-      }
-      const double mse = mse_sum[s] / double(frames);
-      o.psnr = mse > 0 ? 10.0 * std::log10(1.0 / mse) : INFINITY;
-    }
+    const LoadedScene scene = e.load(so, variants);
+    const std::string name = scene.prepared.name;
+    const std::vector<Measured> measured = e.run(scene, so, variants, "tradeoff " + name);
+    std::vector<Outcome> outcomes = outcomesOf(measured, sweep);
+    compareWithFullRender(scene, so, measured, outcomes);
+    markPareto(outcomes);
     if (outcomes.front().missed > 0) conservative_missed = true;
 
-    // Pareto front over (time, differing pixels): nothing else is at least as good on
-    // both and better on one.
-    std::vector<PlotPoint> points;
-    for (const Outcome& o : outcomes) {
-      bool dominated = false;
-      for (const Outcome& p : outcomes) {
-        if (&p == &o) continue;
-        if (p.ms <= o.ms && p.differing <= o.differing &&
-            (p.ms < o.ms || p.differing < o.differing))
-          dominated = true;
-      }
-      points.push_back({o.differing, log_ms > 0 ? o.ms / log_ms : 0, o.label, !dominated});
-    }
-
-    md << "\n## " << scene.prepared.name << " " << so.size << "\n\n"
-       << frames << " frames, " << repeats << " repetitions, tile " << so.tile << ", "
-       << scene.prepared.triangles << " triangles (scale " << so.scale << ").\n\n"
-       << "| setting | ms/frame | × conservative | pixels read | missed objects (frames) "
-          "| differing pixels/frame | worst frame | PSNR dB | Pareto |\n"
-       << "|---|--:|--:|--:|--:|--:|--:|--:|:-:|\n";
+    e.md() << "\n## " << name << " " << so.size << "\n\n"
+           << measured.front().result.config.frames << " frames, " << options.repeat
+           << " repetitions, tile " << so.tile << ", " << scene.prepared.triangles
+           << " triangles (scale " << so.scale << ").\n\n";
+    writeOutcomes(e.md(), outcomes);
     nlohmann::json scene_json = scene.describe();
     scene_json["size"] = so.size;
     scene_json["settings"] = nlohmann::json::array();
-    for (std::size_t s = 0; s < outcomes.size(); ++s) {
-      const Outcome& o = outcomes[s];
-      md << "| " << o.label << " | " << formatFixed(o.ms) << " | "
-         << formatFixed(log_ms > 0 ? o.ms / log_ms : 0) << " | " << formatFixed(o.pixels_read, 0)
-         << " | " << o.missed << " of " << o.visible << " (" << o.frames_with_misses << ") | "
-         << formatFixed(o.differing, 1) << " | " << formatFixed(o.worst_differing, 0) << " | "
-         << (std::isinf(o.psnr) ? "∞" : formatFixed(o.psnr, 1)) << " | "
-         << (points[s].highlight ? "●" : "") << " |\n";
-      scene_json["settings"].push_back(
-          {{"label", o.label},
-           {"visible_pixels", o.approximation.visible_pixels},
-           {"full_free_fraction", o.approximation.full_free_fraction},
-           {"row_stride", o.approximation.row_stride},
-           {"avg_frame_ms", o.ms},
-           {"spread", o.spread},
-           {"time_vs_conservative", log_ms > 0 ? o.ms / log_ms : 0},
-           {"avg_read_pixels", o.pixels_read},
-           {"missed_visible_objects", o.missed},
-           {"visible_objects", o.visible},
-           {"frames_with_misses", o.frames_with_misses},
-           {"avg_differing_pixels", o.differing},
-           {"worst_differing_pixels", o.worst_differing},
-           {"psnr_db", std::isinf(o.psnr) ? nlohmann::json(nullptr) : nlohmann::json(o.psnr)},
-           {"pareto", points[s].highlight}});
-    }
-    if (!plots.empty()) {
-      const std::string stem = plots + "/tradeoff_" + scene.prepared.name + "_" + so.size;
-      plotPoints(stem, scene.prepared.name + " " + so.size + ": time vs error",
+    for (const Outcome& o : outcomes) scene_json["settings"].push_back(outcomeJson(o));
+    if (!options.plots.empty()) {
+      std::vector<PlotPoint> points;
+      for (const Outcome& o : outcomes) {
+        points.push_back({o.differing, o.time_vs_conservative, o.label, o.pareto});
+      }
+      const std::string stem = "tradeoff_" + name + "_" + so.size;
+      plotPoints(e.plotStem(stem), name + " " + so.size + ": time vs error",
                  "pixels differing from the full render, per frame",
                  "frame time / conservative LOG", points, false);
-      if (!markdown.empty())
-        md << "\n![Pareto plot](" << linkFrom(markdown, stem + ".png") << ")\n";
+      const std::string image = e.plotImage("Pareto plot", stem);
+      if (!image.empty()) e.md() << "\n" << image << "\n";
     }
-    report["scenes"].push_back(std::move(scene_json));
+    e.report()["scenes"].push_back(std::move(scene_json));
   }
-  std::printf("%s", md.str().c_str());
-  if (!markdown.empty()) writeText(markdown, md.str());
-  if (!json.empty()) writeJson(json, report);
-  if (conservative_missed) {
-    std::fprintf(stderr,
-                 "bench --tradeoff: the conservative setting missed visible objects: a bug\n");
-    return 1;
-  }
-  return 0;
+  return e.finish(conservative_missed
+                      ? "bench --tradeoff: the conservative setting missed visible objects: a bug"
+                      : "");
 }
 
 }  // namespace logrid::samples

@@ -4,17 +4,12 @@
 // differing, PSNR), with a Pareto plot of time against error.
 #pragma once
 
-#include <string>
-#include <vector>
-
-#include "cli/common.hpp"
+#include "cli/experiment.hpp"
 
 namespace logrid::samples {
 
-// Runs the sweep on each scene at the first size; returns the exit code.
-int runTradeoff(const WalkOptions& base, const std::vector<std::string>& scenes,
-                const std::vector<std::string>& sizes, double forest_scale, double city_scale,
-                std::size_t repeats, const std::string& markdown, const std::string& json,
-                const std::string& plots);
+// Runs the sweep on each scene at the first size, every frame checked against the oracle;
+// returns the exit code.
+int runTradeoff(const ExperimentOptions& options);
 
 }  // namespace logrid::samples

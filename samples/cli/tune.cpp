@@ -8,9 +8,15 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
-#include "cli/experiment.hpp"
+#include "cli/interleaved.hpp"
+#include "cli/loaded_scene.hpp"
+#include "cli/machine.hpp"
+#include "cli/option_checks.hpp"
 #include "cli/plot.hpp"
 #include "cli/report.hpp"
+#include "cli/summary.hpp"
+#include "cli/values.hpp"
+#include "logrid/camera.hpp"
 #include "logrid/error.hpp"
 
 namespace logrid::samples {
@@ -24,17 +30,17 @@ struct TuneOptions {
   std::string plot;  // PNG path stem
 };
 
+// The values --tiles takes.
+NumberRange<std::uint32_t> tileRange() { return closed(1u, kMaxViewportSide); }
+
 // "4,8,16" -> {4, 8, 16}; throws logrid::Error(InvalidArgument) naming a bad item.
 std::vector<std::uint32_t> parseTiles(const std::string& text) {
   std::vector<std::uint32_t> tiles;
   for (const std::string& item : splitList(text)) {
+    const std::string problem = numberProblem(item, tileRange());
+    if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, "tune: --tiles: " + problem);
     std::uint32_t tile = 0;
-    const auto [end, error] = std::from_chars(item.data(), item.data() + item.size(), tile);
-    if (error != std::errc() || end != item.data() + item.size() || tile < 1) {
-      throw Error(ErrorCode::InvalidArgument, "tune: tile size '" + item +
-                                                  "' in --tiles is invalid; use positive whole "
-                                                  "numbers separated by commas, e.g. 8,16,32");
-    }
+    parseNumber(item, tile);
     tiles.push_back(tile);
   }
   if (tiles.empty()) throw Error(ErrorCode::InvalidArgument, "tune: --tiles needs a size");
@@ -43,7 +49,6 @@ std::vector<std::uint32_t> parseTiles(const std::string& text) {
 
 int runTune(const TuneOptions& o) {
   const std::vector<std::uint32_t> tiles = parseTiles(o.tiles);
-  if (o.repeat < 1) throw Error(ErrorCode::InvalidArgument, "tune: --repeat must be at least 1");
   gl::Context context(contextDesc(o.walk));
   LoadedScene scene = loadScene(o.walk);
   std::vector<RunConfig> configs;
@@ -69,7 +74,7 @@ int runTune(const TuneOptions& o) {
   report["command"] = commandLine();
   report["machine"] = machineInfo(context);
   report["sizes"] = nlohmann::json::array();
-  PlotSeries ms{"ms/frame", {}, {}}, px{"pixels read / 10,000", {}, {}};
+  PlotSeries ms{"ms/frame", {}, {}, {}, {}}, px{"pixels read", {}, {}, {}, {}};
   bool missed = false;
   for (std::size_t i = 0; i < results.size(); ++i) {
     const ConfigResult& r = results[i];
@@ -85,16 +90,18 @@ int runTune(const TuneOptions& o) {
     ms.x.push_back(r.config.culler.tile_size);
     ms.y.push_back(r.avg_ms());
     px.x.push_back(r.config.culler.tile_size);
-    px.y.push_back(s["avg_read_pixels"].get<double>() / 1e4);
+    px.y.push_back(s["avg_read_pixels"].get<double>());
     report["sizes"].push_back(std::move(s));
   }
   report["recommended_tile"] = results[best].config.culler.tile_size;
   std::printf("recommended: --tile %u (%.2f ms/frame)\n", results[best].config.culler.tile_size,
               results[best].avg_ms());
   if (!o.plot.empty()) {
-    plotLines(o.plot,
-              scene.prepared.name + " " + o.walk.method + " " + o.walk.size + ": tile size sweep",
-              "tile size (pixels)", "ms/frame, pixels read / 10,000 (log scale)", {ms, px}, true);
+    PlotAxes axes{"tile size (pixels)", "", PlotScale::Auto, true, {}, false};
+    for (std::uint32_t tile : tiles) axes.xtics.push_back({double(tile), std::to_string(tile)});
+    plotPanels(o.plot,
+               scene.prepared.name + " " + o.walk.method + " " + o.walk.size + ": tile size sweep",
+               axes, {{"frame time (ms)", {ms}}, {"depth pixels read per frame", {px}}});
   }
   if (!o.json.empty()) writeJson(o.json, report);
   if (missed) {
@@ -117,11 +124,15 @@ void addTuneCommand(CLI::App& app) {
   }
   tune->add_option("--method", o->walk.method,
                    "the method whose tile size is swept, one with a grid: " + gridded);
-  tune->add_option("--size", o->walk.size, "viewport WIDTHxHEIGHT");
+  addSizeOption(*tune, o->walk.size, "viewport");
   addViewOptions(*tune, o->walk);
   tune->add_option("--tiles", o->tiles,
-                   "comma-separated tile sizes to try (default 4,8,16,32,64,128)");
-  tune->add_option("--repeat", o->repeat, "interleaved repetitions; medians are reported");
+                   "comma-separated tile sizes to try (default 4,8,16,32,64,128); each in "
+                   "range " +
+                       tileRange().text())
+      ->check(numberListCheck(tileRange()));
+  addNumber(*tune, "--repeat", o->repeat, closed<std::size_t>(1, kMaxRepeats),
+            "interleaved repetitions; medians are reported");
   tune->add_flag("--verify", o->walk.verify, "check the first repetition against the oracle");
   tune->add_option("--json", o->json, "write the sweep as JSON");
   tune->add_option("--plot", o->plot, "write STEM.png (and .dat/.gp) with gnuplot");

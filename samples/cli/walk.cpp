@@ -5,7 +5,11 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/loaded_scene.hpp"
+#include "cli/machine.hpp"
+#include "cli/progress.hpp"
 #include "cli/report.hpp"
+#include "cli/summary.hpp"
 
 namespace logrid::samples {
 namespace {
@@ -89,7 +93,7 @@ void addWalkCommand(CLI::App& app) {
   CLI::App* walk = app.add_subcommand("walk", "render a walkthrough with one culling method");
   addSceneOptions(*walk, *options);
   walk->add_option("--method", options->method, methodChoiceHelp());
-  walk->add_option("--size", options->size, "viewport WIDTHxHEIGHT");
+  addSizeOption(*walk, options->size, "viewport");
   addViewOptions(*walk, *options);
   walk->add_flag("--verify", options->verify, "check every frame against the object-ID oracle");
   walk->add_option("--json", options->json, "write a JSON summary with a per-frame array");

@@ -7,7 +7,6 @@
 #include <array>
 #include <cmath>
 #include <random>
-#include <sstream>
 
 #include "logrid/error.hpp"
 #include "scene/generators.hpp"
@@ -166,12 +165,7 @@ void tagTriangles(Scene& scene, std::uint32_t solid) {
 }  // namespace
 
 Scene makeCity(const GeneratorOptions& options) {
-  if (!(options.scale > 0) || !std::isfinite(options.scale) || options.scale > 16) {
-    std::ostringstream out;
-    out << "city: scale " << options.scale
-        << " is out of range; use a value in (0, 16] (scale 16 is about 540 million triangles)";
-    throw Error(ErrorCode::InvalidArgument, out.str());
-  }
+  checkScale("city", options.scale, kMaxCityScale, " (scale 16 is about 540 million triangles)");
   std::mt19937_64 rng(options.seed);
   std::uniform_real_distribution<double> unit(0, 1);
   const int blocks = std::max(2, int(std::round(std::sqrt(kBaseBlocks * options.scale))));

@@ -7,17 +7,10 @@
 #include <filesystem>
 
 #include "logrid/ddo/file.hpp"
+#include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
 
 namespace logrid::samples {
-namespace {
-
-double msSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-      .count();
-}
-
-}  // namespace
 
 std::string defaultDdoFile(const std::string& scene_argument, const std::string& motion_file) {
   if (scene_argument == "forest" || scene_argument == "city" || scene_argument == "office" ||

@@ -4,9 +4,7 @@
 // tens of metres) and a comparable triangle count; trees are simple but readable.
 #include <cmath>
 #include <random>
-#include <sstream>
 
-#include "logrid/error.hpp"
 #include "scene/generators.hpp"
 #include "scene/mesh_writer.hpp"
 
@@ -199,11 +197,7 @@ const char* toString(TreeParts parts) {
 }
 
 Scene makeForest(const GeneratorOptions& options) {
-  if (!(options.scale > 0) || !std::isfinite(options.scale) || options.scale > 1000) {
-    std::ostringstream out;
-    out << "forest: scale " << options.scale << " is out of range; use a value in (0, 1000]";
-    throw Error(ErrorCode::InvalidArgument, out.str());
-  }
+  checkScale("forest", options.scale, kMaxForestScale);
   std::mt19937_64 rng(options.seed);
   const Terrain terrain(rng);
   const double side = kBaseSide * std::sqrt(options.scale);

@@ -32,8 +32,18 @@ struct GeneratorOptions {
   TreeParts tree_parts = TreeParts::Whole;  // forest only
 };
 
+// The largest scale of each scene: larger ones would not fit in 32-bit indices (or, for
+// the city, in memory: scale 16 is about 540 million triangles).
+inline constexpr double kMaxForestScale = 1000;
+inline constexpr double kMaxCityScale = 16;
+inline constexpr double kMaxOfficeScale = 64;
+
+// Throws logrid::Error(InvalidArgument) naming the scene for a scale outside (0, max]
+// (NaN included); `note` follows the range in the message.
+void checkScale(const char* scene, double scale, double max, const char* note = "");
+
 // Throw logrid::Error(InvalidArgument) for a scale that is not finite and positive, or
-// so large the scene would not fit in 32-bit indices.
+// above the scene's largest (kMax*Scale).
 Scene makeForest(const GeneratorOptions& options);
 Scene makeCity(const GeneratorOptions& options);
 // An office building (indoor, finely tessellated closed boxes everywhere; see office.cpp):

@@ -97,14 +97,8 @@ std::string gltfJson(const std::string& path, const std::string& extension) {
   return json;
 }
 
-}  // namespace
-
-void checkGltf(const std::string& path) {
-  const std::string extension = lowerCase(fs::path(path).extension().string());
-  if (extension != ".gltf" && extension != ".glb") return;
-  const std::string json = gltfJson(path, extension);
-
-  // Nesting depth, outside strings.
+// The JSON's nesting depth, outside strings, at most kMaxJsonDepth.
+void checkJsonDepth(const std::string& path, const std::string& json) {
   int depth = 0;
   bool in_string = false;
   for (std::size_t i = 0; i < json.size(); ++i) {
@@ -127,12 +121,12 @@ void checkGltf(const std::string& path) {
       --depth;
     }
   }
+}
 
-  // The node graph: glTF 2 lists nodes in an array and children by index, glTF 1 in an
-  // object and children by name. Anything malformed is left for assimp to report.
-  const nlohmann::json document = nlohmann::json::parse(json, nullptr, false);
-  if (!document.is_object() || !document.contains("nodes")) return;
-  const nlohmann::json& nodes = document["nodes"];
+// The node graph as each node's children: glTF 2 lists nodes in an array and children by
+// index, glTF 1 in an object and children by name. Anything malformed is left out (for
+// assimp to report).
+std::vector<std::vector<std::size_t>> nodeChildren(const nlohmann::json& nodes) {
   std::vector<const nlohmann::json*> node_list;
   std::unordered_map<std::string, std::size_t> names;
   if (nodes.is_array()) {
@@ -142,8 +136,6 @@ void checkGltf(const std::string& path) {
       names.emplace(it.key(), node_list.size());
       node_list.push_back(&it.value());
     }
-  } else {
-    return;
   }
   const std::size_t count = node_list.size();
   std::vector<std::vector<std::size_t>> children(count);
@@ -160,8 +152,15 @@ void checkGltf(const std::string& path) {
       }
     }
   }
-  // Per node, the depth of its subtree and the number of nodes it expands to
-  // (saturating), by an iterative depth-first walk.
+  return children;
+}
+
+// No cycle, no subtree deeper than kMaxNodeDepth or expanding to more than kMaxInstances
+// nodes: per node, the depth of its subtree and the number of nodes it expands to
+// (saturating), by an iterative depth-first walk.
+void checkNodeGraph(const std::string& path,
+                    const std::vector<std::vector<std::size_t>>& children) {
+  const std::size_t count = children.size();
   std::vector<std::uint64_t> expanded(count, 0), height(count, 0);
   std::vector<char> state(count, 0);  // 0 new, 1 on the stack, 2 done
   for (std::size_t root = 0; root < count; ++root) {
@@ -201,6 +200,18 @@ void checkGltf(const std::string& path) {
       stack.pop_back();
     }
   }
+}
+
+}  // namespace
+
+void checkGltf(const std::string& path) {
+  const std::string extension = lowerCase(fs::path(path).extension().string());
+  if (extension != ".gltf" && extension != ".glb") return;
+  const std::string json = gltfJson(path, extension);
+  checkJsonDepth(path, json);
+  const nlohmann::json document = nlohmann::json::parse(json, nullptr, false);
+  if (!document.is_object() || !document.contains("nodes")) return;
+  checkNodeGraph(path, nodeChildren(document["nodes"]));
 }
 
 }  // namespace logrid::samples::load

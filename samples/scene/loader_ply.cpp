@@ -215,161 +215,192 @@ PlyValue plyValue(const std::string& word, char kind) {
   fail(ErrorCode::BadInput, path, "is a PLY file that assimp 5.2 cannot read correctly: " + what);
 }
 
-// Reads and checks the header: see the comment at the top.
-void readPlyHeader(const std::string& path, PlyHeader& header, PlyNotes& notes) {
-  constexpr std::size_t kScanBytes = std::size_t{1} << 20;
-  std::ifstream in(path, std::ios::binary);
-  std::string head(kScanBytes, '\0');
-  in.read(&head[0], static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+// Reads and checks the header, line by line: see the comment at the top.
+class PlyHeaderReader {
+ public:
+  PlyHeaderReader(const std::string& path, PlyHeader& header, PlyNotes& notes)
+      : path_(path), header_(header), notes_(notes) {
+    constexpr std::size_t kScanBytes = std::size_t{1} << 20;
+    std::ifstream in(path, std::ios::binary);
+    head_.assign(kScanBytes, '\0');
+    in.read(&head_[0], static_cast<std::streamsize>(head_.size()));
+    head_.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  }
 
-  bool has_cr = false;
-  // The line that ended the current element's property list for assimp, if any.
-  std::string interruption;
-  std::size_t begin = 0;
-  for (int number = 1;; ++number) {
-    const std::size_t end = head.find('\n', begin);
-    if (end == std::string::npos) {
-      plyFail(path,
-              "the header has no end_header line in the first 1 MiB (truncated?); assimp would "
-              "look for it for ever");
+  void read() {
+    for (int number = 1;; ++number) {
+      const std::string line = nextLine();
+      const std::string where = "header line " + std::to_string(number);
+      const std::vector<std::string> w = plyWords(line);
+      const bool comment = !w.empty() && (w[0] == "comment" || w[0] == "obj_info");
+      checkBytes(line, where, comment);
+      if (number == 1) {
+        if (w.size() != 1 || lowerCase(w[0]) != "ply") fail("the first line is not 'ply'");
+      } else if (number == 2) {
+        readFormat(w, where);
+      } else if (!readLine(line, w, where, comment)) {
+        break;  // end_header
+      }
     }
-    std::string line = head.substr(begin, end - begin);
-    begin = end + 1;
+    if (has_cr_ && header_.format != PlyFormat::Ascii) {
+      fail(
+          "a binary PLY header with CR LF line ends (assimp 5.2 reads the data after it one "
+          "byte off)");
+    }
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const { plyFail(path_, what); }
+
+  // The next line without its line end (CR LF noted).
+  std::string nextLine() {
+    const std::size_t end = head_.find('\n', begin_);
+    if (end == std::string::npos) {
+      fail(
+          "the header has no end_header line in the first 1 MiB (truncated?); assimp would "
+          "look for it for ever");
+    }
+    std::string line = head_.substr(begin_, end - begin_);
+    begin_ = end + 1;
     if (!line.empty() && line.back() == '\r') {
       line.pop_back();
-      has_cr = true;
+      has_cr_ = true;
     }
-    const std::string where = "header line " + std::to_string(number);
-    const std::vector<std::string> w = plyWords(line);
-    const bool comment = !w.empty() && (w[0] == "comment" || w[0] == "obj_info");
+    return line;
+  }
+
+  void checkBytes(const std::string& line, const std::string& where, bool comment) const {
     for (const char c : line) {
       if (c == '\0' || c == '\r' || c == '\f' || (isControl(c) && !comment)) {
-        plyFail(path, where + " holds the control byte " + byteName(c) +
-                          " (assimp ends lines at some of them: it may drop properties, or "
-                          "loop looking for end_header)");
+        fail(where + " holds the control byte " + byteName(c) +
+             " (assimp ends lines at some of them: it may drop properties, or loop looking for "
+             "end_header)");
       }
     }
-    if (number == 1) {
-      if (w.size() != 1 || lowerCase(w[0]) != "ply") plyFail(path, "the first line is not 'ply'");
-      continue;
+  }
+
+  void readFormat(const std::vector<std::string>& w, const std::string& where) {
+    if (w.size() < 2 || w[0] != "format") {
+      fail(
+          "line 2 is not the format line (assimp requires 'format ascii 1.0' or "
+          "'format binary_little_endian 1.0' there)");
     }
-    if (number == 2) {
-      if (w.size() < 2 || w[0] != "format") {
-        plyFail(path,
-                "line 2 is not the format line (assimp requires 'format ascii 1.0' or "
-                "'format binary_little_endian 1.0' there)");
-      }
-      if (w[1] == "ascii") {
-        header.format = PlyFormat::Ascii;
-      } else if (w[1] == "binary_little_endian") {
-        header.format = PlyFormat::BinaryLittleEndian;
-      } else if (w[1] == "binary_big_endian") {
-        header.format = PlyFormat::BinaryBigEndian;
-      } else {
-        plyFail(path, where + ": unknown format '" + w[1] + "'");
-      }
-      if (w.size() > 3) notes.add("extra words after the format (assimp ignores them)", where);
-      continue;
+    if (w[1] == "ascii") {
+      header_.format = PlyFormat::Ascii;
+    } else if (w[1] == "binary_little_endian") {
+      header_.format = PlyFormat::BinaryLittleEndian;
+    } else if (w[1] == "binary_big_endian") {
+      header_.format = PlyFormat::BinaryBigEndian;
+    } else {
+      fail(where + ": unknown format '" + w[1] + "'");
     }
+    if (w.size() > 3) notes_.add("extra words after the format (assimp ignores them)", where);
+  }
+
+  // A line after the format line; false at end_header.
+  bool readLine(const std::string& line, const std::vector<std::string>& w,
+                const std::string& where, bool comment) {
     if (w.empty()) {
       // assimp skips an empty line, but a line of blanks ends a property list.
       if (!line.empty()) {
-        if (!header.elements.empty()) interruption = where + " (a line of blanks)";
-        notes.add("a header line of blanks (assimp ignores it)", where);
+        if (!header_.elements.empty()) interruption_ = where + " (a line of blanks)";
+        notes_.add("a header line of blanks (assimp ignores it)", where);
       }
-      continue;
+    } else if (comment) {
+      if (!header_.elements.empty()) interruption_ = where + " (a comment)";
+    } else if (w[0] == "end_header") {
+      if (w.size() > 1) notes_.add("extra words after end_header (assimp ignores them)", where);
+      header_.data_offset = begin_;
+      return false;
+    } else if (w[0] == "element") {
+      readElement(line, w, where);
+    } else if (w[0] == "property") {
+      readProperty(line, w, where);
+    } else {
+      // Any other line, including a second format line: assimp ignores it.
+      if (!header_.elements.empty()) interruption_ = where + " ('" + line + "')";
+      notes_.add("a header line that is no PLY keyword (assimp ignores it)",
+                 where + ", '" + line + "'");
     }
-    if (comment) {
-      if (!header.elements.empty()) interruption = where + " (a comment)";
-      continue;
-    }
-    if (w[0] == "end_header") {
-      if (w.size() > 1) notes.add("extra words after end_header (assimp ignores them)", where);
-      header.data_offset = begin;
-      break;
-    }
-    if (w[0] == "element") {
-      if (w.size() < 3 || !isDigit(w[2][0])) {
-        plyFail(path, where + ": '" + line + "' is not 'element NAME COUNT'");
-      }
-      const std::uint64_t count = digitsValue(w[2]);
-      if (count > 0xFFFFFFFFu) {
-        plyFail(path, where + ": element count '" + w[2] + "' is not a 32-bit count");
-      }
-      if (!isDigits(w[2])) {
-        notes.add("an element count followed by other characters (assimp reads the digits)",
-                  where + ", '" + w[2] + "'");
-      }
-      if (w.size() > 3)
-        notes.add("extra words after an element count (assimp ignores them)", where);
-      for (const PlyElement& other : header.elements) {
-        if (other.name == w[1]) {
-          plyFail(path, where + ": element '" + w[1] +
-                            "' declared twice (assimp 5.2 overflows a heap buffer)");
-        }
-      }
-      header.elements.push_back({w[1], count, {}, false});
-      interruption.clear();
-      continue;
-    }
-    if (w[0] == "property") {
-      if (header.elements.empty()) {
-        notes.add("a property before the first element (assimp ignores it)", where);
-        continue;
-      }
-      PlyElement& element = header.elements.back();
-      PlyProperty property;
-      const bool list = w.size() > 1 && w[1] == "list";
-      const std::size_t name_at = list ? 4 : 2;
-      if (w.size() <= name_at) plyFail(path, where + ": '" + line + "' names no property");
-      if (!interruption.empty() || element.ignores_last) {
-        plyFail(path,
-                where + ": property '" + w[name_at] + "' of element '" + element.name +
-                    "' comes after " +
-                    (element.ignores_last ? "one of a type assimp does not know" : interruption) +
-                    ", where assimp ends the element's properties: it would drop this "
-                    "one and read the data wrongly");
-      }
-      property.list = list;
-      property.name = w[name_at];
-      const bool known = list ? plyType(w[2], property.count_kind, property.count_size) &&
-                                    plyType(w[3], property.kind, property.size)
-                              : plyType(w[1], property.kind, property.size);
-      if (!known) {
-        if (header.format != PlyFormat::Ascii) {
-          plyFail(path, where + ": '" + line +
-                            "' has a type assimp does not know, so the "
-                            "size of its binary values is unknown");
-        }
-        notes.add("a property of a type assimp does not know (ignored, with its values)",
-                  where + ", '" + line + "'");
-        element.ignores_last = true;
-        continue;
-      }
-      if (w.size() > name_at + 1) {
-        notes.add("extra words after a property name (assimp ignores them)", where);
-      }
-      for (const PlyProperty& other : element.properties) {
-        if (other.name == property.name) {
-          plyFail(path, where + ": property '" + property.name + "' of element '" + element.name +
-                            "' declared twice");
-        }
-      }
-      element.properties.push_back(property);
-      continue;
-    }
-    // Any other line, including a second format line: assimp ignores it.
-    if (!header.elements.empty()) interruption = where + " ('" + line + "')";
-    notes.add("a header line that is no PLY keyword (assimp ignores it)",
-              where + ", '" + line + "'");
+    return true;
   }
-  if (has_cr && header.format != PlyFormat::Ascii) {
-    plyFail(path,
-            "a binary PLY header with CR LF line ends (assimp 5.2 reads the data after it "
-            "one byte off)");
+
+  void readElement(const std::string& line, const std::vector<std::string>& w,
+                   const std::string& where) {
+    if (w.size() < 3 || !isDigit(w[2][0])) {
+      fail(where + ": '" + line + "' is not 'element NAME COUNT'");
+    }
+    const std::uint64_t count = digitsValue(w[2]);
+    if (count > 0xFFFFFFFFu) fail(where + ": element count '" + w[2] + "' is not a 32-bit count");
+    if (!isDigits(w[2])) {
+      notes_.add("an element count followed by other characters (assimp reads the digits)",
+                 where + ", '" + w[2] + "'");
+    }
+    if (w.size() > 3) notes_.add("extra words after an element count (assimp ignores them)", where);
+    for (const PlyElement& other : header_.elements) {
+      if (other.name == w[1]) {
+        fail(where + ": element '" + w[1] +
+             "' declared twice (assimp 5.2 overflows a heap buffer)");
+      }
+    }
+    header_.elements.push_back({w[1], count, {}, false});
+    interruption_.clear();
   }
-}
+
+  void readProperty(const std::string& line, const std::vector<std::string>& w,
+                    const std::string& where) {
+    if (header_.elements.empty()) {
+      notes_.add("a property before the first element (assimp ignores it)", where);
+      return;
+    }
+    PlyElement& element = header_.elements.back();
+    PlyProperty property;
+    const bool list = w.size() > 1 && w[1] == "list";
+    const std::size_t name_at = list ? 4 : 2;
+    if (w.size() <= name_at) fail(where + ": '" + line + "' names no property");
+    if (!interruption_.empty() || element.ignores_last) {
+      fail(where + ": property '" + w[name_at] + "' of element '" + element.name +
+           "' comes after " +
+           (element.ignores_last ? "one of a type assimp does not know" : interruption_) +
+           ", where assimp ends the element's properties: it would drop this one and read the "
+           "data wrongly");
+    }
+    property.list = list;
+    property.name = w[name_at];
+    const bool known = list ? plyType(w[2], property.count_kind, property.count_size) &&
+                                  plyType(w[3], property.kind, property.size)
+                            : plyType(w[1], property.kind, property.size);
+    if (!known) {
+      if (header_.format != PlyFormat::Ascii) {
+        fail(where + ": '" + line +
+             "' has a type assimp does not know, so the size of its binary values is unknown");
+      }
+      notes_.add("a property of a type assimp does not know (ignored, with its values)",
+                 where + ", '" + line + "'");
+      element.ignores_last = true;
+      return;
+    }
+    if (w.size() > name_at + 1) {
+      notes_.add("extra words after a property name (assimp ignores them)", where);
+    }
+    for (const PlyProperty& other : element.properties) {
+      if (other.name == property.name) {
+        fail(where + ": property '" + property.name + "' of element '" + element.name +
+             "' declared twice");
+      }
+    }
+    element.properties.push_back(property);
+  }
+
+  const std::string& path_;
+  PlyHeader& header_;
+  PlyNotes& notes_;
+  std::string head_;       // the first 1 MiB of the file
+  std::size_t begin_ = 0;  // of the next line in head_
+  bool has_cr_ = false;
+  // The line that ended the current element's property list for assimp, if any.
+  std::string interruption_;
+};
 
 // ASCII: one instance per line, each property's values as words of the line, list
 // counts within the line. See the comment at the top for what is refused and why.
@@ -575,7 +606,7 @@ void checkPly(const std::string& path, const Warn& warn) {
   if (lowerCase(fs::path(path).extension().string()) != ".ply") return;
   PlyHeader header;
   PlyNotes notes;
-  readPlyHeader(path, header, notes);
+  PlyHeaderReader(path, header, notes).read();
   // Every instance takes at least a line or a byte: refuse absurd counts before walking.
   std::error_code ec;
   const std::uintmax_t bytes = fs::file_size(path, ec);

@@ -7,10 +7,8 @@
 // walkthrough follows the middle storey's corridor, glancing into the rooms.
 #include <cmath>
 #include <random>
-#include <sstream>
 #include <vector>
 
-#include "logrid/error.hpp"
 #include "scene/generators.hpp"
 #include "scene/mesh_writer.hpp"
 
@@ -140,11 +138,7 @@ void furnish(MeshWriter& w, std::mt19937_64& rng, double x0, double z0, double z
 }  // namespace
 
 Scene makeOffice(const GeneratorOptions& options) {
-  if (!(options.scale > 0) || !std::isfinite(options.scale) || options.scale > 64) {
-    std::ostringstream out;
-    out << "office: scale " << options.scale << " is out of range; use a value in (0, 64]";
-    throw Error(ErrorCode::InvalidArgument, out.str());
-  }
+  checkScale("office", options.scale, kMaxOfficeScale);
   std::mt19937_64 rng(options.seed);
   const int rooms = std::max(2, int(std::round(kBaseRooms * options.scale)));
   const double length = rooms * kRoom, outer = kCorridor + kDepth;

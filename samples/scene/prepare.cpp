@@ -4,13 +4,10 @@
 #include <limits>
 #include <map>
 
+#include "logrid/elapsed.hpp"
+
 namespace logrid::samples {
 namespace {
-
-double msSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-      .count();
-}
 
 // Appends one object's triangles to the mesh with its vertices regrouped locally.
 // `stamp`/`local` are per-source-vertex scratch arrays reused across objects.
@@ -144,111 +141,90 @@ std::vector<OccluderModel> chunkModels(
   return models;
 }
 
-}  // namespace
-
-std::size_t PreparedScene::memoryBytes() const {
-  return hierarchy.memoryBytes() + mesh.memoryBytes() + object_boxes.capacity() * sizeof(Aabb);
-}
-
-bvh::BuildArgs defaultBuildArgs(const Scene& scene) {
-  bvh::BuildArgs args;
-  args.max_leaf_size = scene.split_by_triangles ? 1500 : 1;
-  return args;
-}
-
-PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args) {
-  const auto start = std::chrono::steady_clock::now();
-  validateScene(scene);
-  PreparedScene out;
-  out.name = scene.name;
-  out.origin = scene.origin;
-  out.path = scene.path;
-  out.near_plane = scene.near_plane;
-  out.far_plane = scene.far_plane;
-  out.triangles = scene.triangleCount();
-
-  if (scene.split_by_triangles) {
-    // The movers' meshes are appended after the static triangles (movers.cpp): set them
-    // aside while the static triangles are split into chunks.
-    std::size_t static_end = scene.indices.size();
-    for (const SceneObject& o : scene.moving)
-      static_end = std::min<std::size_t>(static_end, o.first_index);
-    std::vector<std::uint32_t> moving_indices(scene.indices.begin() + std::ptrdiff_t(static_end),
-                                              scene.indices.end());
-    scene.indices.resize(static_end);
-    const auto build_start = std::chrono::steady_clock::now();
-    bvh::TriangleHierarchy th = bvh::buildOverTriangles(scene.positions, scene.indices, args);
-    out.bvh_build_ms = msSince(build_start);
-    scene.indices.insert(scene.indices.end(), moving_indices.begin(), moving_indices.end());
-    out.hierarchy = std::move(th.hierarchy);
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> spans;
-    for (std::size_t c = 0; c + 1 < th.chunk_first.size(); ++c) {
-      spans.emplace_back(th.chunk_first[c], th.chunk_first[c + 1]);
-    }
-    const bool wide = needsWideIndices(scene, spans, th.triangle_order.data());
-    MeshBuilder builder(scene, out.mesh, wide);
-    for (const auto& [first, last] : spans) {
-      builder.addObject(
-          SpanRange{th.triangle_order.data() + first, th.triangle_order.data() + last},
-          0xFFFFFFFFu);
-    }
-    if (!scene.triangle_solids.empty()) {
-      out.occluder_models = chunkModels(scene, spans, th.triangle_order.data());
-    }
-  } else {
-    out.source_objects = scene.objects.size();
-    std::vector<Aabb> boxes;
-    boxes.reserve(scene.objects.size());
-    for (const SceneObject& o : scene.objects) boxes.push_back(o.box);
-    const auto build_start = std::chrono::steady_clock::now();
-    out.hierarchy = bvh::buildOverBoxes(boxes, args);
-    out.bvh_build_ms = msSince(build_start);
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> spans;
-    for (const SceneObject& o : scene.objects) {
-      spans.emplace_back(o.first_index / 3, (o.first_index + o.index_count) / 3);
-    }
-    const bool wide = needsWideIndices(scene, spans, nullptr);
-    MeshBuilder builder(scene, out.mesh, wide);
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-      builder.addObject(IotaRange{spans[i].first, spans[i].second}, scene.objects[i].color);
-    }
-    out.occluder_models = std::move(scene.occluder_models);
+// Scenes split by triangles (the city): the static triangles cut into chunks by the
+// hierarchy over them, each chunk an object; the movers' meshes stay after them.
+void prepareChunks(Scene& scene, const bvh::BuildArgs& args, PreparedScene& out) {
+  // The movers' meshes are appended after the static triangles (movers.cpp): set them
+  // aside while the static triangles are split into chunks.
+  std::size_t static_end = scene.indices.size();
+  for (const SceneObject& o : scene.moving)
+    static_end = std::min<std::size_t>(static_end, o.first_index);
+  std::vector<std::uint32_t> moving_indices(scene.indices.begin() + std::ptrdiff_t(static_end),
+                                            scene.indices.end());
+  scene.indices.resize(static_end);
+  const auto build_start = std::chrono::steady_clock::now();
+  bvh::TriangleHierarchy th = bvh::buildOverTriangles(scene.positions, scene.indices, args);
+  out.bvh_build_ms = msSince(build_start);
+  scene.indices.insert(scene.indices.end(), moving_indices.begin(), moving_indices.end());
+  out.hierarchy = std::move(th.hierarchy);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> spans;
+  for (std::size_t c = 0; c + 1 < th.chunk_first.size(); ++c) {
+    spans.emplace_back(th.chunk_first[c], th.chunk_first[c + 1]);
   }
-  // Moving objects after the static ones; objects over the same indices share a draw's
-  // geometry (the movers of one shape).
+  const bool wide = needsWideIndices(scene, spans, th.triangle_order.data());
+  MeshBuilder builder(scene, out.mesh, wide);
+  for (const auto& [first, last] : spans) {
+    builder.addObject(SpanRange{th.triangle_order.data() + first, th.triangle_order.data() + last},
+                      0xFFFFFFFFu);
+  }
+  if (!scene.triangle_solids.empty()) {
+    out.occluder_models = chunkModels(scene, spans, th.triangle_order.data());
+  }
+}
+
+// Scenes of objects: the hierarchy over their boxes, each object one draw.
+void prepareObjects(Scene& scene, const bvh::BuildArgs& args, PreparedScene& out) {
+  out.source_objects = scene.objects.size();
+  std::vector<Aabb> boxes;
+  boxes.reserve(scene.objects.size());
+  for (const SceneObject& o : scene.objects) boxes.push_back(o.box);
+  const auto build_start = std::chrono::steady_clock::now();
+  out.hierarchy = bvh::buildOverBoxes(boxes, args);
+  out.bvh_build_ms = msSince(build_start);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> spans;
+  for (const SceneObject& o : scene.objects) {
+    spans.emplace_back(o.first_index / 3, (o.first_index + o.index_count) / 3);
+  }
+  const bool wide = needsWideIndices(scene, spans, nullptr);
+  MeshBuilder builder(scene, out.mesh, wide);
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    builder.addObject(IotaRange{spans[i].first, spans[i].second}, scene.objects[i].color);
+  }
+  out.occluder_models = std::move(scene.occluder_models);
+}
+
+// Moving objects after the static ones; objects over the same indices share a draw's
+// geometry (the movers of one shape).
+void appendMovers(const Scene& scene, PreparedScene& out) {
   out.static_objects = static_cast<std::uint32_t>(out.mesh.draws.size());
-  if (!scene.moving.empty()) {
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> spans;
-    for (const SceneObject& o : scene.moving) {
-      spans.emplace_back(o.first_index / 3, (o.first_index + o.index_count) / 3);
-    }
-    const bool wide = !out.mesh.indices32.empty() || needsWideIndices(scene, spans, nullptr);
-    if (wide && out.mesh.indices32.empty() && !out.mesh.indices16.empty()) {
-      out.mesh.indices32.assign(out.mesh.indices16.begin(), out.mesh.indices16.end());
-      out.mesh.indices16.clear();
-    }
-    MeshBuilder builder(scene, out.mesh, wide);
-    std::map<std::pair<std::uint32_t, std::uint32_t>, std::size_t> shared;  // span -> draw
-    for (std::size_t i = 0; i < scene.moving.size(); ++i) {
-      const auto [it, first] = shared.emplace(spans[i], out.mesh.draws.size());
-      if (first) {
-        builder.addObject(IotaRange{spans[i].first, spans[i].second}, scene.moving[i].color);
-      } else {
-        gl::RenderMesh::Draw draw = out.mesh.draws[it->second];
-        draw.color = scene.moving[i].color;
-        out.mesh.draws.push_back(draw);
-      }
+  if (scene.moving.empty()) return;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> spans;
+  for (const SceneObject& o : scene.moving) {
+    spans.emplace_back(o.first_index / 3, (o.first_index + o.index_count) / 3);
+  }
+  const bool wide = !out.mesh.indices32.empty() || needsWideIndices(scene, spans, nullptr);
+  if (wide && out.mesh.indices32.empty() && !out.mesh.indices16.empty()) {
+    out.mesh.indices32.assign(out.mesh.indices16.begin(), out.mesh.indices16.end());
+    out.mesh.indices16.clear();
+  }
+  MeshBuilder builder(scene, out.mesh, wide);
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::size_t> shared;  // span -> draw
+  for (std::size_t i = 0; i < scene.moving.size(); ++i) {
+    const auto [it, first] = shared.emplace(spans[i], out.mesh.draws.size());
+    if (first) {
+      builder.addObject(IotaRange{spans[i].first, spans[i].second}, scene.moving[i].color);
+    } else {
+      gl::RenderMesh::Draw draw = out.mesh.draws[it->second];
+      draw.color = scene.moving[i].color;
+      out.mesh.draws.push_back(draw);
     }
   }
-  out.motion = std::move(scene.motion);
-  // Release the source geometry before computing the per-object boxes from the mesh.
-  scene.positions = {};
-  scene.indices = {};
-  scene.vertex_colors = {};
-  out.mesh.positions.shrink_to_fit();
-  out.mesh.colors.shrink_to_fit();
+}
 
-  std::vector<std::uint32_t> triangles;  // per object, for nohc's cost model
+// Each object's box from the renderer's mesh (movers where they are at time 0), the
+// scene's bounds, and the triangles per object (for nohc's cost model) and in all.
+void measureObjects(PreparedScene& out) {
+  std::vector<std::uint32_t> triangles;  // per object
   triangles.reserve(out.mesh.draws.size());
   for (const gl::RenderMesh::Draw& d : out.mesh.draws) triangles.push_back(d.index_count / 3);
   out.hierarchy.setObjectTriangles(std::move(triangles));
@@ -274,6 +250,44 @@ PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args) {
   // one by one).
   out.triangles = 0;
   for (const gl::RenderMesh::Draw& d : out.mesh.draws) out.triangles += d.index_count / 3;
+}
+
+}  // namespace
+
+std::size_t PreparedScene::memoryBytes() const {
+  return hierarchy.memoryBytes() + mesh.memoryBytes() + object_boxes.capacity() * sizeof(Aabb);
+}
+
+bvh::BuildArgs defaultBuildArgs(const Scene& scene) {
+  bvh::BuildArgs args;
+  args.max_leaf_size = scene.split_by_triangles ? 1500 : 1;
+  return args;
+}
+
+PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args) {
+  const auto start = std::chrono::steady_clock::now();
+  validateScene(scene);
+  PreparedScene out;
+  out.name = scene.name;
+  out.origin = scene.origin;
+  out.path = scene.path;
+  out.near_plane = scene.near_plane;
+  out.far_plane = scene.far_plane;
+  out.triangles = scene.triangleCount();
+  if (scene.split_by_triangles) {
+    prepareChunks(scene, args, out);
+  } else {
+    prepareObjects(scene, args, out);
+  }
+  appendMovers(scene, out);
+  out.motion = std::move(scene.motion);
+  // Release the source geometry before computing the per-object boxes from the mesh.
+  scene.positions = {};
+  scene.indices = {};
+  scene.vertex_colors = {};
+  out.mesh.positions.shrink_to_fit();
+  out.mesh.colors.shrink_to_fit();
+  measureObjects(out);
   out.prepare_ms = msSince(start);
   return out;
 }

@@ -6,8 +6,17 @@
 #include <sstream>
 
 #include "logrid/error.hpp"
+#include "scene/generators.hpp"
 
 namespace logrid::samples {
+
+void checkScale(const char* scene, double scale, double max, const char* note) {
+  if (scale > 0 && scale <= max) return;
+  std::ostringstream out;
+  out << scene << ": scale " << scale << " is out of range; use a value in (0, " << max << "]"
+      << note;
+  throw Error(ErrorCode::InvalidArgument, out.str());
+}
 
 Aabb emptyBox() {
   constexpr float inf = std::numeric_limits<float>::infinity();

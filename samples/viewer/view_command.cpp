@@ -2,7 +2,8 @@
 #include <memory>
 
 #include "cli/commands.hpp"
-#include "cli/common.hpp"
+#include "cli/frame_runner.hpp"
+#include "cli/options.hpp"
 #include "cli/readers.hpp"
 #include "logrid/method.hpp"
 #include "viewer/viewer.hpp"
@@ -15,7 +16,7 @@ void addViewCommand(CLI::App& app) {
       "view", "fly through a scene in a window and watch the culling (needs a display; F1: keys)");
   addSceneOptions(*view, o->walk);
   view->add_option("--method", o->walk.method, samples::methodChoiceHelp());
-  view->add_option("--size", o->walk.size, "initial window size WIDTHxHEIGHT");
+  addSizeOption(*view, o->walk.size, "initial window size");
   addViewOptions(*view, o->walk);
   view->add_flag("--verify", o->walk.verify,
                  "check every frame against the object-ID oracle; missed objects flash red");

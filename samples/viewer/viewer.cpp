@@ -13,9 +13,14 @@
 #include <optional>
 #include <thread>
 
+#include "cli/common.hpp"
 #include "cli/images.hpp"
+#include "cli/loaded_scene.hpp"
+#include "cli/machine.hpp"
 #include "cli/readers.hpp"
 #include "cli/report.hpp"
+#include "cli/values.hpp"
+#include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
 #include "logrid/projection.hpp"
 #include "scene/view.hpp"
@@ -182,10 +187,7 @@ class Viewer {
       window_->swap();
       gl::checkGlErrors("view: frame");
       if (record) {
-        const double loop_ms =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                .count();
-        stats_.add(FrameSample::of(*record, clock_, loop_ms));
+        stats_.add(FrameSample::of(*record, clock_, msSince(start)));
         ++frames_drawn_;
       }
       if (script_ && frame_ >= script_->lastFrame()) break;

@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "cli/common.hpp"
+#include "cli/options.hpp"
 
 namespace logrid::viewer {
 

@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "attachment.hpp"
+#include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
 
 namespace logrid::zread {
@@ -59,10 +60,6 @@ double roundToFloat(double x) {
   std::frexp(x, &exponent);
   const double scale = std::ldexp(1.0, 24 - exponent);
   return std::nearbyint(x * scale) / scale;
-}
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "attachment.hpp"
+#include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
 
 namespace logrid::zread {
@@ -214,10 +215,6 @@ constexpr const char* kQueryFragment = R"(#version 450 core
 uniform float u_depth;
 void main() { gl_FragDepth = u_depth; }
 )";
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 }  // namespace
 

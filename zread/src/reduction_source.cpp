@@ -11,6 +11,7 @@
 #include <string>
 
 #include "attachment.hpp"
+#include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
 #include "logrid/zread/gl_sources.hpp"
 
@@ -102,10 +103,6 @@ std::string perWorkgroupKernel(int rb, int ab) {
          "  }\n"
          "  if (k == 0u) answers[i] = Answer(s_lo[0], s_hi[0], s_free[0], s_n[0]);\n"
          "}\n";
-}
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 float down(float v) { return std::nextafter(v, -std::numeric_limits<float>::infinity()); }

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <thread>
 
+#include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
 #include "octree_build.hpp"
 #include "segment_index.hpp"
@@ -34,10 +35,6 @@ std::string validateBuildArgs(const BuildArgs& args) {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 // True when the scene has nothing beyond the face's plane (on the side away from its
 // node): such a face hides nothing, so it is never worth testing or drawing.

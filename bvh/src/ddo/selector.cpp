@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
 
 namespace logrid::ddo {
@@ -190,7 +191,7 @@ void Selector::select(const Camera& camera, const std::function<void(ObjectId)>&
   if (!octree_.empty()) visit(0, frame);
   finishOccluders(frame);
   stats.occluders = occluders_.size();
-  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  stats.seconds = secondsSince(start);
 }
 
 void Selector::visit(std::uint32_t n, Frame& frame) {
