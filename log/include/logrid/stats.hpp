@@ -4,7 +4,17 @@
 
 #include <cstdint>
 
+#include "logrid/method.hpp"
+
 namespace logrid {
+
+// The setting a frame was culled with (FrameStats::setting). For `auto`, its choice.
+struct FrameSetting {
+  Method method = Method::LogState;  // auto: the grid method it ran (log-state, log-zfar)
+  std::uint32_t lookahead = 1;       // K the traversal batched with
+  bool temporal_coherence = false;
+  bool probe = false;  // auto: a frame that tried a neighbouring setting (docs/AUTO.md)
+};
 
 struct FrameStats {
   // Traversal.
@@ -20,6 +30,8 @@ struct FrameStats {
                                         // not vouch for, done by depth instead
   std::uint64_t colliding_waits = 0;    // boxes kept out of a batch because their rectangle
                                         // overlaps one in it (CullerDesc::detect_colliding)
+  std::uint64_t boxes_untested = 0;     // auto: drawn (or opened) without a test, which
+                                        // was not expected to pay (docs/AUTO.md)
   std::uint64_t tiles_tested = 0;       // tiles (HZB: pyramid cells) examined by tests
   std::uint64_t tiles_read = 0;         // tiles whose pixels a test or refresh read
 
@@ -46,7 +58,12 @@ struct FrameStats {
   std::uint64_t coherent_leaves = 0;  // leaves drawn first from last frame's visible set
   std::uint64_t draw_batches = 0;     // non-empty batches handed out (Culler::nextBatch)
   std::uint64_t occluders = 0;        // selected by the occluder pre-pass (ddo, ddo+log)
+  std::uint64_t triangles_drawn = 0;  // of the objects drawn (Hierarchy::objectTriangles;
+                                      // 0 where the hierarchy does not know them)
   double seconds = 0;                 // wall time of the whole cullFrame(), draws included
+
+  // The exact setting the frame ran with: the method's, or the one `auto` chose.
+  FrameSetting setting;
 
   double tilesPerBox() const {
     return boxes_tested ? double(tiles_tested) / double(boxes_tested) : 0.0;
