@@ -39,7 +39,8 @@ const std::set<std::string> kTextOptions = {
     "--cpu-isa",  "--depth-format", "--depth-convention", "--query-schedule", "--query-shape",
     "--method",   "--json",         "--images",           "--markdown",       "--plots",
     "--scenes",   "--methods",      "--readers",          "--hierarchies",    "--motion-method",
-    "--plot",     "--obj",          "--path-json",        "--script",         "--out"};
+    "--plot",     "--obj",          "--path-json",        "--script",         "--out",
+    "--costs"};
 
 constexpr int kParsed = 99;  // what a subcommand's callback returns here instead of running
 
