@@ -1,7 +1,7 @@
 // logrid_example: a renderer that already owns a bounding-volume hierarchy adopts logrid.
 //
 // The lines between the "logrid integration" markers are all a renderer writes (README.md,
-// "Integrating logrid", quotes them): the hierarchy adapter (1/2), and 13 lines of code for
+// "Integrating logrid", quotes them): the hierarchy adapter (1/2), and 14 lines of code for
 // the culler, the depth source, the camera and the frame (2/2). The rest is the toy application: a wall in front of
 // 16 small cubes, 4 cubes beside the wall and 2 outside the view, drawn headless through
 // EGL into an off-screen framebuffer. Exits with 1 unless the wall and the cubes beside it
@@ -141,9 +141,10 @@ int run() {
   AppHierarchy hierarchy(nodes);
   logrid::Culler culler;                                        // lazy occlusion grid
   logrid::zread::ReadPixelsSource depth(framebuffer.handle());  // reads the app's z-buffer
-  logrid::Camera camera{{}, app.width, app.height, logrid::DepthSetup{},  // GL's default z
-                        {app.eye[0], app.eye[1], app.eye[2]}};  // the renderer is camera-relative
+  logrid::Camera camera;  // depth as GL's default: standard, [-1, 1] clip range, 32-bit float
   std::copy(app.view_projection, app.view_projection + 16, camera.view_projection.m);
+  camera.width = app.width, camera.height = app.height;
+  camera.render_origin = {app.eye[0], app.eye[1], app.eye[2]};  // the renderer is camera-relative
 
   framebuffer.clear(kBackground);  // depth cleared first; then drawn with depth test and writes
   renderer.meshes.begin(logrid::gl::Pass::Shaded, camera);

@@ -377,24 +377,21 @@ void GlStateGuard::Scope::prepareRead(std::uint32_t framebuffer, std::uint32_t p
     s.row_length = integer(GL_PACK_ROW_LENGTH);
     s.skip_pixels = integer(GL_PACK_SKIP_PIXELS);
     s.skip_rows = integer(GL_PACK_SKIP_ROWS);
-    s.image_height = integer(GL_PACK_IMAGE_HEIGHT);
-    s.skip_images = integer(GL_PACK_SKIP_IMAGES);
     s.swap_bytes = integer(GL_PACK_SWAP_BYTES);
-    s.lsb_first = integer(GL_PACK_LSB_FIRST);
-    s.clamp_read_color = integer(GL_CLAMP_READ_COLOR);
     read_saved_ = true;
   }
+  // Only the pack state a two-dimensional read applies (GL 4.5 §18.2, §8.11.4): image
+  // height and skipped images act on three-dimensional images only, LSB-first on bitmaps
+  // (none in the core profile), read colour clamping on colour values of float buffers
+  // only; logrid reads depth, integers and normalised colour. Each is a query the
+  // application's state would cost otherwise (gl_state_fuzz_test sets them at random).
   glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer);
   glBindBuffer(GL_PIXEL_PACK_BUFFER, pack_buffer);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glPixelStorei(GL_PACK_ROW_LENGTH, 0);
   glPixelStorei(GL_PACK_SKIP_PIXELS, 0);
   glPixelStorei(GL_PACK_SKIP_ROWS, 0);
-  glPixelStorei(GL_PACK_IMAGE_HEIGHT, 0);
-  glPixelStorei(GL_PACK_SKIP_IMAGES, 0);
   glPixelStorei(GL_PACK_SWAP_BYTES, GL_FALSE);
-  glPixelStorei(GL_PACK_LSB_FIRST, GL_FALSE);
-  glClampColor(GL_CLAMP_READ_COLOR, GL_FALSE);
 }
 
 void GlStateGuard::Scope::bindTexture(std::uint32_t unit, std::uint32_t target,
@@ -527,17 +524,15 @@ void GlStateGuard::Scope::restore() {
   }
   if (read_saved_) {
     const ReadState& s = read_;
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, exists(*guard_.queries_, glIsFramebuffer, s.read_framebuffer));
+    // Framebuffers are not shared between contexts, and deleting a bound one unbinds it:
+    // a saved binding still names a framebuffer (no glIsFramebuffer query needed).
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(s.read_framebuffer));
     glBindBuffer(GL_PIXEL_PACK_BUFFER, exists(*guard_.queries_, glIsBuffer, s.pack_buffer));
     glPixelStorei(GL_PACK_ALIGNMENT, s.alignment);
     glPixelStorei(GL_PACK_ROW_LENGTH, s.row_length);
     glPixelStorei(GL_PACK_SKIP_PIXELS, s.skip_pixels);
     glPixelStorei(GL_PACK_SKIP_ROWS, s.skip_rows);
-    glPixelStorei(GL_PACK_IMAGE_HEIGHT, s.image_height);
-    glPixelStorei(GL_PACK_SKIP_IMAGES, s.skip_images);
     glPixelStorei(GL_PACK_SWAP_BYTES, s.swap_bytes);
-    glPixelStorei(GL_PACK_LSB_FIRST, s.lsb_first);
-    glClampColor(GL_CLAMP_READ_COLOR, GLenum(s.clamp_read_color));
   }
   if (program_saved_) {
     const ProgramState& s = program_;
@@ -552,7 +547,7 @@ void GlStateGuard::Scope::restore() {
   if (clip_saved_) glClipControl(GLenum(clip_origin_), GLenum(clip_depth_mode_));
   if (draw_saved_) {
     const DrawState& s = draw_;
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, exists(*guard_.queries_, glIsFramebuffer, s.draw_framebuffer));
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(s.draw_framebuffer));  // as the read one
     setEnabled(GL_CULL_FACE, s.cull_face);
     glCullFace(GLenum(s.cull_mode));
     glFrontFace(GLenum(s.front_face));

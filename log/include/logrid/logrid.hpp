@@ -26,7 +26,9 @@
 //   MyHierarchy hierarchy(my_tree);                      // a logrid::Hierarchy adapter
 //   logrid::Culler culler;                               // the lazy occlusion grid
 //   MyDepthSource depth;                                 // or zread::ReadPixelsSource
-//   logrid::Camera camera{view_projection, width, height};
+//   logrid::Camera camera;                               // GL's default depth set-up
+//   camera.view_projection = my_projection_times_view;   // column-major doubles
+//   camera.width = width, camera.height = height;
 //   // every frame, after clearing the depth buffer:
 //   culler.beginFrame(camera, hierarchy, {&depth});
 //   for (logrid::DrawBatch batch = culler.nextBatch(); !batch.empty();

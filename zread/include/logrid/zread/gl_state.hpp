@@ -19,9 +19,12 @@
 //                   (NV_scissor_exclusive).
 //   clipControl()   after prepareDraw(), for draws whose vertices come in a depth
 //                   convention's clip space: the clip origin and depth mode.
-//   prepareRead()   for glReadPixels: the read framebuffer, the pixel-pack buffer, every
-//                   pack parameter (alignment, row length, skip pixels, rows and images,
-//                   image height, swap bytes, LSB first) and GL_CLAMP_READ_COLOR.
+//   prepareRead()   for glReadPixels and two-dimensional texture reads of depth, integer
+//                   or normalised values: the read framebuffer, the pixel-pack buffer and
+//                   the pack parameters such reads apply (alignment, row length, skip
+//                   pixels and rows, swap bytes; image height and skipped images act on
+//                   three-dimensional images, LSB-first on bitmaps and read colour
+//                   clamping on float colour, none of which logrid reads).
 //   prepareProgram() for compute dispatches: program, program pipeline.
 //   bindTexture()   a texture on a texture unit for the source's shaders to fetch from:
 //                   the active texture unit, the unit's binding for the target and its
@@ -168,8 +171,8 @@ class GlStateGuard::Scope {
   // Sets glClipControl(origin, depth_mode) (e.g. GL_LOWER_LEFT, GL_ZERO_TO_ONE), saving
   // the application's clip origin and depth mode first.
   void clipControl(std::uint32_t origin, std::uint32_t depth_mode);
-  // Sets the read framebuffer, the pixel-pack buffer (0: client memory), tightly packed
-  // rows with alignment 1 and no skips, and no read clamping.
+  // Sets the read framebuffer, the pixel-pack buffer (0: client memory), and tightly
+  // packed rows with alignment 1, no skips and no byte swapping.
   void prepareRead(std::uint32_t framebuffer, std::uint32_t pack_buffer);
   // Saves program and program pipeline for a compute dispatch; throws like prepareDraw()
   // if conditional rendering or unpaused transform feedback is active.
@@ -236,8 +239,7 @@ class GlStateGuard::Scope {
   } program_;
   struct ReadState {
     std::int32_t read_framebuffer = 0, pack_buffer = 0, alignment = 4, row_length = 0,
-                 skip_pixels = 0, skip_rows = 0, image_height = 0, skip_images = 0, swap_bytes = 0,
-                 lsb_first = 0, clamp_read_color = 0;
+                 skip_pixels = 0, skip_rows = 0, swap_bytes = 0;
   } read_;
   struct TextureState {
     std::uint32_t unit = 0, target = 0, texture = 0;
