@@ -101,6 +101,16 @@ void AutoPolicy::endFrame(const FrameStats& stats, const CullerCosts& costs) {
     outlook_.occluded_fraction += w * (now.occluded_fraction - outlook_.occluded_fraction);
     outlook_seen_ = true;
   }
+  if (stats.triangles_drawn > 0 && stats.seconds > 0) {
+    const double rest = stats.seconds - double(stats.flushes) * costs.flush_s -
+                        double(stats.pixels_read) * costs.pixel_s -
+                        double(stats.boxes_tested + stats.boxes_untested) * costs.box_test_s -
+                        double(stats.queries) * costs.query_s;
+    const double now = std::max(0.0, rest) / double(stats.triangles_drawn);
+    observed_triangle_s_ =
+        observed_triangle_s_ > 0 ? observed_triangle_s_ + kOutlookRate * (now - observed_triangle_s_)
+                                 : now;
+  }
   const double seconds = modelledSeconds(costs, stats);
   if (!frame_.probe) {
     base_seconds_ = seconds;
@@ -123,7 +133,9 @@ NodeLoad AutoPolicy::load(NodeId node) const {
 bool AutoPolicy::worthTesting(NodeId node, const CullerCosts& costs) const {
   const auto it = loads_.find(node);
   if (it == loads_.end()) return true;  // unknown: test, as every exact method would
-  return testPays(costs, outlook_, it->second);
+  CullerCosts c = costs;
+  c.triangle_s = std::max(c.triangle_s, observed_triangle_s_);
+  return testPays(c, outlook_, it->second);
 }
 
 void AutoPolicy::loadSubtrees(const Hierarchy& h) {

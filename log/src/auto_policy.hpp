@@ -66,6 +66,12 @@ class AutoPolicy {
   void endFrame(const FrameStats& stats, const CullerCosts& costs);
 
   const TestOutlook& outlook() const { return outlook_; }
+  // Seconds per drawn triangle as the frames show it: what is left of a frame's time
+  // after its flushes, pixels and tests, over the triangles it drew (0 before a frame
+  // that drew any). The per-node test takes the larger of this and the model's
+  // triangle_s: a prior such as NOHC's pixel-sized triangle misses the fragments of a
+  // scene's triangles, and drawing is what a test saves.
+  double observedTriangleSeconds() const { return observed_triangle_s_; }
   const FrameSetting& current() const { return current_; }
   NodeLoad load(NodeId node) const;
 
@@ -81,6 +87,7 @@ class AutoPolicy {
   double base_seconds_ = 0;  // the last non-probe frame, modelled
   TestOutlook outlook_;
   bool outlook_seen_ = false;
+  double observed_triangle_s_ = 0;
   // Subtree loads, for which hierarchy.
   const Hierarchy* loads_hierarchy_ = nullptr;
   std::uint64_t loads_revision_ = 0;

@@ -77,7 +77,9 @@ struct SourceTimes {
 SourceTimes measureSource(const ReaderInfo& reader, const gl::Framebuffer& fb,
                           const Camera& camera, std::uint32_t repeats) {
   static const PreparedScene kNoScene{};
-  const ReaderContext context{kNoScene, fb.handle(), camera.width, camera.height, camera.depth};
+  const ReaderContext context{kNoScene,     fb.handle(), camera.width,        camera.height,
+                              camera.depth, nullptr,     nullptr,             ProjectionSettings{},
+                              Method::LogZfar};
   std::unique_ptr<FrameReader> frame_reader = reader.make(context);
   DepthSource& source = frame_reader->source();
   const float clear[4] = {0, 0, 0, 1};
