@@ -26,6 +26,10 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
     throw Error(ErrorCode::InvalidArgument, "CPU buffer resolution '" + o.cpu_resolution +
                                                 "' is unknown; use full, half or quarter");
   }
+  if (!cpu::parseRepresentation(o.cpu_buffer, c.cpu.representation)) {
+    throw Error(ErrorCode::InvalidArgument,
+                "CPU buffer '" + o.cpu_buffer + "' is unknown; use per-pixel or masked");
+  }
   const auto occluders = parseOccluderChoice(o.occluders);
   if (!occluders) {
     throw Error(ErrorCode::InvalidArgument,

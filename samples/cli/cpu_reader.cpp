@@ -7,6 +7,7 @@ CpuFrameReader::CpuFrameReader(const PreparedScene& scene, const CpuReaderOption
     : static_objects_(scene.static_objects) {
   cpu::OcclusionBufferDesc desc;
   desc.resolution = options.resolution;
+  desc.representation = options.representation;
   desc.isa = options.isa;
   desc.threads = options.threads;
   desc.projection = projection;

@@ -15,6 +15,7 @@ namespace logrid::samples {
 
 struct CpuReaderOptions {
   cpu::Resolution resolution = cpu::Resolution::Full;
+  cpu::Representation representation = cpu::Representation::PerPixel;
   OccluderChoice occluders = OccluderChoice::Mesh;
   std::uint32_t threads = 0;  // worker threads of the buffer
   cpu::Isa isa = cpu::Isa::Auto;

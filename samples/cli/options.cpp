@@ -84,6 +84,9 @@ void addViewOptions(CLI::App& app, WalkOptions& o) {
                "(colliding-query detection)");
   app.add_option("--cpu-resolution", o.cpu_resolution,
                  "--reader cpu: buffer resolution full, half or quarter");
+  app.add_option("--cpu-buffer", o.cpu_buffer,
+                 "--reader cpu: what the buffer holds: per-pixel (a key per pixel) or masked (a "
+                 "coverage mask and two keys per 8x4 block)");
   app.add_option("--occluders", o.occluders,
                  "--reader cpu: what it rasterises per drawn object: mesh (its triangles) or "
                  "model (the scene's simpler occluder where it has one)");

@@ -23,11 +23,12 @@ struct WalkOptions {
   std::string size = "640x480";
   std::uint32_t tile = 32;
   std::string reader = "readpixels";
-  std::string cpu_resolution = "full";  // --reader cpu: full, half or quarter
-  std::string occluders = "mesh";       // --reader cpu: mesh or model
-  std::uint32_t cpu_threads = 0;        // --reader cpu: worker threads
-  std::string cpu_isa = "auto";         // --reader cpu: auto, scalar, sse4.1 or avx2
-  std::string lookahead = "1";          // a count, or "all"
+  std::string cpu_resolution = "full";   // --reader cpu: full, half or quarter
+  std::string cpu_buffer = "per-pixel";  // --reader cpu: per-pixel or masked
+  std::string occluders = "mesh";        // --reader cpu: mesh or model
+  std::uint32_t cpu_threads = 0;         // --reader cpu: worker threads
+  std::string cpu_isa = "auto";          // --reader cpu: auto, scalar, sse4.1 or avx2
+  std::string lookahead = "1";           // a count, or "all"
   bool coherence = false;
   std::string depth_format = "32f";
   std::string depth_convention = "standard";

@@ -229,6 +229,7 @@ nlohmann::json queriesJson(const RunConfig& config) {
 // The CPU occlusion buffer's settings and per-frame averages (--reader cpu).
 nlohmann::json cpuJson(const RunConfig& config, const FrameAverages& a) {
   return {{"resolution", cpu::toString(config.cpu.resolution)},
+          {"representation", cpu::toString(config.cpu.representation)},
           {"occluders", toString(config.cpu.occluders)},
           {"threads", config.cpu.threads},
           {"isa", cpu::toString(config.cpu.isa)},

@@ -5,7 +5,7 @@
 // valgrind (no GL driver, no image libraries loaded).
 //
 //   logrid_cpu_cull [forest|city] [scale] [frames] [log-zfar|log-state] [mesh|model]
-//                   [full|half|quarter] [threads] [repeats] [isa]
+//                   [full|half|quarter] [threads] [repeats] [isa] [per-pixel|masked]
 #include <time.h>
 
 #include <chrono>
@@ -49,11 +49,14 @@ int main(int argc, char** argv) {
     desc.threads = std::uint32_t(std::stoul(arg(7, "0")));
     const int repeats = std::stoi(arg(8, "3"));
     const bool isa_ok = cpu::parseIsa(arg(9, "auto"), desc.isa);
-    if (!method || !occluders || !resolution_ok || !isa_ok || frames < 1 || repeats < 1) {
+    const bool representation_ok =
+        cpu::parseRepresentation(arg(10, "per-pixel"), desc.representation);
+    if (!method || !occluders || !resolution_ok || !isa_ok || !representation_ok || frames < 1 ||
+        repeats < 1) {
       std::fprintf(stderr,
                    "usage: logrid_cpu_cull [forest|city] [scale] [frames] "
                    "[log-zfar|log-state] [mesh|model] [full|half|quarter] [threads] "
-                   "[repeats] [auto|scalar|sse4.1|avx2]\n");
+                   "[repeats] [auto|scalar|sse4.1|avx2] [per-pixel|masked]\n");
       return 2;
     }
     samples::Scene scene =
@@ -69,9 +72,10 @@ int main(int argc, char** argv) {
     samples::ViewSettings view;
     view.near_plane = prepared.near_plane;
     view.far_plane = prepared.far_plane;
-    std::printf("%s scale %g, %s, %s occluders, %s, %u threads, %s kernel, %zu frames\n",
+    std::printf("%s scale %g, %s, %s occluders, %s %s, %u threads, %s kernel, %zu frames\n",
                 scene_name.c_str(), scale, toString(*method), samples::toString(*occluders),
-                cpu::toString(desc.resolution), desc.threads, cpu::toString(buffer.isa()), frames);
+                cpu::toString(desc.resolution), cpu::toString(desc.representation), desc.threads,
+                cpu::toString(buffer.isa()), frames);
     for (int rep = 0; rep < repeats; ++rep) {
       const cpu::OcclusionBufferStats before = buffer.stats();
       double ms = 0, cpu_ms = 0, objects = 0;

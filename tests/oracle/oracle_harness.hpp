@@ -195,7 +195,8 @@ inline std::string reproducer(const SceneKey& key, const RunConfig& c) {
     out << " --fov " << c.view.fov_degrees;
   }
   if (c.reader == "cpu") {
-    out << " --cpu-resolution " << cpu::toString(c.cpu.resolution) << " --occluders "
+    out << " --cpu-resolution " << cpu::toString(c.cpu.resolution) << " --cpu-buffer "
+        << cpu::toString(c.cpu.representation) << " --occluders "
         << samples::toString(c.cpu.occluders) << " --cpu-threads " << c.cpu.threads;
   }
   out << " --verify";
