@@ -94,6 +94,9 @@ std::string validateOcclusionBufferDesc(const OcclusionBufferDesc& d) {
   } else if (!isaSupported(d.isa)) {
     out << "OcclusionBuffer: this CPU does not run the " << toString(d.isa)
         << " kernel; use auto (picks the widest it runs) or scalar";
+  } else if (!(d.min_pixels_per_triangle >= 0) || !std::isfinite(d.min_pixels_per_triangle)) {
+    out << "OcclusionBuffer: min_pixels_per_triangle " << d.min_pixels_per_triangle
+        << " must be a finite number >= 0 (0: every object is an occluder)";
   } else if (d.threads > 64) {
     out << "OcclusionBuffer: " << d.threads << " worker threads is too many; use 0 to 64";
   } else {
@@ -172,6 +175,7 @@ struct OcclusionBuffer::Impl {
   std::int32_t bin = 32;  // buffer pixels per bin side
   std::int32_t bins_x = 0, bins_y = 0;
   float clear_key = 1;
+  std::uint64_t frame_triangles = 0;  // triangles of the occluders selected this frame
   std::uint32_t stamp = 0;
   std::vector<float> keys;  // per pixel (Representation::PerPixel)
   bool masked = false;
@@ -303,6 +307,7 @@ void OcclusionBuffer::Impl::begin(const Camera& camera) {
   for (Bin& b : bins) b.pending.clear();
   pending.clear();
   tri_count = 0;
+  frame_triangles = 0;
   in_frame = true;
 }
 
@@ -327,6 +332,16 @@ void OcclusionBuffer::Impl::draw(std::uint32_t id) {
     ++stats.objects_skipped;
     return;
   }
+  // Selection: screen pixels per triangle, then the frame's budget.
+  const std::uint64_t triangles = meshes.object(id).triangle_count;
+  const double pixels = double(p.rect.x1 - p.rect.x0) * double(p.rect.y1 - p.rect.y0);
+  if (pixels < desc.min_pixels_per_triangle * double(triangles) ||
+      (desc.triangle_budget > 0 && frame_triangles + triangles > desc.triangle_budget)) {
+    ++stats.objects_unselected;
+    return;
+  }
+  frame_triangles += triangles;
+  stats.triangles_selected += triangles;
   PendingObject po;
   po.object.occluder = id;
   if (model && meshes.object(id).inside_solid) {

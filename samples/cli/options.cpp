@@ -90,6 +90,12 @@ void addViewOptions(CLI::App& app, WalkOptions& o) {
   app.add_option("--occluders", o.occluders,
                  "--reader cpu: what it rasterises per drawn object: mesh (its triangles) or "
                  "model (the scene's simpler occluder where it has one)");
+  addNumber(app, "--occluder-pixels", o.occluder_pixels, closed(0.0, 1e9),
+            "--reader cpu: rasterise only objects whose box covers at least this many pixels "
+            "per occluder triangle (0: every drawn object)");
+  addNumber(app, "--occluder-budget", o.occluder_budget, closed(0u, 4000000000u),
+            "--reader cpu: occluder triangles rasterised per frame at most, in the order drawn "
+            "(0: no budget)");
   addNumber(app, "--cpu-threads", o.cpu_threads, closed(0u, kMaxCpuThreads),
             "--reader cpu: worker threads (0: none)");
   app.add_option("--cpu-isa", o.cpu_isa, "--reader cpu: kernel auto, scalar, sse4.1 or avx2");

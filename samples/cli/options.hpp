@@ -26,6 +26,8 @@ struct WalkOptions {
   std::string cpu_resolution = "full";   // --reader cpu: full, half or quarter
   std::string cpu_buffer = "per-pixel";  // --reader cpu: per-pixel or masked
   std::string occluders = "mesh";        // --reader cpu: mesh or model
+  double occluder_pixels = 0;            // --reader cpu: min screen pixels per occluder triangle
+  std::uint32_t occluder_budget = 0;     // --reader cpu: occluder triangles per frame (0: all)
   std::uint32_t cpu_threads = 0;         // --reader cpu: worker threads
   std::string cpu_isa = "auto";          // --reader cpu: auto, scalar, sse4.1 or avx2
   std::string lookahead = "1";           // a count, or "all"

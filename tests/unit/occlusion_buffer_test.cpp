@@ -280,6 +280,44 @@ TEST(OcclusionBufferTest, MaskedKeysAreAtOrBehindPerPixelKeys) {
   EXPECT_GT(double(masked_covered), 0.7 * double(per_pixel_covered));
 }
 
+// Occluder selection leaves objects out (never a key nearer than with every object) and
+// keeps each frame's selected triangles within the budget.
+TEST(OcclusionBufferTest, SelectionKeepsTheBudgetAndOnlyLeavesKeysFarther) {
+  std::mt19937 rng(9);
+  std::uint64_t left_out = 0, farther = 0;
+  for (int s = 0; s < 30; ++s) {
+    const PropertyCase c = randomCase(rng);
+    const Camera cam =
+        test::randomCamera(std::uint32_t(s) + 23, 70, 52, c.convention, c.range, c.format);
+    const OccluderMeshes meshes = meshesOf(test::randomScene(std::uint32_t(s) + 500));
+    for (cpu::Representation rep : {cpu::Representation::PerPixel, cpu::Representation::Masked}) {
+      OcclusionBufferDesc desc;
+      desc.resolution = c.resolution;
+      desc.representation = rep;
+      const std::vector<float> all = render(meshes, cam, desc);
+      desc.min_pixels_per_triangle = 4;
+      desc.triangle_budget = 40;
+      OcclusionBuffer buffer(meshes, desc);
+      buffer.beginFrame(cam);
+      for (std::uint32_t i = 0; i < meshes.objectCount(); ++i) buffer.drawObject(i);
+      std::vector<float> keys(all.size());
+      buffer.readKeys({0, 0, std::int32_t(cam.width), std::int32_t(cam.height)}, keys.data());
+      buffer.endFrame();
+      EXPECT_LE(buffer.stats().triangles_selected, 40u) << "scene " << s;
+      EXPECT_LE(buffer.stats().triangles_set_up, buffer.stats().triangles_selected);
+      left_out += buffer.stats().objects_unselected;
+      for (std::size_t i = 0; i < keys.size(); ++i) {
+        if (rep == cpu::Representation::PerPixel) {
+          ASSERT_GE(keys[i], all[i]) << "scene " << s << " pixel " << i;
+        }
+        farther += keys[i] > all[i];
+      }
+    }
+  }
+  EXPECT_GT(left_out, 0u);
+  EXPECT_GT(farther, 0u);
+}
+
 TEST(OcclusionBufferTest, EveryKernelWritesTheSameBuffer) {
   for (cpu::Isa isa : {cpu::Isa::Sse41, cpu::Isa::Avx2}) {
     for (cpu::Representation rep : {cpu::Representation::PerPixel, cpu::Representation::Masked}) {

@@ -149,6 +149,15 @@ struct OcclusionBufferDesc {
   // that face the eye (counter-clockwise on screen): the others cover nothing more and
   // lie behind them. Set to rasterise every triangle.
   bool closed_back_faces = false;
+  // Occluder selection: what each drawn object is expected to hide. An object is
+  // rasterised only if its box covers at least `min_pixels_per_triangle` viewport
+  // pixels for each triangle of its occluder (screen size against cost: near, large and
+  // solid objects, whose models have few triangles, pass first), and only while the
+  // frame's selected occluder triangles stay within `triangle_budget` (0: no budget),
+  // taken in the order drawn (the culler draws roughly front to back). Leaving an
+  // occluder out only leaves keys farther: always conservative.
+  double min_pixels_per_triangle = 0;
+  std::uint32_t triangle_budget = 0;
   // Test aids that break the conservative rules on purpose (tests show what each rule
   // prevents): no coverage slack at all (exact edges, as if GL did not snap), and no
   // depth slack (the exact plane, no margin, no snapping term).
@@ -169,6 +178,8 @@ struct OcclusionBufferStats {
   std::uint64_t objects_set_up = 0;        // objects whose triangles were set up
   std::uint64_t objects_fallback = 0;      // models replaced by their fallback
   std::uint64_t objects_skipped = 0;       // models without a usable fallback, empty objects
+  std::uint64_t objects_unselected = 0;    // left out by the occluder selection
+  std::uint64_t triangles_selected = 0;    // triangles of the selected occluders
   std::uint64_t triangles_set_up = 0;      // triangles transformed and set up
   std::uint64_t triangles_rasterized = 0;  // triangle-tile pairs rasterised
   std::uint64_t tiles_rasterized = 0;      // tiles brought up to date
