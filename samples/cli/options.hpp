@@ -24,11 +24,14 @@ struct WalkOptions {
   std::uint32_t tile = 32;
   std::string reader = "readpixels";
   std::string costs;  // a costs file of `logrid calibrate --costs` (CullerDesc::costs)
-  std::string cpu_resolution = "full";  // --reader cpu: full, half or quarter
-  std::string occluders = "mesh";       // --reader cpu: mesh or model
-  std::uint32_t cpu_threads = 0;        // --reader cpu: worker threads
-  std::string cpu_isa = "auto";         // --reader cpu: auto, scalar, sse4.1 or avx2
-  std::string lookahead = "1";          // a count, or "all"
+  std::string cpu_resolution = "full";   // --reader cpu: full, half or quarter
+  std::string cpu_buffer = "per-pixel";  // --reader cpu: per-pixel or masked
+  std::string occluders = "mesh";        // --reader cpu: mesh or model
+  double occluder_pixels = 0;            // --reader cpu: min screen pixels per occluder triangle
+  std::uint32_t occluder_budget = 0;     // --reader cpu: occluder triangles per frame (0: all)
+  std::uint32_t cpu_threads = 0;         // --reader cpu: worker threads
+  std::string cpu_isa = "auto";          // --reader cpu: auto, scalar, sse4.1 or avx2
+  std::string lookahead = "1";           // a count, or "all"
   bool coherence = false;
   std::string depth_format = "32f";
   std::string depth_convention = "standard";
