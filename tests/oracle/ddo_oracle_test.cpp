@@ -26,6 +26,9 @@ namespace {
 
 constexpr std::size_t kFrames = 6;
 constexpr double kOfficeScale = 0.35;  // 4 rooms on each side of each corridor
+// ddo+log's grid tile: at the tests' 160x120 the city's occluders fill no 32-pixel tile,
+// and an occluder that fills none is not drawn (ddo::OccluderBudget).
+constexpr std::uint32_t kDdoLogTile = 8;
 
 // The DDO of the tests: 32 regions (the unit tests cover both layouts), built in memory.
 samples::DdoOptions ddoOptions() {
@@ -79,7 +82,8 @@ std::string reproduce(const std::string& scene, const RunConfig& c) {
         << (scene == "city" ? kCityScale : kForestScale);
   }
   out << " --ddo-regions 32 --frames " << c.frames << " --method " << c.method.name() << " --size "
-      << c.view.width << "x" << c.view.height << " --depth-convention "
+      << c.view.width << "x" << c.view.height << " --tile " << c.culler.tile_size
+      << " --depth-convention "
       << toString(c.view.depth.convention) << " --depth-format " << formatName(c.view.depth.format)
       << " --verify";
   return out.str();
@@ -104,6 +108,7 @@ TEST_P(DdoWalk, NoVisibleObjectIsMissed) {
   View v;
   v.convention = c.convention;
   v.format = c.format;
+  if (c.method == "ddo+log") v.tile = kDdoLogTile;
   RunConfig config = makeConfig(scene.prepared, Method::LogState, "readpixels", v, kFrames);
   config.method = *samples::parseMethodChoice(c.method);
   const SceneKey key{c.scene, 0, Offset::None, 0};
@@ -197,7 +202,7 @@ TEST_P(DdoOccluderPixels, DrawingOccludersFirstChangesNoPixel) {
     const std::vector<float> occluder_depth = framebuffer.readDepth();
     // The coverage ddo+log records without a read (coverage.hpp): every pixel of a tile
     // an occluder covers entirely holds a key at or in front of its far key.
-    OcclusionGrid grid({v.width, v.height, 32, GridVariant::OcclusionState});
+    OcclusionGrid grid({v.width, v.height, kDdoLogTile, GridVariant::OcclusionState});
     grid.reset(clear);
     const CoverageRule rule = coverageRule(camera);
     for (const ddo::Occluder& o : selector.occluders()) {
@@ -209,7 +214,7 @@ TEST_P(DdoOccluderPixels, DrawingOccludersFirstChangesNoPixel) {
     }
     for (std::uint32_t y = 0; y < v.height; ++y) {
       for (std::uint32_t x = 0; x < v.width; ++x) {
-        const float bound = grid.tile(x / 32, y / 32).far_key;
+        const float bound = grid.tile(x / kDdoLogTile, y / kDdoLogTile).far_key;
         if (!(bound < clear)) continue;
         const float stored = depthKey(c.convention, occluder_depth[y * v.width + x]);
         EXPECT_LE(stored, bound) << "frame " << f << " pixel " << x << ", " << y
@@ -288,6 +293,7 @@ TEST_P(DdoGlStateWalk, NoMissesAndTheApplicationStateIsKept) {
   View v;
   v.convention = c.convention;
   v.format = c.format;
+  if (c.method == "ddo+log") v.tile = kDdoLogTile;
   RunConfig config = makeConfig(scene.prepared, Method::LogState, "readpixels", v, kFrames);
   config.method = *samples::parseMethodChoice(c.method);
   const int w = int(config.view.width), h = int(config.view.height);
@@ -364,7 +370,9 @@ TEST_P(DdoMovingWalk, NoVisibleObjectIsMissed) {
   for (ObjectId id : scene.prepared.ddo->objects()) {
     ASSERT_LT(id, scene.prepared.static_objects) << "a moving object is in the DDO octree";
   }
-  RunConfig config = makeConfig(scene.prepared, Method::LogState, "readpixels", View{}, kFrames);
+  View v;
+  if (method == "ddo+log") v.tile = kDdoLogTile;
+  RunConfig config = makeConfig(scene.prepared, Method::LogState, "readpixels", v, kFrames);
   config.method = *samples::parseMethodChoice(method);
   const WalkTotals t = checkedWalk(key, scene, config);
   std::printf("[ oracle ] city with %u movers %s: %s, %llu occluders\n", kMovers, method.c_str(),

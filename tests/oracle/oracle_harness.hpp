@@ -213,12 +213,12 @@ struct WalkTotals {
   std::size_t frames = 0;
   std::uint64_t visible = 0;
   std::uint64_t missed = 0;
-  std::uint64_t artifacts = 0;       // objects shown only by depth-extrapolated fragments
-  std::uint64_t drawn = 0;           // objects drawn (draw callbacks)
-  std::uint64_t occluded = 0;        // boxes found occluded
-  std::uint64_t tested = 0;          // occlusion tests
-  std::uint64_t invalid = 0;         // boxes the culler found NaN or inverted
-  std::uint64_t occluders = 0;       // DDO occluders drawn or entered into the map
+  std::uint64_t artifacts = 0;  // objects shown only by depth-extrapolated fragments
+  std::uint64_t drawn = 0;      // objects drawn (draw callbacks)
+  std::uint64_t occluded = 0;   // boxes found occluded
+  std::uint64_t tested = 0;     // occlusion tests
+  std::uint64_t invalid = 0;    // boxes the culler found NaN or inverted
+  std::uint64_t occluders = 0;  // DDO occluders drawn or entered into the map
   std::uint64_t occluder_tiles = 0;  // ddo+log: tiles recorded full from their coverage
   double ms = 0;
 };
