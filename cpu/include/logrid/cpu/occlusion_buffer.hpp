@@ -145,7 +145,7 @@ struct OcclusionBufferStats {
   double worker_seconds = 0;  // time the workers spent on objects (summed over workers)
 };
 
-class OcclusionBuffer final : public DepthSource {
+class OcclusionBuffer final : public DepthSource, public KeyReader {
  public:
   // `meshes` must outlive the buffer. Throws logrid::Error for an invalid descriptor or
   // an ISA this CPU does not run.
