@@ -216,6 +216,24 @@ TEST(MethodsWithoutDepth, RunWithAReaderThatIsFedAndMeasured) {
   }
 }
 
+// The cpu reader in a scene with movers: its occluder meshes hold the static objects
+// only. Before, building them threw "OccluderMeshes::addObject: object N: a vertex lies
+// outside the box given for the object" for the first mover (its mesh in its own
+// coordinates against its box in the scene); the widened soak run found it.
+TEST(CpuReaderWithMovers, NoVisibleObjectIsMissed) {
+  LOGRID_REQUIRE_GL();
+  for (const char* scene : {"forest", "city"}) {
+    OracleCase c;
+    c.scene = movingKey(scene);
+    c.method = choice(Method::LogZfar);
+    c.reader = "cpu";
+    c.frames = 4;
+    c.hierarchy = "refit";
+    c.name = std::string(scene) + " movers refit log-zfar cpu";
+    checkCase(c);
+  }
+}
+
 // The motion of the walks above (the same scenes, frames and times) has movers leaving
 // the scene bounds, passing through each other, and stopping and starting again.
 TEST(MotionScenario, WalksContainEveryKindOfMotion) {
