@@ -47,6 +47,25 @@ TEST_P(WalkMatrix, NoVisibleObjectIsMissed) {
 }
 
 std::vector<OracleCase> matrixCases() {
+  const auto cpuCase = [](const char* scene, Method m, const Variant& v) {
+    OracleCase c;
+    c.scene = sceneKey(scene);
+    c.method = choice(m);
+    c.reader = "cpu";
+    c.view = sized(200, 150, 16, v.convention, v.format);
+    c.frames = kMatrixFrames;
+    c.adjust = [v](RunConfig& config) {
+      config.cpu.resolution = v.resolution;
+      config.cpu.occluders = v.occluders;
+      config.cpu.threads = v.threads;
+      config.cpu.representation = v.representation;
+    };
+    c.name = std::string(scene) + "_" + toString(m) + "_" + toString(v.convention) + "_d" +
+             formatName(v.format) + "_" + cpu::toString(v.resolution) + "_" +
+             samples::toString(v.occluders) + "_t" + std::to_string(v.threads) +
+             (v.representation == cpu::Representation::Masked ? "_masked" : "");
+    return c;
+  };
   std::vector<OracleCase> out;
   for (const char* scene : {"forest", "city"}) {
     for (Method m : {Method::LogState, Method::LogZfar}) {
@@ -147,6 +166,14 @@ std::vector<OracleCase> cpuCases() {
     cpu::Resolution resolution;
     OccluderChoice occluders;
     std::uint32_t threads;
+    cpu::Representation representation = cpu::Representation::PerPixel;
+  };
+  // The masked representation: full resolution with models and a worker, half with meshes.
+  const Variant masked_variants[] = {
+      {DepthConvention::Standard, DepthFormat::D24, cpu::Resolution::Full, OccluderChoice::Model, 1,
+       cpu::Representation::Masked},
+      {DepthConvention::Reversed, DepthFormat::D32F, cpu::Resolution::Half, OccluderChoice::Mesh, 0,
+       cpu::Representation::Masked},
   };
   const Variant variants[] = {
       {DepthConvention::Standard, DepthFormat::D32F, cpu::Resolution::Full, OccluderChoice::Model,
@@ -165,21 +192,10 @@ std::vector<OracleCase> cpuCases() {
   for (const char* scene : {"forest", "city"}) {
     for (Method m : {Method::LogState, Method::LogZfar}) {
       for (const Variant& v : variants) {
-        OracleCase c;
-        c.scene = sceneKey(scene);
-        c.method = choice(m);
-        c.reader = "cpu";
-        c.view = sized(200, 150, 16, v.convention, v.format);
-        c.frames = kMatrixFrames;
-        c.adjust = [v](RunConfig& config) {
-          config.cpu.resolution = v.resolution;
-          config.cpu.occluders = v.occluders;
-          config.cpu.threads = v.threads;
-        };
-        c.name = std::string(scene) + "_" + toString(m) + "_" + toString(v.convention) + "_d" +
-                 formatName(v.format) + "_" + cpu::toString(v.resolution) + "_" +
-                 samples::toString(v.occluders) + "_t" + std::to_string(v.threads);
-        out.push_back(c);
+        out.push_back(cpuCase(scene, m, v));
+      }
+      for (const Variant& v : masked_variants) {
+        out.push_back(cpuCase(scene, m, v));
       }
     }
   }
