@@ -217,7 +217,10 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
         occluder_renderer_->draw(occluders, camera, framebuffer_->handle());
       };
     }
-    occluders_ = std::make_unique<ddo::OccluderPass>(*scene.ddo, drawer);
+    ddo::OccluderBudget budget;
+    budget.tile_size = config.culler.tile_size;  // count the tiles of the grid that records them
+    occluders_ =
+        std::make_unique<ddo::OccluderPass>(*scene.ddo, drawer, ddo::SelectorSettings{}, budget);
   }
   CullerDesc vfc;
   vfc.method = Method::Vfc;

@@ -11,9 +11,11 @@
 #include <random>
 
 #include "gl_state_probe.hpp"
+#include "logrid/coverage.hpp"
 #include "logrid/error.hpp"
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/gl/occluder_renderer.hpp"
+#include "logrid/grid.hpp"
 #include "oracle_harness.hpp"
 #include "scene/ddo_scene.hpp"
 #include "scene/loader.hpp"
@@ -23,12 +25,68 @@ namespace logrid::oracle {
 namespace {
 
 constexpr std::size_t kFrames = 6;
+constexpr double kOfficeScale = 0.35;  // 4 rooms on each side of each corridor
+// ddo+log's grid tile: at the tests' 160x120 the city's occluders fill no 32-pixel tile,
+// and an occluder that fills none is not drawn (ddo::OccluderBudget).
+constexpr std::uint32_t kDdoLogTile = 8;
 
-// Scenes with their octree, once per process: "forest", "city", or "office-file".
-LoadedScene& ddoScene(const std::string& name) { return loadScene(sceneKey(name, 0, true)); }
+// The DDO of the tests: 32 regions (the unit tests cover both layouts), built in memory.
+samples::DdoOptions ddoOptions() {
+  samples::DdoOptions d;
+  d.regions = 32;
+  d.threads = 2;
+  d.progress = false;
+  return d;
+}
+
+std::string officeFile() {
+  return testing::TempDir() + "logrid_ddo_office_" + std::to_string(getpid()) + ".obj";
+}
+
+// Scenes with their octree, once per process: "forest", "city", or "office-file" (the
+// office generator written as OBJ, then read back through the model loader).
+LoadedScene& ddoScene(const std::string& name) {
+  static std::map<std::string, std::unique_ptr<LoadedScene>> cache;
+  std::unique_ptr<LoadedScene>& slot = cache[name];
+  if (slot) return *slot;
+  samples::Scene scene;
+  if (name == "office-file") {
+    samples::Scene generated = samples::makeOffice({kOfficeScale, 1});
+    const std::string file = officeFile();
+    samples::writeObj(generated, file);
+    scene = samples::loadSceneFile(file);
+    std::remove(file.c_str());
+    scene.path = generated.path;
+    scene.near_plane = generated.near_plane;
+    scene.far_plane = generated.far_plane;
+  } else {
+    scene = name == "city" ? samples::makeCity({kCityScale, 1})
+                           : samples::makeForest({kForestScale, 1});
+  }
+  const bvh::BuildArgs args = samples::defaultBuildArgs(scene);
+  slot = std::make_unique<LoadedScene>();
+  slot->prepared = samples::prepareScene(std::move(scene), args);
+  slot->prepared.ddo = samples::prepareDdo(slot->prepared, ddoOptions()).octree;
+  slot->renderer = std::make_unique<gl::MeshRenderer>(slot->prepared.mesh);
+  return *slot;
+}
 
 std::string reproduce(const std::string& scene, const RunConfig& c) {
-  return reproducer(sceneKey(scene, 0, true), c);
+  std::ostringstream out;
+  if (scene == "office-file") {
+    out << "logrid export --scene office --scale " << kOfficeScale
+        << " --obj office.obj --path-json office.json && logrid walk --scene office.obj --path "
+           "office.json";
+  } else {
+    out << "logrid walk --scene " << scene << " --scale "
+        << (scene == "city" ? kCityScale : kForestScale);
+  }
+  out << " --ddo-regions 32 --frames " << c.frames << " --method " << c.method.name() << " --size "
+      << c.view.width << "x" << c.view.height << " --tile " << c.culler.tile_size
+      << " --depth-convention "
+      << toString(c.view.depth.convention) << " --depth-format " << formatName(c.view.depth.format)
+      << " --verify";
+  return out.str();
 }
 
 struct DdoCase {
@@ -38,15 +96,43 @@ struct DdoCase {
   DepthFormat format;
 };
 
-class DdoWalk : public testing::TestWithParam<OracleCase> {};
+class DdoWalk : public testing::TestWithParam<DdoCase> {};
 
 TEST_P(DdoWalk, NoVisibleObjectIsMissed) {
   LOGRID_REQUIRE_GL();
-  const OracleCase& c = GetParam();
-  if (c.scene.name == "office-file" && !samples::sceneFilesSupported()) {
+  const DdoCase& c = GetParam();
+  if (c.scene == "office-file" && !samples::sceneFilesSupported()) {
     GTEST_SKIP() << "built without assimp: no scene from a file";
   }
-  checkCase(c);
+  LoadedScene& scene = ddoScene(c.scene);
+  View v;
+  v.convention = c.convention;
+  v.format = c.format;
+  if (c.method == "ddo+log") v.tile = kDdoLogTile;
+  RunConfig config = makeConfig(scene.prepared, Method::LogState, "readpixels", v, kFrames);
+  config.method = *samples::parseMethodChoice(c.method);
+  const SceneKey key{c.scene, 0, Offset::None, 0};
+  const WalkTotals t = checkedWalk(key, scene, config);
+  std::printf("[ oracle ] %s %s: %s, %llu occluders, %llu tiles recorded from them\n",
+              c.scene.c_str(), c.method.c_str(), summary(t).c_str(),
+              (unsigned long long)t.occluders, (unsigned long long)t.occluder_tiles);
+  EXPECT_EQ(t.missed, 0u) << reproduce(c.scene, config);
+  EXPECT_GT(t.visible, 0u);
+  // Not vacuous where the scene has closed surfaces across octree cells: occluders were
+  // selected and culled nodes. The forest has none along its trail (measured: 127 of 1314
+  // faces valid from some region, none from the trail's viewpoints, which see them at more
+  // than 80 degrees or from closer than a cell); there the walk checks the plain traversal.
+  if (c.scene != "forest") {
+    EXPECT_GT(t.occluders, 0u) << "no occluder was ever selected; " << reproduce(c.scene, config);
+    if (c.method == "ddo") {
+      EXPECT_GT(t.occluded, 0u) << "the occlusion map never culled a node; "
+                                << reproduce(c.scene, config);
+    } else {
+      // ddo+log draws only occluders that fill a tile, and records those tiles.
+      EXPECT_GT(t.occluder_tiles, 0u)
+          << "no tile was recorded from the occluders' coverage; " << reproduce(c.scene, config);
+    }
+  }
 }
 
 std::vector<DdoCase> cases() {
@@ -60,33 +146,12 @@ std::vector<DdoCase> cases() {
   return out;
 }
 
-std::string ddoCaseName(const testing::TestParamInfo<DdoCase>& p) {
+std::string caseName(const testing::TestParamInfo<DdoCase>& p) {
   return sanitize(p.param.scene + "_" + p.param.method + "_" + toString(p.param.convention) + "_d" +
                   formatName(p.param.format));
 }
 
-// The walks: occluders selected and nodes culled where the scene has closed surfaces
-// across octree cells. The forest has none along its trail (measured: 127 of 1314 faces
-// valid from some region, none from the trail's viewpoints, which see them at more than
-// 80 degrees or from closer than a cell); there the walk checks the plain traversal.
-std::vector<OracleCase> walkCases() {
-  std::vector<OracleCase> out;
-  for (const DdoCase& d : cases()) {
-    OracleCase c;
-    c.scene = sceneKey(d.scene, 0, true);
-    c.method = *samples::parseMethodChoice(d.method);
-    c.view.convention = d.convention;
-    c.view.format = d.format;
-    c.frames = kFrames;
-    c.expect_occluders = d.scene != "forest";
-    c.expect_occluded = d.scene != "forest" && d.method == "ddo";
-    c.name = d.scene + "_" + d.method + "_" + toString(d.convention) + "_d" + formatName(d.format);
-    out.push_back(c);
-  }
-  return out;
-}
-
-INSTANTIATE_TEST_SUITE_P(Scenes, DdoWalk, testing::ValuesIn(walkCases()), oracleCaseName);
+INSTANTIATE_TEST_SUITE_P(Scenes, DdoWalk, testing::ValuesIn(cases()), caseName);
 
 // The ground truth of ddo+log: drawing the selected occluders into the depth buffer before
 // the whole scene changes no pixel of the picture. Where an occluder lands, the geometry
@@ -115,7 +180,7 @@ TEST_P(DdoOccluderPixels, DrawingOccludersFirstChangesNoPixel) {
   ddo::Selector selector(*scene.prepared.ddo);
   const float background[4] = {0.1f, 0.2f, 0.3f, 1.0f};
   const float clear = c.convention == DepthConvention::Reversed ? 0.0f : 1.0f;
-  std::uint64_t occluder_pixels = 0;
+  std::uint64_t occluder_pixels = 0, recorded_tiles = 0;
   for (std::size_t f = 0; f < config.frames; ++f) {
     const Camera camera = samples::makeCamera(scene.prepared.path.frame(f, config.frames),
                                               scene.prepared.origin, config.view);
@@ -135,6 +200,28 @@ TEST_P(DdoOccluderPixels, DrawingOccludersFirstChangesNoPixel) {
     selector.select(camera, {}, stats);
     occluders.draw(selector.occluders(), camera, framebuffer.handle());
     const std::vector<float> occluder_depth = framebuffer.readDepth();
+    // The coverage ddo+log records without a read (coverage.hpp): every pixel of a tile
+    // an occluder covers entirely holds a key at or in front of its far key.
+    OcclusionGrid grid({v.width, v.height, kDdoLogTile, GridVariant::OcclusionState});
+    grid.reset(clear);
+    const CoverageRule rule = coverageRule(camera);
+    for (const ddo::Occluder& o : selector.occluders()) {
+      DrawnQuad q;
+      for (int i = 0; i < 4; ++i) q.window[i][0] = o.window[i][0], q.window[i][1] = o.window[i][1];
+      q.near_key = o.near_key;
+      q.far_key = o.far_key;
+      recorded_tiles += grid.recordCovered(q, rule);
+    }
+    for (std::uint32_t y = 0; y < v.height; ++y) {
+      for (std::uint32_t x = 0; x < v.width; ++x) {
+        const float bound = grid.tile(x / kDdoLogTile, y / kDdoLogTile).far_key;
+        if (!(bound < clear)) continue;
+        const float stored = depthKey(c.convention, occluder_depth[y * v.width + x]);
+        EXPECT_LE(stored, bound) << "frame " << f << " pixel " << x << ", " << y
+                                 << ": recorded full, but stored beyond the recorded key";
+        if (!(stored <= bound)) y = v.height - 1, x = v.width - 1;
+      }
+    }
     drawAll();
     const std::vector<std::uint8_t> with = framebuffer.readColor();
 
@@ -169,10 +256,12 @@ TEST_P(DdoOccluderPixels, DrawingOccludersFirstChangesNoPixel) {
                              << " pixels differ when the occluders are drawn first, the first at "
                              << first % v.width << ", " << first / v.width;
   }
-  std::printf("[ oracle ] %s: %llu occluder pixels over %zu frames\n", c.scene.c_str(),
-              (unsigned long long)occluder_pixels, config.frames);
+  std::printf("[ oracle ] %s: %llu occluder pixels, %llu tiles recorded full over %zu frames\n",
+              c.scene.c_str(), (unsigned long long)occluder_pixels,
+              (unsigned long long)recorded_tiles, config.frames);
   if (c.scene != "forest") {
     EXPECT_GT(occluder_pixels, 0u) << "no occluder reached the screen";
+    EXPECT_GT(recorded_tiles, 0u) << "no tile was recorded from the occluders' coverage";
   }
 }
 
@@ -184,7 +273,7 @@ std::vector<DdoCase> pixelCases() {
   return out;
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes, DdoOccluderPixels, testing::ValuesIn(pixelCases()), ddoCaseName);
+INSTANTIATE_TEST_SUITE_P(Scenes, DdoOccluderPixels, testing::ValuesIn(pixelCases()), caseName);
 
 // ddo+log under the application's GL state: after each clear the "application" leaves
 // random draw-shaping state (face culling and winding, stencil, sample state, rasterizer
@@ -204,6 +293,7 @@ TEST_P(DdoGlStateWalk, NoMissesAndTheApplicationStateIsKept) {
   View v;
   v.convention = c.convention;
   v.format = c.format;
+  if (c.method == "ddo+log") v.tile = kDdoLogTile;
   RunConfig config = makeConfig(scene.prepared, Method::LogState, "readpixels", v, kFrames);
   config.method = *samples::parseMethodChoice(c.method);
   const int w = int(config.view.width), h = int(config.view.height);
@@ -259,7 +349,7 @@ std::vector<DdoCase> glStateCases() {
   return out;
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes, DdoGlStateWalk, testing::ValuesIn(glStateCases()), ddoCaseName);
+INSTANTIATE_TEST_SUITE_P(Scenes, DdoGlStateWalk, testing::ValuesIn(glStateCases()), caseName);
 
 // A scene with moving objects: the octree holds the static objects only (its occluders
 // hold whatever the movers do), ddo draws every mover in the view frustum, and ddo+log
@@ -269,15 +359,10 @@ class DdoMovingWalk : public testing::TestWithParam<std::string> {};
 
 TEST_P(DdoMovingWalk, NoVisibleObjectIsMissed) {
   LOGRID_REQUIRE_GL();
+  const std::string method = GetParam();
   constexpr std::uint32_t kMovers = 60;
-  OracleCase c;
-  c.scene = sceneKey("city", kMovers);  // shared with the motion tests; its octree added here
-  c.method = *samples::parseMethodChoice(GetParam());
-  c.frames = kFrames;
-  c.expect_occluded = false;
-  c.expect_occluders = true;
-  c.name = "city with 60 movers " + GetParam();
-  LoadedScene& scene = loadScene(c.scene);
+  const SceneKey key{"city", kCityScale, Offset::None, 0, kMovers};
+  LoadedScene& scene = loadScene(key);
   ASSERT_EQ(scene.prepared.motion.movers.size(), kMovers);
   if (!scene.prepared.ddo) {
     scene.prepared.ddo = samples::prepareDdo(scene.prepared, ddoOptions()).octree;
@@ -285,7 +370,16 @@ TEST_P(DdoMovingWalk, NoVisibleObjectIsMissed) {
   for (ObjectId id : scene.prepared.ddo->objects()) {
     ASSERT_LT(id, scene.prepared.static_objects) << "a moving object is in the DDO octree";
   }
-  checkCase(c, scene);
+  View v;
+  if (method == "ddo+log") v.tile = kDdoLogTile;
+  RunConfig config = makeConfig(scene.prepared, Method::LogState, "readpixels", v, kFrames);
+  config.method = *samples::parseMethodChoice(method);
+  const WalkTotals t = checkedWalk(key, scene, config);
+  std::printf("[ oracle ] city with %u movers %s: %s, %llu occluders\n", kMovers, method.c_str(),
+              summary(t).c_str(), (unsigned long long)t.occluders);
+  EXPECT_EQ(t.missed, 0u) << reproducer(key, config);
+  EXPECT_GT(t.visible, 0u);
+  EXPECT_GT(t.occluders, 0u) << "no occluder was ever selected; " << reproducer(key, config);
 }
 
 INSTANTIATE_TEST_SUITE_P(Movers, DdoMovingWalk, testing::Values("ddo", "ddo+log"),

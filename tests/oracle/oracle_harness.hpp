@@ -278,6 +278,7 @@ struct WalkTotals {
   std::uint64_t tested = 0;     // occlusion tests
   std::uint64_t invalid = 0;    // boxes the culler found NaN or inverted
   std::uint64_t occluders = 0;  // DDO occluders drawn or entered into the map
+  std::uint64_t occluder_tiles = 0;  // ddo+log: tiles recorded full from their coverage
   double ms = 0;
 };
 
@@ -328,6 +329,7 @@ inline WalkTotals checkedWalk(const SceneKey& key, LoadedScene& scene, const Run
     t.tested += r.stats.boxes_tested;
     t.invalid += r.stats.invalid_boxes;
     t.occluders += std::uint64_t(std::max<std::int64_t>(r.occluders, 0));
+    t.occluder_tiles += r.stats.occluder_tiles;
     t.ms += r.ms;
   }
   return t;

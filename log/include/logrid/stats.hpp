@@ -54,7 +54,10 @@ struct FrameStats {
   std::uint64_t objects_drawn = 0;    // draw callbacks made
   std::uint64_t coherent_leaves = 0;  // leaves drawn first from last frame's visible set
   std::uint64_t draw_batches = 0;     // non-empty batches handed out (Culler::nextBatch)
-  std::uint64_t occluders = 0;        // selected by the occluder pre-pass (ddo, ddo+log)
+  std::uint64_t occluders = 0;        // selected by the occluder pre-pass (ddo: faces in
+                                      // its map; ddo+log: quads drawn)
+  std::uint64_t occluder_tiles = 0;   // ddo+log: grid tiles recorded full from the drawn
+                                      // occluders' known coverage, without a read
   double seconds = 0;                 // wall time of the whole cullFrame(), draws included
 
   double tilesPerBox() const {
