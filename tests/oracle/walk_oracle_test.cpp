@@ -47,25 +47,6 @@ TEST_P(WalkMatrix, NoVisibleObjectIsMissed) {
 }
 
 std::vector<OracleCase> matrixCases() {
-  const auto cpuCase = [](const char* scene, Method m, const Variant& v) {
-    OracleCase c;
-    c.scene = sceneKey(scene);
-    c.method = choice(m);
-    c.reader = "cpu";
-    c.view = sized(200, 150, 16, v.convention, v.format);
-    c.frames = kMatrixFrames;
-    c.adjust = [v](RunConfig& config) {
-      config.cpu.resolution = v.resolution;
-      config.cpu.occluders = v.occluders;
-      config.cpu.threads = v.threads;
-      config.cpu.representation = v.representation;
-    };
-    c.name = std::string(scene) + "_" + toString(m) + "_" + toString(v.convention) + "_d" +
-             formatName(v.format) + "_" + cpu::toString(v.resolution) + "_" +
-             samples::toString(v.occluders) + "_t" + std::to_string(v.threads) +
-             (v.representation == cpu::Representation::Masked ? "_masked" : "");
-    return c;
-  };
   std::vector<OracleCase> out;
   for (const char* scene : {"forest", "city"}) {
     for (Method m : {Method::LogState, Method::LogZfar}) {
@@ -187,6 +168,25 @@ std::vector<OracleCase> cpuCases() {
        0},
       {DepthConvention::Reversed, DepthFormat::D24, cpu::Resolution::Quarter, OccluderChoice::Model,
        1},
+  };
+  const auto cpuCase = [](const char* scene, Method m, const Variant& v) {
+    OracleCase c;
+    c.scene = sceneKey(scene);
+    c.method = choice(m);
+    c.reader = "cpu";
+    c.view = sized(200, 150, 16, v.convention, v.format);
+    c.frames = kMatrixFrames;
+    c.adjust = [v](RunConfig& config) {
+      config.cpu.resolution = v.resolution;
+      config.cpu.occluders = v.occluders;
+      config.cpu.threads = v.threads;
+      config.cpu.representation = v.representation;
+    };
+    c.name = std::string(scene) + "_" + toString(m) + "_" + toString(v.convention) + "_d" +
+             formatName(v.format) + "_" + cpu::toString(v.resolution) + "_" +
+             samples::toString(v.occluders) + "_t" + std::to_string(v.threads) +
+             (v.representation == cpu::Representation::Masked ? "_masked" : "");
+    return c;
   };
   std::vector<OracleCase> out;
   for (const char* scene : {"forest", "city"}) {
