@@ -66,9 +66,9 @@ struct DrawnQuad {
 
 // What the renderer may do to a quad: see the derivation above.
 struct CoverageRule {
-  double snap = 0;            // pixels a vertex may be snapped by, per axis
-  double render_error = 0;    // relative float error of a window coordinate (ulps * u)
-  double half_width = 0;      // half the viewport, pixels
+  double snap = 0;          // pixels a vertex may be snapped by, per axis
+  double render_error = 0;  // relative float error of a window coordinate (ulps * u)
+  double half_width = 0;    // half the viewport, pixels
   double half_height = 0;
   bool whole_pixels = false;  // samples anywhere in a pixel (Camera::multisample)
   float near_limit = 0;       // the near plane's key: near_key must lie beyond it

@@ -43,12 +43,12 @@ struct FrameStats {
   std::uint64_t tiles_read = 0;         // tiles whose pixels a test or refresh read
 
   // Depth source (differences of its counters over the frame).
-  std::uint64_t reads = 0;        // pixel reads issued
-  std::uint64_t pixels_read = 0;  // pixels read from the depth buffer
-  std::uint64_t bytes_read = 0;   // bytes that crossed from the renderer
-  std::uint64_t batches = 0;      // batches of requests submitted to the source
-  std::uint64_t queries = 0;      // hardware occlusion queries issued (by a source or a schedule)
-  std::uint64_t flushes = 0;      // times a read or query made the renderer start or finish work
+  std::uint64_t reads = 0;          // pixel reads issued
+  std::uint64_t pixels_read = 0;    // pixels read from the depth buffer
+  std::uint64_t bytes_read = 0;     // bytes that crossed from the renderer
+  std::uint64_t batches = 0;        // batches of requests submitted to the source
+  std::uint64_t queries = 0;        // hardware occlusion queries issued (by a source or a schedule)
+  std::uint64_t flushes = 0;        // times a read or query made the renderer start or finish work
   std::uint64_t state_queries = 0;  // renderer-state queries of the sources (a GL source's
                                     // glGet* and glGetError, keeping the application's state)
 

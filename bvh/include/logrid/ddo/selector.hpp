@@ -61,14 +61,14 @@ struct SelectorSettings {
 // A selected occluder: a convex quad in normalized device coordinates (w = 1), its depth
 // already pushed back, ready to draw with the depth test and depth writes on.
 struct Occluder {
-  double ndc[4][3] = {};    // x, y, z of the corners, in order around the quad
-  double window[4][2] = {}; // the same corners in window coordinates (exact, before the
-                            // float rounding of ndc): its outline for coverage.hpp
-  PixelRect rect;           // every pixel it may cover (window coordinates)
-  float near_key = 0;       // smallest and largest depth key GL may store for it (its
-  float far_key = 0;        // corners' keys with the rounding of drawing them: the
-                            // projection settings' quantisation and render error)
-  std::uint32_t faces = 1;  // octree faces it stands for
+  double ndc[4][3] = {};     // x, y, z of the corners, in order around the quad
+  double window[4][2] = {};  // the same corners in window coordinates (exact, before the
+                             // float rounding of ndc): its outline for coverage.hpp
+  PixelRect rect;            // every pixel it may cover (window coordinates)
+  float near_key = 0;        // smallest and largest depth key GL may store for it (its
+  float far_key = 0;         // corners' keys with the rounding of drawing them: the
+                             // projection settings' quantisation and render error)
+  std::uint32_t faces = 1;   // octree faces it stands for
 };
 
 // The occluder GL draws for a convex outline in window coordinates (pixels, lower-left
