@@ -7,56 +7,24 @@
 // chooses per node and per frame, no visible object may be missed.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <cstdio>
-#include <map>
-#include <memory>
 #include <set>
 
 #include "oracle_harness.hpp"
-#include "scene/obj_writer.hpp"
-#include "scene/loader.hpp"
 
 namespace logrid::oracle {
 namespace {
 
-constexpr double kOfficeScale = 0.35;
 constexpr double kSparseForestScale = 0.02;
 constexpr std::size_t kFrames = 20;  // past two probe periods (AutoPolicy::kProbePeriod)
 
-// "forest", "sparse-forest", "city", "office" or "office-file" (the office written as
-// OBJ and read back through the model loader), once per process.
-LoadedScene& autoScene(const std::string& name, SceneKey& key) {
-  static std::map<std::string, std::unique_ptr<LoadedScene>> cache;
-  if (name == "forest" || name == "city") {
-    key = {name, name == "city" ? kCityScale : kForestScale, Offset::None, 0};
-    return loadScene(key);
-  }
-  if (name == "sparse-forest") {
-    key = {"forest", kSparseForestScale, Offset::None, 0};
-    return loadScene(key);
-  }
-  key = {name, kOfficeScale, Offset::None, 0};
-  std::unique_ptr<LoadedScene>& slot = cache[name];
-  if (slot) return *slot;
-  samples::Scene scene = samples::makeOffice({kOfficeScale, 1});
-  if (name == "office-file") {
-    const std::string file =
-        testing::TempDir() + "logrid_auto_office_" + std::to_string(getpid()) + ".obj";
-    samples::writeObj(scene, file);
-    samples::Scene loaded = samples::loadSceneFile(file);
-    std::remove(file.c_str());
-    loaded.path = scene.path;
-    loaded.near_plane = scene.near_plane;
-    loaded.far_plane = scene.far_plane;
-    scene = std::move(loaded);
-  }
-  const bvh::BuildArgs args = samples::defaultBuildArgs(scene);
-  slot = std::make_unique<LoadedScene>();
-  slot->prepared = samples::prepareScene(std::move(scene), args);
-  slot->renderer = std::make_unique<gl::MeshRenderer>(slot->prepared.mesh);
-  return *slot;
+// "forest", "city", "office", "office-file" (the office read back through the model
+// loader) or "sparse-forest" (the forest at kSparseForestScale).
+SceneKey autoKey(const std::string& name) {
+  if (name != "sparse-forest") return sceneKey(name);
+  SceneKey key = sceneKey("forest");
+  key.scale = kSparseForestScale;
+  return key;
 }
 
 struct AutoCase {
@@ -70,8 +38,8 @@ class AutoOracle : public testing::TestWithParam<AutoCase> {};
 TEST_P(AutoOracle, NoVisibleObjectIsMissed) {
   LOGRID_REQUIRE_GL();
   const AutoCase& c = GetParam();
-  SceneKey key;
-  LoadedScene& scene = autoScene(c.scene, key);
+  const SceneKey key = autoKey(c.scene);
+  LoadedScene& scene = loadScene(key);
   View v;
   v.width = 200;
   v.height = 150;
