@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <chrono>
+#include <cmath>
 #include <exception>
 #include <functional>
 #include <limits>
@@ -14,6 +15,7 @@
 #include "logrid/error.hpp"
 #include "logrid/grid.hpp"
 #include "auto_policy.hpp"
+#include "budget.hpp"
 #include "methods/method_def.hpp"
 #include "query_frame.hpp"
 #include "query_prefilter.hpp"
@@ -59,6 +61,21 @@ std::string validateCullerDesc(const CullerDesc& desc) {
     const std::string problem = def.validate(desc, info);
     if (!problem.empty()) return "culler: method " + method + ": " + problem;
   }
+  if (!(std::isfinite(desc.budget_ms) && desc.budget_ms >= 0 && desc.budget_ms <= 1e6)) {
+    std::ostringstream out;
+    out << "culler: budget " << desc.budget_ms
+        << " ms is invalid; use 0 (none) or a frame time in (0, 1000000] ms";
+    return out.str();
+  }
+  if (desc.budget_ms > 0 && detail::budgetLadder(info.takes.full_fraction).empty()) {
+    return "culler: method " + method +
+           " cannot meet a frame-time budget: the budget moves along the full-tile free "
+           "fraction, which it does not take; use log-state, bog or ddo+log, or no budget";
+  }
+  if (desc.budget_ms > 0 && !a.exact()) {
+    return "culler: with a frame-time budget the culler sets the approximate knobs itself; "
+           "leave CullerDesc::approximation exact";
+  }
   const std::string costs = validateCullerCosts(desc.costs);
   if (!costs.empty()) return "culler: " + costs;
   return {};
@@ -76,6 +93,10 @@ Culler::Culler(const CullerDesc& desc) : desc_(desc), estimate_(desc.costs) {
         auto_->current().method == Method::LogState ? Method::LogZfar : Method::LogState;
     other_tester_ =
         detail::makeGridTester(desc_, *detail::methodDef(other).info.grid, detail::GridRefresh::Lazy);
+  }
+  if (desc_.budget_ms > 0) {
+    budget_ = std::make_unique<detail::BudgetController>(
+        desc_.budget_ms * 1e-3, detail::budgetLadder(method_->info.takes.full_fraction));
   }
   tester_ = method_->make_tester(desc_, method_->info);
   if (method_->make_schedule) schedule_ = method_->make_schedule(desc_, method_->info);
@@ -199,6 +220,7 @@ void Culler::prepare(const Camera& camera, const CullSources& sources) {
   sources_ = {info.needs.depth ? sources.depth : nullptr,
               info.needs.queries ? sources.queries : nullptr,
               info.needs.occluders ? sources.occluders : nullptr};
+  if (budget_) tester_->setApproximation(budget_->current());
   tester_->beginFrame(camera, projector_->clearKey(), sources_);
   // Counting tests of the grid are sequential (grid.hpp); so are methods whose tests
   // read nothing worth batching.
@@ -264,6 +286,7 @@ void Culler::beginFrame(const Camera& camera, const Hierarchy& hierarchy,
   // auto keeps the visible leaves every frame: the next may choose coherence.
   record_visible_ = coherence_ || auto_;
   if (!auto_) setting_ = {desc_.method, lookahead_, coherence_, false};
+  setting_.approximation = budget_ ? budget_->current() : desc_.approximation;
   stats_.setting = setting_;
 
   for (const DrawnArea& area : drawn_before) noteDrawnWith(area, false);
@@ -376,6 +399,7 @@ FrameStats Culler::endFrame() {
   stats_.seconds = secondsSince(start_);
   estimate_.update(stats_);
   if (auto_) auto_->endFrame(stats_, estimate_.costs());
+  if (budget_) budget_->endFrame(stats_.seconds);
   abandonFrame();  // the frame's state is let go of
   return stats_;
 }

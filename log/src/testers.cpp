@@ -37,6 +37,15 @@ class GridTester final : public BoxTester {
     grid_->reset(clear_key);
     batch_.clear();
   }
+  void setApproximation(const GridApproximation& a) override {
+    const GridApproximation& now = desc_.approximation;
+    if (a.visible_pixels == now.visible_pixels && a.full_free_fraction == now.full_free_fraction &&
+        a.row_stride == now.row_stride) {
+      return;
+    }
+    desc_.approximation = a;
+    grid_.reset();  // made again with the new knobs in beginFrame
+  }
   Visibility test(const PixelRect& rect, float threshold, GridTestCounts& counts) override {
     return grid_->test(rect, threshold, *source_, counts);
   }

@@ -21,6 +21,9 @@ class BoxTester {
   // A new frame whose depth buffer is cleared to `clear_key`, with the frame's sources
   // (those the method needs are there: MethodInfo::needs).
   virtual void beginFrame(const Camera& camera, float clear_key, const CullSources& sources) = 0;
+  // The approximate knobs of the next frames (CullerDesc::budget_ms); before beginFrame.
+  // Only the grid's testers take them.
+  virtual void setApproximation(const GridApproximation& approximation) { (void)approximation; }
   // Is any pixel of `rect` at or beyond `threshold`? Tested on its own.
   virtual Visibility test(const PixelRect& rect, float threshold, GridTestCounts& counts) = 0;
   // Would test() read the depth source (then what was handed out to draw must be drawn

@@ -82,6 +82,7 @@ struct BenchOptions {
   bool tradeoff = false;
   bool traversal = false;
   std::string lookaheads = "1,4,16,64,all";  // --traversal
+  std::string budgets;                       // --tradeoff: frame-time budgets (ms)
   MotionBenchOptions motion;                 // --motion: bench_motion.cpp
 };
 
@@ -481,7 +482,15 @@ ExperimentOptions experimentOptions(const BenchOptions& o) {
 
 int runBench(const BenchOptions& o) {
   const ExperimentOptions e = experimentOptions(o);
-  if (o.tradeoff) return runTradeoff(e);
+  if (o.tradeoff) {
+    std::vector<double> budgets;
+    for (const std::string& item : splitList(o.budgets)) {
+      double ms = 0;
+      parseNumber(item, ms);  // checked by the option's numberListCheck
+      budgets.push_back(ms);
+    }
+    return runTradeoff(e, budgets);
+  }
   if (o.motion.enabled) return runMotionBench(e, o.motion);
   if (o.traversal) {
     // The command's reader first, then --readers.
@@ -526,6 +535,14 @@ void addBenchCommand(CLI::App& app) {
   bench->add_flag("--traversal", o->traversal,
                   "sweep lookahead K x temporal coherence x --readers for log-state and log-zfar "
                   "instead: flushes, batches, bytes, time against the oracle");
+  const NumberRange<double> budget_range{0, 1e6, true, false, {}};
+  bench
+      ->add_option("--budgets", o->budgets,
+                   "with --tradeoff: frame-time budgets in ms, comma-separated, each in range " +
+                       budget_range.text() +
+                       "; each runs log-state with --budget-ms B beside the fixed settings: "
+                       "mean and 95th-percentile time, frames over budget, error")
+      ->check(numberListCheck(budget_range));
   bench
       ->add_option(
           "--lookaheads", o->lookaheads,

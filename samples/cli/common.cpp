@@ -50,6 +50,7 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
   c.culler.tile_size = o.tile;
   if (!o.costs.empty()) c.culler.costs = loadCullerCosts(o.costs, o.reader);
   c.culler.approximation = o.approximation;
+  c.culler.budget_ms = o.budget_ms;
   c.culler.lookahead = c.method.lookahead ? *c.method.lookahead : parseLookahead(o.lookahead);
   c.culler.temporal_coherence = c.method.coherence || o.coherence;
   c.culler.detect_colliding = o.colliding;

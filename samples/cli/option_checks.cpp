@@ -165,7 +165,7 @@ std::string numberProblem(const std::string& text, const NumberRange<T>& range) 
 
 template <typename T>
 CLI::Validator numberListCheck(const NumberRange<T>& range) {
-  return textCheck(kNumberListCheck, true,
+  return textCheck(std::is_integral_v<T> ? kNumberListCheck : kRealListCheck, true,
                    [range](const std::string& item) { return numberProblem(item, range); });
 }
 
@@ -196,5 +196,6 @@ template std::string numberProblem(const std::string&, const NumberRange<int>&);
 template std::string numberProblem(const std::string&, const NumberRange<double>&);
 template std::string numberProblem(const std::string&, const NumberRange<float>&);
 template CLI::Validator numberListCheck(const NumberRange<std::uint32_t>&);
+template CLI::Validator numberListCheck(const NumberRange<double>&);
 
 }  // namespace logrid::samples

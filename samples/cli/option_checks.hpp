@@ -77,6 +77,7 @@ std::string numberProblem(const std::string& text, const NumberRange<T>& range);
 // command-line test feeds each option that carries one the values it must refuse.
 inline const std::string kNumberCheck = "number";
 inline const std::string kNumberListCheck = "numbers";
+inline const std::string kRealListCheck = "real numbers";  // numberListCheck of a real type
 inline const std::string kSizeCheck = "size";
 inline const std::string kSizeListCheck = "sizes";
 inline const std::string kLookaheadCheck = "lookahead";

@@ -137,7 +137,10 @@ nlohmann::json frameJson(const FrameRecord& r) {
                        {{"method", toString(s.setting.method)},
                         {"lookahead", s.setting.lookahead},
                         {"coherence", s.setting.temporal_coherence},
-                        {"probe", s.setting.probe}}}};
+                        {"probe", s.setting.probe},
+                        {"visible_pixels", s.setting.approximation.visible_pixels},
+                        {"full_fraction", s.setting.approximation.full_free_fraction},
+                        {"row_stride", s.setting.approximation.row_stride}}}};
   if (r.occluders >= 0) {
     j["occluders"] = r.occluders;
     j["occluder_tiles"] = s.occluder_tiles;

@@ -4,12 +4,15 @@
 // differing, PSNR), with a Pareto plot of time against error.
 #pragma once
 
+#include <vector>
+
 #include "cli/experiment.hpp"
 
 namespace logrid::samples {
 
-// Runs the sweep on each scene at the first size, every frame checked against the oracle;
+// Runs the sweep on each scene at the first size, every frame checked against the oracle,
+// and log-state under each frame-time budget of `budgets_ms` (CullerDesc::budget_ms);
 // returns the exit code.
-int runTradeoff(const ExperimentOptions& options);
+int runTradeoff(const ExperimentOptions& options, const std::vector<double>& budgets_ms = {});
 
 }  // namespace logrid::samples

@@ -23,6 +23,7 @@
 #include "cli/option_checks.hpp"
 #include "logrid/cpu/occlusion_buffer.hpp"
 #include "logrid/ddo/build.hpp"
+#include "logrid/culler.hpp"
 #include "logrid/error.hpp"
 #include "logrid/grid.hpp"
 #include "logrid/query_schedule.hpp"
@@ -206,7 +207,7 @@ std::vector<std::string> outsideText(const std::string& check, const StatedRange
   }
   if (check == kLookaheadListCheck) return {"1,0", "4,nan", "all,-1", "1,4294967295"};
   std::vector<std::string> out;
-  for (const std::string& bad : outside(items, true)) {
+  for (const std::string& bad : outside(items, check == kNumberListCheck)) {
     // An empty item is skipped (as splitList() does), "1,5" is two good items.
     if (!bad.empty() && bad.find(',') == std::string::npos) out.push_back("8," + bad);
   }
@@ -226,8 +227,8 @@ TEST(OptionRanges, EveryNumericOptionStatesItsRangeAndRefusesWhatLiesOutside) {
       const std::string what = name(*command, *option);
       const std::string type = option->get_type_name();
       std::string check;
-      for (const std::string& c : {kNumberCheck, kNumberListCheck, kSizeCheck, kSizeListCheck,
-                                   kLookaheadCheck, kLookaheadListCheck}) {
+      for (const std::string& c : {kNumberCheck, kNumberListCheck, kRealListCheck, kSizeCheck,
+                                   kSizeListCheck, kLookaheadCheck, kLookaheadListCheck}) {
         try {
           option->get_validator(c);
           check = c;
@@ -258,7 +259,7 @@ TEST(OptionRanges, EveryNumericOptionStatesItsRangeAndRefusesWhatLiesOutside) {
       } else {
         ++text;
         const StatedRange items = statedRange(help, "each in range ");
-        if (check == kNumberListCheck) {
+        if (check == kNumberListCheck || check == kRealListCheck) {
           ASSERT_FALSE(items.values.empty()) << what << ": its help states no range: " << help;
         }
         bad = outsideText(check, items);
@@ -273,7 +274,7 @@ TEST(OptionRanges, EveryNumericOptionStatesItsRangeAndRefusesWhatLiesOutside) {
         EXPECT_NE(o.usage_error.find("'" + value + "'"), std::string::npos)
             << what << " '" << value << "': the message names no value: " << o.usage_error;
         const std::string stated = check == kNumberCheck ? range.text
-                                   : check == kNumberListCheck
+                                   : check == kNumberListCheck || check == kRealListCheck
                                        ? statedRange(help, "each in range ").text
                                        : "[1, ";
         EXPECT_NE(o.usage_error.find(stated), std::string::npos)
@@ -367,6 +368,13 @@ TEST(OptionRanges, TheRangesAreThoseTheLibrarysValidatorsAccept) {
          return validateGridDesc({64, 64, 32, GridVariant::OcclusionState}, a);
        },
        1},
+      {"--budget-ms",
+       [](double v) {
+         CullerDesc d;
+         d.budget_ms = v;
+         return validateCullerDesc(d);
+       },
+       -1},
       {"--row-stride",
        [](double v) {
          GridApproximation a;

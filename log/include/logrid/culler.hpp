@@ -132,6 +132,16 @@ struct CullerDesc {
   // hardware parameters (zread::calibrateQueries).
   QueryScheduleDesc queries = {};
 
+  // A frame-time budget in milliseconds for the culled pass (beginFrame to endFrame, the
+  // application's drawing included), 0: none, the culler stays as exact as `approximation`
+  // says. With a budget the culler sets the approximate knobs itself, frame by frame: when
+  // its frames run over the budget it moves along the measured Pareto front of the knobs
+  // it takes (the full-tile free fraction, 0.01 to 0.25: docs/TRADEOFF.md), and back to
+  // exact when there is time, with hysteresis (docs/BUDGET.md). FrameStats::setting records
+  // what each frame ran. Needs a method that takes the full-tile free fraction (log-state,
+  // bog, ddo+log) and `approximation` left exact.
+  double budget_ms = 0;
+
   // The cost model's starting point (costs.hpp): measured on this machine for the depth
   // source used (loadCullerCosts on a file of `logrid calibrate --costs`), or the
   // defaults. Every culler refines it online (Culler::costEstimate); `auto` chooses with it.
@@ -168,6 +178,7 @@ class OcclusionGrid;  // grid.hpp: the grid's internals, for overlays (Culler::g
 namespace detail {
 struct MethodDef;
 class AutoPolicy;
+class BudgetController;
 class BoxTester;
 class Schedule;
 class GridPrefilter;
@@ -319,6 +330,7 @@ class Culler {
   const detail::MethodDef* method_;  // what the frame runs (auto: the method it chose)
   std::unique_ptr<detail::BoxTester> tester_;
   std::unique_ptr<detail::AutoPolicy> auto_;            // `auto` only
+  std::unique_ptr<detail::BudgetController> budget_;    // CullerDesc::budget_ms > 0 only
   std::unique_ptr<detail::BoxTester> other_tester_;     // auto: the other grid variant's
   CostEstimate estimate_;
   std::unique_ptr<Projector> projector_;

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 
+#include "logrid/grid_settings.hpp"
 #include "logrid/method.hpp"
 
 namespace logrid {
@@ -14,6 +15,9 @@ struct FrameSetting {
   std::uint32_t lookahead = 1;       // K the traversal batched with
   bool temporal_coherence = false;
   bool probe = false;  // auto: a frame that tried a neighbouring setting (docs/AUTO.md)
+  // The approximate knobs the frame ran with: CullerDesc::approximation, or what the
+  // frame-time budget chose (CullerDesc::budget_ms).
+  GridApproximation approximation;
 };
 
 // What the grid's tests examined and read (added to, never reset, by the grid's test(),
