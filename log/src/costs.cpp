@@ -1,21 +1,23 @@
-// The costs file (costs.hpp): a small JSON reader for its one shape, so that the core
-// needs no JSON library, and the writer of the same shape.
+// The costs file (costs.hpp), its reader and writer, and the online estimate.
 #include "logrid/costs.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <fstream>
 #include <memory>
 #include <sstream>
 #include <vector>
 
+#include "json_reader.hpp"
 #include "logrid/error.hpp"
 
 namespace logrid {
 namespace {
+
+using detail::Json;
+
+constexpr detail::JsonFileKind kCostsFile{"costs file",
+                                          "write one with `logrid calibrate --costs FILE`"};
 
 struct CostField {
   const char* name;
@@ -26,128 +28,6 @@ constexpr CostField kFields[] = {
     {"flush_s", &CullerCosts::flush_s},       {"pixel_s", &CullerCosts::pixel_s},
     {"box_test_s", &CullerCosts::box_test_s}, {"triangle_s", &CullerCosts::triangle_s},
     {"draw_s", &CullerCosts::draw_s},         {"query_s", &CullerCosts::query_s},
-};
-
-// A JSON value, as much of JSON as a costs file holds (arrays are parsed and ignored).
-struct Json {
-  enum class Kind { Null, Bool, Number, String, Array, Object } kind = Kind::Null;
-  double number = 0;
-  std::string text;
-  std::vector<std::pair<std::string, std::unique_ptr<Json>>> members;
-
-  const Json* find(const std::string& key) const {
-    for (const auto& m : members) {
-      if (m.first == key) return m.second.get();
-    }
-    return nullptr;
-  }
-};
-
-class JsonReader {
- public:
-  JsonReader(const std::string& text, const std::string& origin) : s_(text), origin_(origin) {}
-
-  std::unique_ptr<Json> document() {
-    auto v = value(0);
-    space();
-    if (i_ != s_.size()) fail("text after the end of the JSON value");
-    return v;
-  }
-
- private:
-  [[noreturn]] void fail(const std::string& what) const {
-    std::size_t line = 1;
-    for (std::size_t k = 0; k < i_ && k < s_.size(); ++k) line += s_[k] == '\n';
-    throw Error(ErrorCode::BadInput, origin_ + ": not a costs file (line " + std::to_string(line) +
-                                         ": " + what +
-                                         "); write one with `logrid calibrate --costs FILE`");
-  }
-  void space() {
-    while (i_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[i_]))) ++i_;
-  }
-  bool eat(char c) {
-    space();
-    if (i_ < s_.size() && s_[i_] == c) {
-      ++i_;
-      return true;
-    }
-    return false;
-  }
-  void expect(char c) {
-    if (!eat(c)) fail(std::string("expected '") + c + "'");
-  }
-  std::string string() {
-    expect('"');
-    std::string out;
-    while (i_ < s_.size() && s_[i_] != '"') {
-      char c = s_[i_++];
-      if (c == '\\') {
-        if (i_ >= s_.size()) break;
-        const char e = s_[i_++];
-        switch (e) {
-          case 'n': c = '\n'; break;
-          case 't': c = '\t'; break;
-          case 'u':
-            if (i_ + 4 > s_.size()) fail("a short \\u escape");
-            i_ += 4;
-            c = '?';  // the machine line only; no cost is a string
-            break;
-          default: c = e;
-        }
-      }
-      out += c;
-    }
-    if (i_ >= s_.size()) fail("a string without its closing quote");
-    ++i_;
-    return out;
-  }
-  std::unique_ptr<Json> value(int depth) {
-    if (depth > 16) fail("nested too deeply");
-    space();
-    if (i_ >= s_.size()) fail("the text ends where a value was expected");
-    auto v = std::make_unique<Json>();
-    const char c = s_[i_];
-    if (c == '{') {
-      ++i_;
-      v->kind = Json::Kind::Object;
-      if (eat('}')) return v;
-      do {
-        space();
-        std::string key = string();
-        expect(':');
-        v->members.emplace_back(std::move(key), value(depth + 1));
-      } while (eat(','));
-      expect('}');
-    } else if (c == '[') {
-      ++i_;
-      v->kind = Json::Kind::Array;
-      if (eat(']')) return v;
-      do {
-        value(depth + 1);
-      } while (eat(','));
-      expect(']');
-    } else if (c == '"') {
-      v->kind = Json::Kind::String;
-      v->text = string();
-    } else if (s_.compare(i_, 4, "true") == 0 || s_.compare(i_, 5, "false") == 0) {
-      v->kind = Json::Kind::Bool;
-      i_ += s_[i_] == 't' ? 4 : 5;
-    } else if (s_.compare(i_, 4, "null") == 0) {
-      i_ += 4;
-    } else {
-      const char* begin = s_.c_str() + i_;
-      char* end = nullptr;
-      v->number = std::strtod(begin, &end);
-      if (end == begin) fail("expected a value");
-      v->kind = Json::Kind::Number;
-      i_ += std::size_t(end - begin);
-    }
-    return v;
-  }
-
-  const std::string& s_;
-  const std::string& origin_;
-  std::size_t i_ = 0;
 };
 
 [[noreturn]] void bad(const std::string& origin, const std::string& what) {
@@ -170,7 +50,7 @@ std::string validateCullerCosts(const CullerCosts& costs) {
 }
 
 CullerCostsFile parseCullerCosts(const std::string& text, const std::string& origin) {
-  const std::unique_ptr<Json> doc = JsonReader(text, origin).document();
+  const std::unique_ptr<Json> doc = detail::parseJson(text, origin, kCostsFile);
   if (doc->kind != Json::Kind::Object) bad(origin, "a costs file is one JSON object");
   const Json* format = doc->find("format");
   if (!format || format->kind != Json::Kind::String || format->text != "logrid-costs") {
@@ -208,15 +88,7 @@ CullerCostsFile parseCullerCosts(const std::string& text, const std::string& ori
 }
 
 CullerCostsFile loadCullerCostsFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw Error(ErrorCode::Environment,
-                "costs file " + path + " cannot be read; check the path, or write it with "
-                                       "`logrid calibrate --costs FILE`");
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parseCullerCosts(text.str(), path);
+  return parseCullerCosts(detail::readTextFile(path, kCostsFile), path);
 }
 
 CullerCosts loadCullerCosts(const std::string& path, const std::string& source) {
@@ -235,12 +107,8 @@ CullerCosts loadCullerCosts(const std::string& path, const std::string& source) 
 std::string formatCullerCosts(const CullerCostsFile& file) {
   std::ostringstream out;
   out.precision(6);
-  std::string machine;
-  for (char c : file.machine) {
-    if (c == '"' || c == '\\') machine += '\\';
-    machine += (static_cast<unsigned char>(c) < 0x20) ? ' ' : c;
-  }
-  out << "{\n  \"format\": \"logrid-costs\",\n  \"version\": 1,\n  \"machine\": \"" << machine
+  out << "{\n  \"format\": \"logrid-costs\",\n  \"version\": 1,\n  \"machine\": \""
+      << detail::jsonEscape(file.machine)
       << "\",\n  \"sources\": {";
   bool first_source = true;
   for (const auto& [name, costs] : file.sources) {

@@ -34,6 +34,8 @@ namespace {
 
 // Text options that hold no number: names, choices and paths.
 const std::set<std::string> kTextOptions = {"--costs",
+                                            "--config",
+                                            "--write-config",
                                             "--scene",
                                             "--path",
                                             "--tree-parts",
