@@ -47,10 +47,6 @@ const char* toString(Kind k) {
   return "?";
 }
 
-bool changesHierarchy(Kind k) {
-  return k == Kind::Rebuild || k == Kind::Replace || k == Kind::RemoveAdd;
-}
-
 // The city with its DDO octree (for ddo+log), shared with the DDO oracle tests.
 SceneKey cityKey() { return sceneKey("city", 0, true); }
 
