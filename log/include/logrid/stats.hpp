@@ -43,7 +43,7 @@ struct FrameStats {
   // Drawing.
   std::uint64_t leaves_drawn = 0;     // nodes whose objects were drawn
   std::uint64_t objects_drawn = 0;    // draw callbacks made
-  std::uint64_t coherent_leaves = 0;  // leaves drawn first from last frame's visible set
+  std::uint64_t coherent_leaves = 0;  // nodes with objects drawn first from last frame's set
   std::uint64_t draw_batches = 0;     // non-empty batches handed out (Culler::nextBatch)
   std::uint64_t occluders = 0;        // selected by the occluder pre-pass (ddo, ddo+log)
   double seconds = 0;                 // wall time of the whole cullFrame(), draws included
