@@ -218,7 +218,12 @@ void OcclusionBuffer::Impl::begin(const Camera& camera) {
   scale = std::int32_t(desc.resolution);
   frame.scale = scale;
   frame.inv_scale = 1.0 / scale;
-  frame.radius = 0.5 * (scale - 1);
+  // A multisampled renderer (Camera::multisample) samples anywhere in the pixel, not at
+  // its centre: every sample lies within half a pixel of it, so a pixel's samples spread
+  // over the square of half-width 0.5 around the centre, which widens each buffer
+  // pixel's spread by as much (a claim then holds for every sample, as the resolvers'
+  // farthest sample needs; see the header, "Resolution").
+  frame.radius = 0.5 * (scale - 1) + (camera.multisample ? 0.5 : 0.0);
   frame.skip_closed_back_faces = !desc.closed_back_faces;
   frame.exact_coverage = desc.unsafe_exact_coverage;
   frame.exact_depth = desc.unsafe_exact_depth;

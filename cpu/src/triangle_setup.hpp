@@ -27,7 +27,8 @@ struct SetupFrame {
   double near_key = 0, clear_key = 1;
   int scale = 1;  // viewport pixels per buffer pixel
   double inv_scale = 1;
-  double radius = 0;  // half the spread of a buffer pixel's samples: (scale - 1) / 2
+  double radius = 0;  // half the spread of a buffer pixel's samples: (scale - 1) / 2, + 0.5
+                      // for a multisampled camera
   std::int32_t buffer_w = 0, buffer_h = 0;
   bool skip_closed_back_faces = true;
   bool exact_coverage = false;  // test aids (OcclusionBufferDesc::unsafe_*)

@@ -7,9 +7,11 @@
 #include <functional>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 #include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
+#include "logrid/grid.hpp"
 #include "methods/method_def.hpp"
 #include "query_frame.hpp"
 #include "query_prefilter.hpp"
@@ -111,6 +113,47 @@ class AbandonOnThrow {
  private:
   std::function<void()> abandon_;
   int exceptions_;
+};
+
+// Brackets one nextBatch()'s requests with the sources' beginAccess() and endAccess().
+class SourceAccess {
+ public:
+  explicit SourceAccess(const CullSources& sources)
+      : depth_(sources.depth), queries_(sources.queries) {
+    if (depth_) depth_->beginAccess();
+    if (queries_) queries_->beginAccess();
+  }
+  // Ends access; throws what a source's endAccess() throws.
+  void end() {
+    DepthSource* depth = std::exchange(depth_, nullptr);
+    OcclusionQueries* queries = std::exchange(queries_, nullptr);
+    if (queries) {
+      try {
+        queries->endAccess();
+      } catch (...) {
+        if (depth) endQuietly(*depth);  // its window ends too
+        throw;
+      }
+    }
+    if (depth) depth->endAccess();
+  }
+  ~SourceAccess() {
+    if (queries_) endQuietly(*queries_);
+    if (depth_) endQuietly(*depth_);
+  }
+  SourceAccess(const SourceAccess&) = delete;
+  SourceAccess& operator=(const SourceAccess&) = delete;
+
+ private:
+  template <typename Source>
+  static void endQuietly(Source& source) noexcept {
+    try {
+      source.endAccess();
+    } catch (...) {  // an exception is already on its way out of nextBatch()
+    }
+  }
+  DepthSource* depth_;
+  OcclusionQueries* queries_;
 };
 
 }  // namespace
@@ -242,8 +285,10 @@ DrawBatch Culler::nextBatch() {
   batch_.clear();
   batch_areas_.clear();
   culled_undrawn_.clear();
+  SourceAccess access(sources_);
   if (query_frame_) query_frame_->flushDeferred();
   advance();
+  access.end();
   if (!batch_.empty()) ++stats_.draw_batches;
   return {batch_.data(), batch_.size()};
 }
@@ -279,6 +324,7 @@ FrameStats Culler::endFrame() {
     stats_.queries = after.queries - depth_before_.queries;
     stats_.batches = after.batches - depth_before_.batches;
     stats_.flushes = after.flushes - depth_before_.flushes;
+    stats_.state_queries = after.state_queries - depth_before_.state_queries;
     stats_.read_seconds = after.seconds - depth_before_.seconds;
   }
   if (queries) {
@@ -288,6 +334,7 @@ FrameStats Culler::endFrame() {
     stats_.query_polls = q.polls - queries_before_.polls;
     stats_.query_waits = q.waits - queries_before_.waits;
     stats_.flushes += q.flushes - queries_before_.flushes;
+    stats_.state_queries += q.state_queries - queries_before_.state_queries;
     stats_.read_seconds += q.seconds - queries_before_.seconds;
   }
   stats_.seconds = secondsSince(start_);

@@ -19,7 +19,7 @@ void DepthPyramid::reset(float clear_key) {
   for (Level& level : levels_) std::fill(level.keys.begin(), level.keys.end(), clear_key);
 }
 
-void DepthPyramid::update(const PixelRect& rect, DepthSource& source) {
+void DepthPyramid::update(const PixelRect& rect, KeyReader& source) {
   Level& base = levels_[0];
   PixelRect r{std::max(rect.x0, 0), std::max(rect.y0, 0),
               std::min(rect.x1, std::int32_t(base.width)),

@@ -2,9 +2,12 @@
 
 #include <cassert>
 #include <optional>
+#include <string>
 #include <vector>
 
+#include "logrid/grid.hpp"
 #include "logrid/depth_pyramid.hpp"
+#include "logrid/error.hpp"
 
 namespace logrid::detail {
 
@@ -82,8 +85,16 @@ class GridTester final : public BoxTester {
 class PyramidTester final : public BoxTester {
  public:
   void beginFrame(const Camera& camera, float clear_key, const CullSources& sources) override {
-    source_ = sources.depth;
-    assert(source_ && "PyramidTester: the culler checks that the method's depth source is given");
+    assert(sources.depth && "PyramidTester: the culler checks that the method's depth source is given");
+    source_ = dynamic_cast<KeyReader*>(sources.depth);
+    if (!source_) {
+      throw Error(ErrorCode::InvalidArgument,
+                  std::string("culler: method hzb builds its pyramid from the keys of whole areas; "
+                              "the depth source '") +
+                      sources.depth->traits().name +
+                      "' is not a logrid::KeyReader (depth_source.hpp); derive it from "
+                      "logrid::PixelSource, or pick a method of the lazy grid");
+    }
     if (!pyramid_ || width_ != camera.width || height_ != camera.height) {
       pyramid_ = std::make_unique<DepthPyramid>(camera.width, camera.height);
       width_ = camera.width;
@@ -100,7 +111,7 @@ class PyramidTester final : public BoxTester {
   void noteCleared(float key) override { pyramid_->reset(key); }
 
  private:
-  DepthSource* source_ = nullptr;
+  KeyReader* source_ = nullptr;
   std::unique_ptr<DepthPyramid> pyramid_;
   std::uint32_t width_ = 0;
   std::uint32_t height_ = 0;

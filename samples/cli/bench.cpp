@@ -98,6 +98,7 @@ struct Row {
   double tiles_per_box = 0;
   double read_share = 0;
   double flushes = 0;
+  double state_queries = 0;  // GL state queries of the sources (the state guard's cost)
   double occluders = -1;     // DDO methods: occluders per frame
   bool box_queries = false;  // a hardware-query method (MethodNeeds::queries)
   double queries = 0, query_waits = 0, query_boxes = 0;
@@ -125,6 +126,7 @@ Row makeRow(const Measured& m) {
   row.tiles_per_box = a.tiles_per_box;
   row.read_share = row.ms > 0 ? a.read_ms / row.ms : 0;
   row.flushes = a.flushes;
+  row.state_queries = a.state_queries;
   if (a.occluders) row.occluders = *a.occluders;
   if (r.config.method.method && methodInfo(*r.config.method.method).needs.queries) {
     row.box_queries = true;
@@ -162,6 +164,7 @@ void writeMethodTable(std::ostream& md, const std::vector<Row>& rows) {
        [](const Row& r) { return r.tiles_per_box > 0 ? formatFixed(r.tiles_per_box) : "–"; }},
       {"read share", "--:", [](const Row& r) { return formatFixed(100 * r.read_share, 0) + "%"; }},
       {"flushes", "--:", [](const Row& r) { return formatFixed(r.flushes, 1); }},
+      {"GL state queries", "--:", [](const Row& r) { return formatFixed(r.state_queries, 1); }},
       {"missed", "--:", [](const Row& r) {
          return (r.missed >= 0 ? std::to_string(r.missed) : "–") +
                 (r.missed_artifacts > 0 ? " (+" + std::to_string(r.missed_artifacts) + " artifact)"

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "logrid/grid.hpp"
 #include "logrid/error.hpp"
 #include "logrid/gl/context.hpp"
 #include "logrid/zread/box_query_source.hpp"
@@ -105,7 +106,6 @@ class NoDepthSource : public DepthSource {
   DepthSourceTraits traits() const override { return {"none", true, false}; }
   void beginFrame(const Camera&) override {}
   void submit(const AreaRequest*, std::size_t, AreaAnswer*) override { unused(); }
-  void readKeys(const PixelRect&, float*) override { unused(); }
 
  private:
   [[noreturn]] static void unused() {

@@ -10,6 +10,7 @@
 #include <glm/ext/matrix_double4x4.hpp>
 #include <glm/ext/vector_double4.hpp>
 
+#include "logrid/grid.hpp"
 #include "logrid/error.hpp"
 #include "logrid/glm_camera.hpp"
 

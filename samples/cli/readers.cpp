@@ -15,11 +15,48 @@ namespace {
 template <typename Source>
 class GlReader final : public FrameReader {
  public:
-  explicit GlReader(std::uint32_t framebuffer) : source_(framebuffer) {}
+  template <typename... Args>
+  explicit GlReader(std::uint32_t framebuffer, Args... args) : source_(framebuffer, args...) {}
   DepthSource& source() override { return source_; }
 
  private:
   Source source_;
+};
+
+// readpixels with the GL state saved, checked and restored around every read, as every
+// read did before the culler opened one access window per batch (gl_state.hpp): the
+// source's beginAccess() and endAccess() are not passed on. For comparison only.
+class PerReadSource final : public DepthSource, public KeyReader {
+ public:
+  explicit PerReadSource(std::uint32_t framebuffer) : inner_(framebuffer) {}
+  DepthSourceTraits traits() const override { return inner_.traits(); }
+  void beginFrame(const Camera& camera) override { inner_.beginFrame(camera); }
+  void endFrame() override { inner_.endFrame(); }
+  void noteDraw() override { inner_.noteDraw(); }
+  void submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) override {
+    inner_.submit(requests, count, answers);
+    counters_ = inner_.counters();
+  }
+  void collect() override {
+    inner_.collect();
+    counters_ = inner_.counters();
+  }
+  void readKeys(const PixelRect& rect, float* keys) override {
+    inner_.readKeys(rect, keys);
+    counters_ = inner_.counters();
+  }
+
+ private:
+  zread::ReadPixelsSource inner_;
+};
+
+class PerReadReader final : public FrameReader {
+ public:
+  explicit PerReadReader(std::uint32_t framebuffer) : source_(framebuffer) {}
+  DepthSource& source() override { return source_; }
+
+ private:
+  PerReadSource source_;
 };
 
 // A software depth buffer fed with the triangles of every object drawn, rasterised
@@ -78,6 +115,18 @@ const std::vector<ReaderInfo>& readerTable() {
        [](const ReaderContext& c) {
          return std::make_unique<GlReader<zread::ReadPixelsSource>>(c.framebuffer);
        }},
+      {"readpixels-managed",
+       "readpixels for an application that manages its GL state (GlStatePolicy::"
+       "ApplicationManaged): nothing saved or restored",
+       true, true,
+       [](const ReaderContext& c) {
+         return std::make_unique<GlReader<zread::ReadPixelsSource>>(
+             c.framebuffer, zread::GlStatePolicy::ApplicationManaged);
+       }},
+      {"readpixels-per-read",
+       "readpixels with the GL state saved and restored around every read instead of once "
+       "per batch (for comparison)",
+       true, true, [](const ReaderContext& c) { return std::make_unique<PerReadReader>(c.framebuffer); }},
       {"pbo", "a ring of pixel-buffer objects with fences: one wait per batch", true, true,
        [](const ReaderContext& c) {
          return std::make_unique<GlReader<zread::PboSource>>(c.framebuffer);

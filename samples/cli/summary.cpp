@@ -22,6 +22,8 @@ FrameAverages averageFrames(const std::vector<FrameRecord>& records) {
     a.bytes_read += double(s.bytes_read);
     a.batches += double(s.batches);
     a.flushes += double(s.flushes);
+    a.state_queries += double(s.state_queries);
+    a.draw_batches += double(s.draw_batches);
     a.read_ms += s.read_seconds * 1e3;
     a.queries += double(s.queries);
     a.query_waits += double(s.query_waits);
@@ -69,6 +71,8 @@ FrameAverages averageFrames(const std::vector<FrameRecord>& records) {
                       &a.bytes_read,
                       &a.batches,
                       &a.flushes,
+                      &a.state_queries,
+                      &a.draw_batches,
                       &a.read_ms,
                       &a.queries,
                       &a.query_waits,
@@ -110,6 +114,8 @@ nlohmann::json frameJson(const FrameRecord& r) {
                       {"queries", s.queries},
                       {"batches", s.batches},
                       {"flushes", s.flushes},
+                      {"state_queries", s.state_queries},
+                      {"draw_batches", s.draw_batches},
                       {"coherent_leaves", s.coherent_leaves},
                       {"read_ms", s.read_seconds * 1e3},
                       {"cull_ms", s.seconds * 1e3},
@@ -195,6 +201,8 @@ nlohmann::json averagesJson(const FrameAverages& a) {
           {"avg_read_bytes", a.bytes_read},
           {"avg_batches", a.batches},
           {"avg_flushes", a.flushes},
+          {"avg_state_queries", a.state_queries},
+          {"avg_draw_batches", a.draw_batches},
           {"avg_query_waits", a.query_waits},
           {"avg_query_polls", a.query_polls},
           {"avg_records_decided", a.records_decided},

@@ -29,6 +29,8 @@ struct FrameAverages {
   double bytes_read = 0;
   double batches = 0;
   double flushes = 0;
+  double state_queries = 0;  // the sources' GL state queries (FrameStats::state_queries)
+  double draw_batches = 0;   // batches handed out (FrameStats::draw_batches)
   double read_ms = 0;
   double queries = 0;
   double query_waits = 0;

@@ -44,6 +44,9 @@ int runWalk(const WalkOptions& o) {
                 summary["avg_queries"].get<double>(), summary["avg_query_waits"].get<double>(),
                 summary["avg_flushes"].get<double>());
   }
+  std::printf(", %.1f reads in %.1f batches, %.1f GL state queries",
+              summary["avg_reads"].get<double>(), summary["avg_draw_batches"].get<double>(),
+              summary["avg_state_queries"].get<double>());
   if (summary.contains("visible_objects")) {
     std::printf(", %lld visible, %lld missed",
                 (long long)summary["visible_objects"].get<std::int64_t>(),

@@ -1,7 +1,8 @@
 // logrid_example: a renderer that already owns a bounding-volume hierarchy adopts logrid.
 //
 // The lines between the "logrid integration" markers are all a renderer writes (README.md,
-// "Integrating logrid", quotes them). The rest is the toy application: a wall in front of
+// "Integrating logrid", quotes them): the hierarchy adapter (1/2), and 14 lines of code for
+// the culler, the depth source, the camera and the frame (2/2). The rest is the toy application: a wall in front of
 // 16 small cubes, 4 cubes beside the wall and 2 outside the view, drawn headless through
 // EGL into an off-screen framebuffer. Exits with 1 unless the wall and the cubes beside it
 // were drawn and every cube behind the wall or outside the view was culled.
@@ -11,11 +12,10 @@
 #include <vector>
 
 #include "logrid/cpu/software_rasterizer.hpp"  // appendBox
-#include "logrid/culler.hpp"
-#include "logrid/error.hpp"
 #include "logrid/gl/context.hpp"
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
+#include "logrid/logrid.hpp"
 #include "logrid/zread/gl_sources.hpp"
 
 namespace {
@@ -141,19 +141,17 @@ int run() {
   AppHierarchy hierarchy(nodes);
   logrid::Culler culler;                                        // lazy occlusion grid
   logrid::zread::ReadPixelsSource depth(framebuffer.handle());  // reads the app's z-buffer
-
-  logrid::Camera camera;
+  logrid::Camera camera;  // depth as GL's default: standard, [-1, 1] clip range, 32-bit float
   std::copy(app.view_projection, app.view_projection + 16, camera.view_projection.m);
-  camera.width = app.width;
-  camera.height = app.height;
-  camera.depth = {logrid::DepthConvention::Standard, logrid::ClipDepthRange::NegativeOneToOne,
-                  logrid::DepthFormat::D32F};                   // as the app's depth buffer
+  camera.width = app.width, camera.height = app.height;
   camera.render_origin = {app.eye[0], app.eye[1], app.eye[2]};  // the renderer is camera-relative
 
-  framebuffer.clear(kBackground);  // depth cleared before cullFrame(), depth test and writes on
+  framebuffer.clear(kBackground);  // depth cleared first; then drawn with depth test and writes
   renderer.meshes.begin(logrid::gl::Pass::Shaded, camera);
-  const logrid::FrameStats stats =
-      culler.cullFrame(camera, hierarchy, depth, [&](logrid::ObjectId id) { renderer.draw(id); });
+  culler.beginFrame(camera, hierarchy, {&depth});
+  for (logrid::DrawBatch batch = culler.nextBatch(); !batch.empty(); batch = culler.nextBatch())
+    for (logrid::ObjectId id : batch) renderer.draw(id);  // or one multi-draw per batch
+  const logrid::FrameStats stats = culler.endFrame();
   renderer.meshes.end();
   // ==== end of logrid integration (2/2) ===================================================
   context.check("logrid_example");

@@ -112,7 +112,7 @@ logrid::PixelRect rectIn(Reader& in, std::uint32_t w, std::uint32_t h) {
 // An asynchronous source over the software buffer: submit() computes the answers as the
 // buffer is then (a GPU's reads see the commands before them) but hands them out only in
 // collect(); until then the answer array holds values that would cull everything.
-class Deferred final : public logrid::DepthSource {
+class Deferred final : public logrid::DepthSource, public logrid::KeyReader {
  public:
   Deferred(logrid::cpu::SoftwareDepthBuffer& buffer, bool reads_depth)
       : buffer_(buffer), reads_depth_(reads_depth) {}

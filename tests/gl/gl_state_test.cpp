@@ -434,3 +434,142 @@ TEST_F(GlStateTest, BindTextureRestoresTextureAndUnitState) {
 
 }  // namespace
 }  // namespace logrid
+
+namespace logrid {
+namespace {
+
+// An access window: the first scope saves, later scopes of the window query nothing, and
+// endAccess() restores every item exactly, as one scope per read would.
+TEST_F(GlStateTest, AnAccessWindowSavesOnceAndRestoresAtItsEnd) {
+  test::AppObjects objects;
+  TestFramebuffer fb(0);
+  CountingDraw counting;
+  std::uint64_t counter = 0;
+  zread::GlStateGuard guard(zread::GlStatePolicy::Restore, &counter);
+  std::mt19937 rng(20261202);
+  for (int round = 0; round < 10; ++round) {
+    defaultState();
+    fb.clear(0.3f);
+    const std::string what = test::setRandomGlState(rng, objects, test::kAllGlState, fb.fbo);
+    SCOPED_TRACE("round " + std::to_string(round) + ": " + what);
+    const test::GlSnapshot before = test::snapshotGlState({fb.depth}, {fb.fbo});
+    guard.beginAccess();
+    std::uint64_t after_first = 0;
+    for (int read = 0; read < 8; ++read) {
+      zread::GlStateGuard::Scope scope(guard, "AccessWindowTest");
+      scope.prepareDraw(fb.fbo, kWidth, kHeight, GL_LEQUAL, false);
+      EXPECT_EQ(counting.draw(0.2f), GLuint(kWidth * kHeight));
+      scope.prepareRead(fb.fbo, 0);
+      std::vector<float> keys(16, -1.0f);
+      glReadPixels(3, 5, 4, 4, GL_DEPTH_COMPONENT, GL_FLOAT, keys.data());
+      scope.check("glReadPixels");
+      for (float k : keys) EXPECT_NEAR(k, 0.3f, 1e-6f);
+      if (read == 0) after_first = counter;
+    }
+    // The later scopes saved nothing and checked nothing: the window did once.
+    EXPECT_GT(after_first, 20u);
+    EXPECT_EQ(counter, after_first);
+    guard.endAccess();
+    EXPECT_EQ(test::diffGlState(before, test::snapshotGlState({fb.depth}, {fb.fbo})), "");
+    counter = 0;
+  }
+  defaultState();
+  gl::checkGlErrors("AnAccessWindowSavesOnceAndRestoresAtItsEnd");
+}
+
+// In a window an error waits for endAccess(), which names the window's first call and
+// still restores the application's state.
+TEST_F(GlStateTest, AnAccessWindowReportsItsErrorsAtItsEnd) {
+  GLint max_samples = 0;
+  glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
+  if (max_samples < 4) GTEST_SKIP() << "GL_MAX_SAMPLES is " << max_samples;
+  TestFramebuffer fb(4);
+  zread::GlStateGuard guard;
+  defaultState();
+  const test::GlSnapshot before = test::snapshotGlState();
+  float keys[4] = {};
+  guard.beginAccess();
+  {
+    zread::GlStateGuard::Scope scope(guard, "WindowReadTest");
+    scope.prepareRead(fb.fbo, 0);
+    glReadPixels(0, 0, 2, 2, GL_DEPTH_COMPONENT, GL_FLOAT, keys);
+    scope.check("glReadPixels");  // deferred: no throw here
+  }
+  try {
+    guard.endAccess();
+    ADD_FAILURE() << "endAccess() reported no error";
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("WindowReadTest: glReadPixels"), std::string::npos) << m;
+    EXPECT_NE(m.find("GL_INVALID_OPERATION"), std::string::npos) << m;
+  }
+  EXPECT_EQ(test::diffGlState(before, test::snapshotGlState()), "");
+  forgetProvokedErrors();
+}
+
+// Two guards: a scope of the second closes the first's window, so that their saves and
+// restores nest and the application's state comes back whatever their order.
+TEST_F(GlStateTest, AnotherGuardsScopeClosesTheWindow) {
+  test::AppObjects objects;
+  TestFramebuffer fb(0);
+  CountingDraw counting;
+  zread::GlStateGuard reads, draws;
+  std::mt19937 rng(99);
+  defaultState();
+  fb.clear(0.3f);
+  test::setRandomGlState(rng, objects, test::kAllGlState, fb.fbo);
+  const test::GlSnapshot before = test::snapshotGlState({fb.depth}, {fb.fbo});
+  reads.beginAccess();
+  draws.beginAccess();
+  for (int i = 0; i < 3; ++i) {
+    {
+      zread::GlStateGuard::Scope scope(reads, "reads");
+      scope.prepareRead(fb.fbo, 0);
+      scope.prepareDraw(fb.fbo, kWidth, kHeight, GL_ALWAYS, false);
+    }
+    {
+      zread::GlStateGuard::Scope scope(draws, "draws");
+      scope.prepareDraw(fb.fbo, kWidth, kHeight, GL_LEQUAL, false);
+      EXPECT_EQ(counting.draw(0.2f), GLuint(kWidth * kHeight));
+    }
+  }
+  reads.endAccess();  // in the order a culler ends them: not the order they saved in
+  draws.endAccess();
+  EXPECT_EQ(test::diffGlState(before, test::snapshotGlState({fb.depth}, {fb.fbo})), "");
+  defaultState();
+  gl::checkGlErrors("AnotherGuardsScopeClosesTheWindow");
+}
+
+// GlStatePolicy::ApplicationManaged: no state query but the window's one error check,
+// the source's state set as under Restore (its draw counts the same), and left so.
+TEST_F(GlStateTest, ApplicationManagedQueriesNothingAndLeavesItsState) {
+  TestFramebuffer fb(0);
+  CountingDraw counting;
+  std::uint64_t counter = 0;
+  zread::GlStateGuard guard(zread::GlStatePolicy::ApplicationManaged, &counter);
+  defaultState();
+  fb.clear(0.3f);
+  glEnable(GL_CULL_FACE);  // the application's: the guard sets its own
+  glCullFace(GL_FRONT_AND_BACK);
+  guard.beginAccess();
+  for (int i = 0; i < 4; ++i) {
+    zread::GlStateGuard::Scope scope(guard, "ManagedTest");
+    scope.prepareDraw(fb.fbo, kWidth, kHeight, GL_LEQUAL, false);
+    EXPECT_EQ(counting.draw(0.2f), GLuint(kWidth * kHeight));
+    scope.prepareRead(fb.fbo, 0);
+    scope.check("draw");
+  }
+  EXPECT_EQ(counter, 0u);
+  guard.endAccess();
+  EXPECT_EQ(counter, 1u);  // one glGetError for the window
+  // Left as logrid set it (the contract in gl_state.hpp).
+  EXPECT_FALSE(glIsEnabled(GL_CULL_FACE));
+  GLint read_fb = 0;
+  glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read_fb);
+  EXPECT_EQ(GLuint(read_fb), fb.fbo);
+  defaultState();
+  gl::checkGlErrors("ApplicationManagedQueriesNothingAndLeavesItsState");
+}
+
+}  // namespace
+}  // namespace logrid

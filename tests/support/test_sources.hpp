@@ -15,7 +15,7 @@
 
 namespace logrid::test {
 
-class DeferredSource : public DepthSource {
+class DeferredSource : public DepthSource, public KeyReader {
  public:
   DeferredSource(cpu::SoftwareDepthBuffer& buffer, bool reads_depth)
       : buffer_(buffer), reads_depth_(reads_depth) {}

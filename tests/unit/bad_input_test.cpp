@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "expect_error.hpp"
+#include "logrid/grid.hpp"
 #include "logrid/bvh/bvh.hpp"
 #include "logrid/cpu/software_depth.hpp"
 #include "logrid/culler.hpp"

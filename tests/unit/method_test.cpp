@@ -99,7 +99,6 @@ class UntouchableSource final : public DepthSource {
   DepthSourceTraits traits() const override { return {"untouchable", true, false}; }
   void beginFrame(const Camera&) override { ADD_FAILURE() << "beginFrame"; }
   void submit(const AreaRequest*, std::size_t, AreaAnswer*) override { ADD_FAILURE() << "submit"; }
-  void readKeys(const PixelRect&, float*) override { ADD_FAILURE() << "readKeys"; }
   void noteDraw() override { ADD_FAILURE() << "noteDraw"; }
 };
 

@@ -354,6 +354,40 @@ TEST(OcclusionBufferTest, WorksLazilyTileByTile) {
   buffer.endFrame();
 }
 
+TEST(OcclusionBufferTest, MultisampledPixelsAreCoveredOnlyWhenTheirWholeSquareIs) {
+  // A box whose right edge lands at window x = 9.8: the centre of pixel 9 lies 0.3 pixel
+  // inside it, far beyond the snapping slack, but a sample at x offset +0.375 (GL's
+  // standard 4x pattern) lies outside. Single-sampled, pixel 9 is covered; multisampled,
+  // an object behind it shows through that sample, so the buffer must leave it clear
+  // (`logrid walk --reader cpu --samples 4` relies on it). Pixels 5 to 8 are covered
+  // either way.
+  const TestMesh wall = test::box({{-15.5f, -1, -1}, {-14.775f, 1, 1}});  // x 4 .. 9.8
+  const OccluderMeshes meshes = meshesOf({wall});
+  for (bool multisample : {false, true}) {
+    Camera cam;
+    cam.width = 256;
+    cam.height = 64;
+    cam.depth = {DepthConvention::Standard, ClipDepthRange::NegativeOneToOne, DepthFormat::D32F};
+    cam.view_projection = multiply(orthographic(-16, 16, -4, 4, 1, 100, cam.depth),
+                                   lookAt({0, 0, 20}, {0, 0, 0}, {0, 1, 0}));  // 8 px a unit
+    cam.multisample = multisample;
+    OcclusionBuffer buffer(meshes);
+    buffer.beginFrame(cam);
+    buffer.drawObject(0);
+    float keys[5];
+    buffer.readKeys({5, 32, 10, 33}, keys);
+    buffer.endFrame();
+    for (int x = 5; x < 9; ++x) {
+      EXPECT_LT(keys[x - 5], 1.0f) << "pixel " << x << ", multisample " << multisample;
+    }
+    if (multisample) {
+      EXPECT_EQ(keys[4], 1.0f) << "pixel 9 of a multisampled buffer claimed covered";
+    } else {
+      EXPECT_LT(keys[4], 1.0f) << "pixel 9 single-sampled";
+    }
+  }
+}
+
 TEST(OcclusionBufferTest, ModelsInsideAnObjectNeedTheObjectBeyondTheNearPlane) {
   // A model (a small box) inside a big one, with the big one as its fallback. Seen from
   // afar the model is used; with the eye inside the object the fallback is.

@@ -69,7 +69,7 @@ class WatchedQueries final : public test::SoftwareQueries {
 
 // A depth source that fails the test when asked anything while objects handed out are
 // not drawn.
-class WatchedSource final : public DepthSource {
+class WatchedSource final : public DepthSource, public KeyReader {
  public:
   WatchedSource(DepthSource& inner, const Watch& watch) : inner_(inner), watch_(watch) {}
   DepthSourceTraits traits() const override { return inner_.traits(); }
@@ -88,7 +88,7 @@ class WatchedSource final : public DepthSource {
   }
   void readKeys(const PixelRect& rect, float* keys) override {
     watch_.check("a read");
-    inner_.readKeys(rect, keys);
+    dynamic_cast<KeyReader&>(inner_).readKeys(rect, keys);
   }
 
  private:

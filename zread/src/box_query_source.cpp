@@ -64,7 +64,8 @@ double roundToFloat(double x) {
 
 }  // namespace
 
-BoxQuerySource::BoxQuerySource(std::uint32_t framebuffer, QueryTarget target)
+BoxQuerySource::BoxQuerySource(std::uint32_t framebuffer, QueryTarget target,
+                               GlStatePolicy state)
     : framebuffer_(framebuffer),
       target_(target == QueryTarget::SamplesPassed ? GL_SAMPLES_PASSED
                                                    : GL_ANY_SAMPLES_PASSED_CONSERVATIVE),
@@ -72,7 +73,8 @@ BoxQuerySource::BoxQuerySource(std::uint32_t framebuffer, QueryTarget target)
       rect_program_(
           std::make_unique<Program>("BoxQuerySource rectangles", kRectVertex, kRectFragment)),
       u_boxes_(box_program_->uniform("u_boxes")),
-      u_depth_(rect_program_->uniform("u_depth")) {
+      u_depth_(rect_program_->uniform("u_depth")),
+      guard_(state, &query_counters_.state_queries) {
   glCreateVertexArrays(1, &vao_);
 }
 

@@ -53,7 +53,8 @@ GLuint readableFramebuffer(GlStateGuard::Scope& scope, std::unique_ptr<Multisamp
 // glReadPixels
 // ---------------------------------------------------------------------------
 
-ReadPixelsSource::ReadPixelsSource(std::uint32_t framebuffer) : framebuffer_(framebuffer) {}
+ReadPixelsSource::ReadPixelsSource(std::uint32_t framebuffer, GlStatePolicy state)
+    : framebuffer_(framebuffer), guard_(state, &counters_.state_queries) {}
 
 void ReadPixelsSource::beginFrame(const Camera& camera) {
   attachment_ = checkFramebuffer("ReadPixelsSource", framebuffer_, camera);
@@ -93,7 +94,8 @@ std::size_t aligned(std::size_t bytes) { return (bytes + kAlign - 1) & ~(kAlign 
 
 }  // namespace
 
-PboSource::PboSource(std::uint32_t framebuffer) : framebuffer_(framebuffer) {}
+PboSource::PboSource(std::uint32_t framebuffer, GlStatePolicy state)
+    : framebuffer_(framebuffer), guard_(state, &counters_.state_queries) {}
 
 PboSource::~PboSource() {
   for (Slot& s : slots_) release(s);
@@ -209,8 +211,9 @@ void main() { gl_FragDepth = u_depth; }
 
 }  // namespace
 
-QuerySource::QuerySource(std::uint32_t framebuffer)
+QuerySource::QuerySource(std::uint32_t framebuffer, GlStatePolicy state)
     : framebuffer_(framebuffer),
+      guard_(state, &counters_.state_queries),
       program_(std::make_unique<Program>("QuerySource", kQueryVertex, kQueryFragment)),
       depth_uniform_(program_->uniform("u_depth")) {
   glCreateVertexArrays(1, &vao_);
@@ -230,17 +233,19 @@ void QuerySource::beginFrame(const Camera& camera) {
     throw Error(ErrorCode::Runtime, "QuerySource: a batch was never collected");
 }
 
-void QuerySource::readKeys(const PixelRect&, float*) {
+namespace {
+[[noreturn]] void refuseDepthValues() {
   throw Error(ErrorCode::Unsupported,
               "QuerySource: occlusion queries cannot read depth values; use a pixel-reading "
               "source (readpixels, pbo, reduce, software) for this method");
 }
+}  // namespace
 
 void QuerySource::submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) {
   if (count == 0) return;
   const auto start = std::chrono::steady_clock::now();
   for (std::size_t i = 0; i < count; ++i) {
-    if (requests[i].ask != AreaAsk::Count) readKeys(requests[i].rect, nullptr);  // throws
+    if (requests[i].ask != AreaAsk::Count) refuseDepthValues();
   }
   const std::size_t first_free = pending_.size();
   if (queries_.size() < first_free + count) {

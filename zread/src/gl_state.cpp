@@ -28,9 +28,10 @@ std::string errorName(GLenum e) {
 }
 
 // Every error flag GL holds (an implementation may hold several), as one string.
-std::string drainErrors() {
+std::string drainErrors(std::uint64_t& queries) {
   std::string errors;
   for (int i = 0; i < 16; ++i) {
+    ++queries;
     const GLenum e = glGetError();
     if (e == GL_NO_ERROR) break;
     if (!errors.empty()) errors += ", ";
@@ -39,18 +40,32 @@ std::string drainErrors() {
   return errors;
 }
 
-std::uint8_t enabled(GLenum cap) { return glIsEnabled(cap) ? 1 : 0; }
 void setEnabled(GLenum cap, bool on) { on ? glEnable(cap) : glDisable(cap); }
-GLint integer(GLenum name) {
+
+}  // namespace
+
+// Every GL query the guard makes (glGet*, glIsEnabled*, glIs*, glGetError) goes through
+// LOGRID_STATE_QUERY, which counts it in GlStateGuard::stateQueries(): on a threaded
+// driver each one waits for the driver's thread.
+#define LOGRID_STATE_QUERY(call) (++*guard_.queries_, (call))
+
+std::uint8_t GlStateGuard::Scope::enabled(std::uint32_t cap) {
+  return LOGRID_STATE_QUERY(glIsEnabled(cap)) ? 1 : 0;
+}
+std::int32_t GlStateGuard::Scope::integer(std::uint32_t name) {
   GLint v = 0;
-  glGetIntegerv(name, &v);
+  LOGRID_STATE_QUERY(glGetIntegerv(name, &v));
   return v;
 }
 
-// `name` if it still names an object (glIs* says so), else 0.
+namespace {
+
+// `name` if it still names an object (glIs* says so, counted in `queries`), else 0.
 template <typename IsFunction>
-GLuint exists(IsFunction is, GLint name) {
-  return name != 0 && is(GLuint(name)) ? GLuint(name) : 0;
+GLuint exists(std::uint64_t& queries, IsFunction is, GLint name) {
+  if (name == 0) return 0;
+  ++queries;
+  return is(GLuint(name)) ? GLuint(name) : 0;
 }
 
 GLenum textureBinding(GLenum target) {
@@ -71,7 +86,13 @@ GLenum textureBinding(GLenum target) {
 
 }  // namespace
 
-GlStateGuard::GlStateGuard() {
+namespace {
+// The guard whose access window is open on this thread (GL contexts are per thread).
+thread_local GlStateGuard* t_open_window = nullptr;
+}  // namespace
+
+GlStateGuard::GlStateGuard(GlStatePolicy policy, std::uint64_t* query_counter)
+    : policy_(policy), queries_(query_counter ? query_counter : &own_queries_) {
   glGetIntegerv(GL_MAX_CLIP_DISTANCES, &clip_distances_);
   glGetIntegerv(GL_MAX_DRAW_BUFFERS, &draw_buffers_);
   glGetIntegerv(GL_MAX_SAMPLE_MASK_WORDS, &sample_mask_words_);
@@ -98,6 +119,8 @@ GlStateGuard::GlStateGuard() {
 }
 
 GlStateGuard::~GlStateGuard() {
+  access_ = false;
+  closeWindow(false);
   if (probe_query_) glDeleteQueries(1, &probe_query_);
   if (sampler_) glDeleteSamplers(1, &sampler_);
 }
@@ -106,8 +129,61 @@ GlStateGuard::~GlStateGuard() {
 // Scope
 // ---------------------------------------------------------------------------
 
+void GlStateGuard::beginAccess() { access_ = true; }
+
+void GlStateGuard::endAccess() {
+  access_ = false;
+  closeWindow(true);
+}
+
+void GlStateGuard::closeWindow(bool check) {
+  const std::unique_ptr<Scope> window = std::move(window_);  // restores when it goes
+  if (t_open_window == this) t_open_window = nullptr;
+  const std::string call = std::move(unchecked_);
+  unchecked_.clear();
+  if (!window || !check) return;
+  const std::string errors = drainErrors(*queries_);
+  if (!errors.empty()) {
+    throw Error(ErrorCode::Runtime, call + " (or a later GL call of logrid's in the same batch) "
+                                           "failed with " + errors +
+                                           "; the depth values could not be read (a debug "
+                                           "context's messages say more)");
+  }
+}
+
+namespace {
+// Closes the access window of a guard other than `guard`, so that saves and restores of
+// two guards nest (gl_state.hpp).
+void closeOtherWindow(GlStateGuard& guard) {
+  if (t_open_window && t_open_window != &guard) {
+    GlStateGuard* other = t_open_window;
+    const bool access = other->inAccess();
+    other->endAccess();
+    if (access) other->beginAccess();  // its next scope opens a new window
+  }
+}
+}  // namespace
+
 GlStateGuard::Scope::Scope(GlStateGuard& guard, const char* who) : guard_(guard), who_(who) {
-  const std::string pending = drainErrors();
+  closeOtherWindow(guard);
+  if (guard.access_) {
+    if (!guard.window_) {
+      guard.window_.reset(new Scope(guard, who, Window{}));
+      t_open_window = &guard;
+    }
+    window_ = guard.window_.get();
+    return;
+  }
+  open();
+}
+
+GlStateGuard::Scope::Scope(GlStateGuard& guard, const char* who, Window) : guard_(guard), who_(who) {
+  open();
+}
+
+void GlStateGuard::Scope::open() {
+  if (!saving()) return;  // ApplicationManaged: the application promises no pending error
+  const std::string pending = drainErrors(*guard_.queries_);
   if (!pending.empty()) {
     throw Error(ErrorCode::Runtime,
                 std::string(who_) + ": a GL error (" + pending +
@@ -117,7 +193,9 @@ GlStateGuard::Scope::Scope(GlStateGuard& guard, const char* who) : guard_(guard)
   }
 }
 
-GlStateGuard::Scope::~Scope() { restore(); }
+GlStateGuard::Scope::~Scope() {
+  if (!window_) restore();
+}
 
 bool GlStateGuard::Scope::conditionalRenderingActive(std::uint32_t probe_query) {
   // GL has no query for conditional rendering, but BeginConditionalRender fails with
@@ -137,6 +215,18 @@ bool GlStateGuard::Scope::conditionalRenderingActive(std::uint32_t probe_query) 
 }
 
 void GlStateGuard::Scope::refuseUnsavable() {
+  if (!saving()) return;  // ApplicationManaged: the application promises neither
+  // The probe needs no error pending: in a window, check the deferred ones first.
+  if (!guard_.unchecked_.empty()) {
+    const std::string errors = drainErrors(*guard_.queries_);
+    if (!errors.empty()) {
+      throw Error(ErrorCode::Runtime, guard_.unchecked_ + " failed with " + errors +
+                                          "; the depth values could not be read (a debug "
+                                          "context's messages say more)");
+    }
+    guard_.unchecked_.clear();
+  }
+  ++*guard_.queries_;  // the probe's glGetError
   if (conditionalRenderingActive(guard_.probe_query_)) {
     throw Error(ErrorCode::InvalidArgument,
                 std::string(who_) +
@@ -147,9 +237,9 @@ void GlStateGuard::Scope::refuseUnsavable() {
                     "around the application's own draws");
   }
   GLint feedback = 0, active = 0, paused = 0;
-  glGetIntegerv(GL_TRANSFORM_FEEDBACK_BINDING, &feedback);
-  glGetTransformFeedbackiv(GLuint(feedback), GL_TRANSFORM_FEEDBACK_ACTIVE, &active);
-  glGetTransformFeedbackiv(GLuint(feedback), GL_TRANSFORM_FEEDBACK_PAUSED, &paused);
+  LOGRID_STATE_QUERY(glGetIntegerv(GL_TRANSFORM_FEEDBACK_BINDING, &feedback));
+  LOGRID_STATE_QUERY(glGetTransformFeedbackiv(GLuint(feedback), GL_TRANSFORM_FEEDBACK_ACTIVE, &active));
+  LOGRID_STATE_QUERY(glGetTransformFeedbackiv(GLuint(feedback), GL_TRANSFORM_FEEDBACK_PAUSED, &paused));
   if (active && !paused) {
     throw Error(ErrorCode::InvalidArgument,
                 std::string(who_) +
@@ -162,7 +252,9 @@ void GlStateGuard::Scope::refuseUnsavable() {
 void GlStateGuard::Scope::prepareDraw(std::uint32_t framebuffer, std::int32_t width,
                                       std::int32_t height, std::uint32_t depth_func,
                                       bool depth_write, bool color_write) {
-  if (!draw_saved_) {
+  if (window_) return window_->prepareDraw(framebuffer, width, height, depth_func, depth_write,
+                                           color_write);
+  if (!draw_saved_ && saving()) {
     refuseUnsavable();
     DrawState& s = draw_;
     s.cull_face = enabled(GL_CULL_FACE);
@@ -173,7 +265,7 @@ void GlStateGuard::Scope::prepareDraw(std::uint32_t framebuffer, std::int32_t wi
     s.offset_fill = enabled(GL_POLYGON_OFFSET_FILL);
     s.offset_line = enabled(GL_POLYGON_OFFSET_LINE);
     s.offset_point = enabled(GL_POLYGON_OFFSET_POINT);
-    s.scissor_test = glIsEnabledi(GL_SCISSOR_TEST, 0) ? 1 : 0;
+    s.scissor_test = LOGRID_STATE_QUERY(glIsEnabledi(GL_SCISSOR_TEST, 0)) ? 1 : 0;
     s.sample_mask = enabled(GL_SAMPLE_MASK);
     s.sample_coverage = enabled(GL_SAMPLE_COVERAGE);
     s.alpha_to_coverage = enabled(GL_SAMPLE_ALPHA_TO_COVERAGE);
@@ -181,40 +273,40 @@ void GlStateGuard::Scope::prepareDraw(std::uint32_t framebuffer, std::int32_t wi
     s.multisample = enabled(GL_MULTISAMPLE);
     if (guard_.depth_bounds_) {
       s.depth_bounds = enabled(GL_DEPTH_BOUNDS_TEST_EXT);
-      glGetDoublev(GL_DEPTH_BOUNDS_EXT, s.depth_bounds_range);
+      LOGRID_STATE_QUERY(glGetDoublev(GL_DEPTH_BOUNDS_EXT, s.depth_bounds_range));
     }
     if (guard_.representative_fragment_) {
       s.representative = enabled(GL_REPRESENTATIVE_FRAGMENT_TEST_NV);
     }
     if (guard_.scissor_exclusive_) s.scissor_exclusive = enabled(GL_SCISSOR_TEST_EXCLUSIVE_NV);
     GLboolean mask = GL_TRUE, invert = GL_FALSE;
-    glGetBooleanv(GL_DEPTH_WRITEMASK, &mask);
-    glGetBooleanv(GL_SAMPLE_COVERAGE_INVERT, &invert);
+    LOGRID_STATE_QUERY(glGetBooleanv(GL_DEPTH_WRITEMASK, &mask));
+    LOGRID_STATE_QUERY(glGetBooleanv(GL_SAMPLE_COVERAGE_INVERT, &invert));
     s.depth_mask = mask ? 1 : 0;
     s.coverage_invert = invert ? 1 : 0;
     s.cull_mode = integer(GL_CULL_FACE_MODE);
     s.front_face = integer(GL_FRONT_FACE);
     GLint polygon_mode[2] = {GL_FILL, GL_FILL};  // core profile: front and back are equal
-    glGetIntegerv(GL_POLYGON_MODE, polygon_mode);
+    LOGRID_STATE_QUERY(glGetIntegerv(GL_POLYGON_MODE, polygon_mode));
     s.polygon_mode = polygon_mode[0];
     s.depth_func = integer(GL_DEPTH_FUNC);
-    glGetDoublei_v(GL_DEPTH_RANGE, 0, s.depth_range);
-    glGetFloati_v(GL_VIEWPORT, 0, s.viewport);
-    glGetIntegeri_v(GL_SCISSOR_BOX, 0, s.scissor_box);
-    glGetFloatv(GL_SAMPLE_COVERAGE_VALUE, &s.coverage_value);
-    glGetFloatv(GL_POLYGON_OFFSET_FACTOR, &s.offset_factor);
-    glGetFloatv(GL_POLYGON_OFFSET_UNITS, &s.offset_units);
+    LOGRID_STATE_QUERY(glGetDoublei_v(GL_DEPTH_RANGE, 0, s.depth_range));
+    LOGRID_STATE_QUERY(glGetFloati_v(GL_VIEWPORT, 0, s.viewport));
+    LOGRID_STATE_QUERY(glGetIntegeri_v(GL_SCISSOR_BOX, 0, s.scissor_box));
+    LOGRID_STATE_QUERY(glGetFloatv(GL_SAMPLE_COVERAGE_VALUE, &s.coverage_value));
+    LOGRID_STATE_QUERY(glGetFloatv(GL_POLYGON_OFFSET_FACTOR, &s.offset_factor));
+    LOGRID_STATE_QUERY(glGetFloatv(GL_POLYGON_OFFSET_UNITS, &s.offset_units));
     s.draw_framebuffer = integer(GL_DRAW_FRAMEBUFFER_BINDING);
     for (int i = 0; i < guard_.clip_distances_; ++i) {
       s.clip_distances[i] = enabled(GLenum(GL_CLIP_DISTANCE0 + i));
     }
     for (int i = 0; i < guard_.draw_buffers_; ++i) {
       GLboolean rgba[4] = {GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE};
-      glGetBooleani_v(GL_COLOR_WRITEMASK, GLuint(i), rgba);
+      LOGRID_STATE_QUERY(glGetBooleani_v(GL_COLOR_WRITEMASK, GLuint(i), rgba));
       for (int c = 0; c < 4; ++c) s.color_masks[4 * i + c] = rgba[c] ? 1 : 0;
     }
     for (int i = 0; i < guard_.sample_mask_words_; ++i) {
-      glGetIntegeri_v(GL_SAMPLE_MASK_VALUE, GLuint(i), &s.sample_mask_words[i]);
+      LOGRID_STATE_QUERY(glGetIntegeri_v(GL_SAMPLE_MASK_VALUE, GLuint(i), &s.sample_mask_words[i]));
     }
     draw_saved_ = true;
   }
@@ -251,11 +343,13 @@ void GlStateGuard::Scope::prepareDraw(std::uint32_t framebuffer, std::int32_t wi
 }
 
 void GlStateGuard::Scope::scissor(const PixelRect& rect) {
+  if (window_) return window_->scissor(rect);
   glScissorIndexed(0, rect.x0, rect.y0, rect.x1 - rect.x0, rect.y1 - rect.y0);
 }
 
 void GlStateGuard::Scope::clipControl(std::uint32_t origin, std::uint32_t depth_mode) {
-  if (!clip_saved_) {
+  if (window_) return window_->clipControl(origin, depth_mode);
+  if (!clip_saved_ && saving()) {
     clip_origin_ = integer(GL_CLIP_ORIGIN);
     clip_depth_mode_ = integer(GL_CLIP_DEPTH_MODE);
     clip_saved_ = true;
@@ -264,7 +358,8 @@ void GlStateGuard::Scope::clipControl(std::uint32_t origin, std::uint32_t depth_
 }
 
 void GlStateGuard::Scope::prepareProgram() {
-  if (program_saved_) return;
+  if (window_) return window_->prepareProgram();
+  if (program_saved_ || !saving()) return;
   if (!draw_saved_) refuseUnsavable();
   program_.program = integer(GL_CURRENT_PROGRAM);
   program_.pipeline = integer(GL_PROGRAM_PIPELINE_BINDING);
@@ -273,7 +368,8 @@ void GlStateGuard::Scope::prepareProgram() {
 }
 
 void GlStateGuard::Scope::prepareRead(std::uint32_t framebuffer, std::uint32_t pack_buffer) {
-  if (!read_saved_) {
+  if (window_) return window_->prepareRead(framebuffer, pack_buffer);
+  if (!read_saved_ && saving()) {
     ReadState& s = read_;
     s.read_framebuffer = integer(GL_READ_FRAMEBUFFER_BINDING);
     s.pack_buffer = integer(GL_PIXEL_PACK_BUFFER_BINDING);
@@ -281,28 +377,26 @@ void GlStateGuard::Scope::prepareRead(std::uint32_t framebuffer, std::uint32_t p
     s.row_length = integer(GL_PACK_ROW_LENGTH);
     s.skip_pixels = integer(GL_PACK_SKIP_PIXELS);
     s.skip_rows = integer(GL_PACK_SKIP_ROWS);
-    s.image_height = integer(GL_PACK_IMAGE_HEIGHT);
-    s.skip_images = integer(GL_PACK_SKIP_IMAGES);
     s.swap_bytes = integer(GL_PACK_SWAP_BYTES);
-    s.lsb_first = integer(GL_PACK_LSB_FIRST);
-    s.clamp_read_color = integer(GL_CLAMP_READ_COLOR);
     read_saved_ = true;
   }
+  // Only the pack state a two-dimensional read applies (GL 4.5 §18.2, §8.11.4): image
+  // height and skipped images act on three-dimensional images only, LSB-first on bitmaps
+  // (none in the core profile), read colour clamping on colour values of float buffers
+  // only; logrid reads depth, integers and normalised colour. Each is a query the
+  // application's state would cost otherwise (gl_state_fuzz_test sets them at random).
   glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer);
   glBindBuffer(GL_PIXEL_PACK_BUFFER, pack_buffer);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glPixelStorei(GL_PACK_ROW_LENGTH, 0);
   glPixelStorei(GL_PACK_SKIP_PIXELS, 0);
   glPixelStorei(GL_PACK_SKIP_ROWS, 0);
-  glPixelStorei(GL_PACK_IMAGE_HEIGHT, 0);
-  glPixelStorei(GL_PACK_SKIP_IMAGES, 0);
   glPixelStorei(GL_PACK_SWAP_BYTES, GL_FALSE);
-  glPixelStorei(GL_PACK_LSB_FIRST, GL_FALSE);
-  glClampColor(GL_CLAMP_READ_COLOR, GL_FALSE);
 }
 
 void GlStateGuard::Scope::bindTexture(std::uint32_t unit, std::uint32_t target,
                                       std::uint32_t texture) {
+  if (window_) return window_->bindTexture(unit, target, texture);
   const GLenum binding = textureBinding(target);
   bool unit_taken = false;
   for (int i = 0; i < textures_saved_; ++i) {
@@ -319,28 +413,32 @@ void GlStateGuard::Scope::bindTexture(std::uint32_t unit, std::uint32_t target,
                  ? "texture unit " + std::to_string(unit) + " is already bound in this scope"
                  : "more than " + std::to_string(kMaxTextures) + " textures in one scope"));
   }
-  TextureState& s = textures_[textures_saved_];
+  TextureState unsaved;  // ApplicationManaged: nothing is saved
+  TextureState& s = saving() ? textures_[textures_saved_] : unsaved;
   s.unit = unit;
   s.target = target;
   s.texture = texture;
-  s.active = integer(GL_ACTIVE_TEXTURE);
+  if (saving()) s.active = integer(GL_ACTIVE_TEXTURE);
   glActiveTexture(GL_TEXTURE0 + unit);
-  s.bound = integer(binding);
-  s.sampler = integer(GL_SAMPLER_BINDING);
-  glGetTextureParameteriv(texture, GL_TEXTURE_SWIZZLE_RGBA, s.swizzle);
+  if (saving()) {
+    s.bound = integer(binding);
+    s.sampler = integer(GL_SAMPLER_BINDING);
+    LOGRID_STATE_QUERY(glGetTextureParameteriv(texture, GL_TEXTURE_SWIZZLE_RGBA, s.swizzle));
+  }
+  // Under either policy: whether the texture has a depth-stencil mode to set.
   GLint format = 0;
-  glGetTextureLevelParameteriv(texture, 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
+  LOGRID_STATE_QUERY(glGetTextureLevelParameteriv(texture, 0, GL_TEXTURE_INTERNAL_FORMAT, &format));
   s.has_depth_stencil_mode = format == GL_DEPTH24_STENCIL8 || format == GL_DEPTH32F_STENCIL8;
-  if (s.has_depth_stencil_mode) {
-    glGetTextureParameteriv(texture, GL_DEPTH_STENCIL_TEXTURE_MODE, &s.depth_stencil_mode);
+  if (s.has_depth_stencil_mode && saving()) {
+    LOGRID_STATE_QUERY(glGetTextureParameteriv(texture, GL_DEPTH_STENCIL_TEXTURE_MODE, &s.depth_stencil_mode));
   }
   s.has_levels = target != GL_TEXTURE_2D_MULTISAMPLE && target != GL_TEXTURE_2D_MULTISAMPLE_ARRAY &&
                  target != GL_TEXTURE_RECTANGLE;
-  if (s.has_levels) {
-    glGetTextureParameteriv(texture, GL_TEXTURE_BASE_LEVEL, &s.base_level);
-    glGetTextureParameteriv(texture, GL_TEXTURE_MAX_LEVEL, &s.max_level);
+  if (s.has_levels && saving()) {
+    LOGRID_STATE_QUERY(glGetTextureParameteriv(texture, GL_TEXTURE_BASE_LEVEL, &s.base_level));
+    LOGRID_STATE_QUERY(glGetTextureParameteriv(texture, GL_TEXTURE_MAX_LEVEL, &s.max_level));
   }
-  ++textures_saved_;
+  if (saving()) ++textures_saved_;
   glBindTexture(target, texture);
   glBindSampler(unit, guard_.sampler_);
   const GLint identity[4] = {GL_RED, GL_GREEN, GL_BLUE, GL_ALPHA};
@@ -356,6 +454,7 @@ void GlStateGuard::Scope::bindTexture(std::uint32_t unit, std::uint32_t target,
 
 void GlStateGuard::Scope::bindStorageBuffer(std::uint32_t index, std::uint32_t buffer,
                                             std::int64_t offset, std::int64_t size) {
+  if (window_) return window_->bindStorageBuffer(index, buffer, offset, size);
   int slot = storage_saved_;
   for (int i = 0; i < storage_saved_; ++i) {
     if (storage_[i].index == index) slot = i;
@@ -365,13 +464,13 @@ void GlStateGuard::Scope::bindStorageBuffer(std::uint32_t index, std::uint32_t b
                                                 std::to_string(kMaxStorageBuffers) +
                                                 " binding points in one scope");
   }
-  if (slot == storage_saved_) {
+  if (slot == storage_saved_ && saving()) {
     StorageState& s = storage_[slot];
     s.index = index;
     s.generic = integer(GL_SHADER_STORAGE_BUFFER_BINDING);
-    glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, index, &s.buffer);
-    glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_START, index, &s.start);
-    glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_SIZE, index, &s.size);
+    LOGRID_STATE_QUERY(glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, index, &s.buffer));
+    LOGRID_STATE_QUERY(glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_START, index, &s.start));
+    LOGRID_STATE_QUERY(glGetInteger64i_v(GL_SHADER_STORAGE_BUFFER_SIZE, index, &s.size));
     ++storage_saved_;
   }
   if (size > 0) {
@@ -382,7 +481,11 @@ void GlStateGuard::Scope::bindStorageBuffer(std::uint32_t index, std::uint32_t b
 }
 
 void GlStateGuard::Scope::check(const char* call) {
-  const std::string errors = drainErrors();
+  if (window_) {
+    if (guard_.unchecked_.empty()) guard_.unchecked_ = std::string(who_) + ": " + call;
+    return;
+  }
+  const std::string errors = drainErrors(*guard_.queries_);
   if (!errors.empty()) {
     throw Error(ErrorCode::Runtime, std::string(who_) + ": " + call + " failed with " + errors +
                                         "; the depth values could not be read (a debug "
@@ -395,7 +498,7 @@ void GlStateGuard::Scope::restore() {
   // this, so a failed restore shows in the application's own glGetError).
   for (int i = storage_saved_ - 1; i >= 0; --i) {
     const StorageState& s = storage_[i];
-    const GLuint buffer = exists(glIsBuffer, s.buffer);
+    const GLuint buffer = exists(*guard_.queries_, glIsBuffer, s.buffer);
     if (buffer && s.size > 0) {
       glBindBufferRange(GL_SHADER_STORAGE_BUFFER, s.index, buffer, GLintptr(s.start),
                         GLsizeiptr(s.size));
@@ -403,7 +506,7 @@ void GlStateGuard::Scope::restore() {
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, s.index, buffer);
     }
     // Binding an indexed point also sets the generic binding.
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, exists(glIsBuffer, s.generic));
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, exists(*guard_.queries_, glIsBuffer, s.generic));
   }
   for (int i = textures_saved_ - 1; i >= 0; --i) {
     const TextureState& s = textures_[i];
@@ -415,23 +518,21 @@ void GlStateGuard::Scope::restore() {
       glTextureParameteri(s.texture, GL_TEXTURE_BASE_LEVEL, s.base_level);
       glTextureParameteri(s.texture, GL_TEXTURE_MAX_LEVEL, s.max_level);
     }
-    glBindSampler(s.unit, exists(glIsSampler, s.sampler));
-    glBindTexture(s.target, exists(glIsTexture, s.bound));
+    glBindSampler(s.unit, exists(*guard_.queries_, glIsSampler, s.sampler));
+    glBindTexture(s.target, exists(*guard_.queries_, glIsTexture, s.bound));
     glActiveTexture(GLenum(s.active));
   }
   if (read_saved_) {
     const ReadState& s = read_;
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, exists(glIsFramebuffer, s.read_framebuffer));
-    glBindBuffer(GL_PIXEL_PACK_BUFFER, exists(glIsBuffer, s.pack_buffer));
+    // Framebuffers are not shared between contexts, and deleting a bound one unbinds it:
+    // a saved binding still names a framebuffer (no glIsFramebuffer query needed).
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(s.read_framebuffer));
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, exists(*guard_.queries_, glIsBuffer, s.pack_buffer));
     glPixelStorei(GL_PACK_ALIGNMENT, s.alignment);
     glPixelStorei(GL_PACK_ROW_LENGTH, s.row_length);
     glPixelStorei(GL_PACK_SKIP_PIXELS, s.skip_pixels);
     glPixelStorei(GL_PACK_SKIP_ROWS, s.skip_rows);
-    glPixelStorei(GL_PACK_IMAGE_HEIGHT, s.image_height);
-    glPixelStorei(GL_PACK_SKIP_IMAGES, s.skip_images);
     glPixelStorei(GL_PACK_SWAP_BYTES, s.swap_bytes);
-    glPixelStorei(GL_PACK_LSB_FIRST, s.lsb_first);
-    glClampColor(GL_CLAMP_READ_COLOR, GLenum(s.clamp_read_color));
   }
   if (program_saved_) {
     const ProgramState& s = program_;
@@ -439,14 +540,14 @@ void GlStateGuard::Scope::restore() {
     // gone once another was used (see the header); and Mesa 22 keeps reporting a program
     // pipeline that was deleted while bound (with a program current) as bound, although
     // GL says deleting it unbinds it: rebinding that name would be an error.
-    glBindVertexArray(exists(glIsVertexArray, s.vertex_array));
-    glBindProgramPipeline(exists(glIsProgramPipeline, s.pipeline));
-    glUseProgram(exists(glIsProgram, s.program));
+    glBindVertexArray(exists(*guard_.queries_, glIsVertexArray, s.vertex_array));
+    glBindProgramPipeline(exists(*guard_.queries_, glIsProgramPipeline, s.pipeline));
+    glUseProgram(exists(*guard_.queries_, glIsProgram, s.program));
   }
   if (clip_saved_) glClipControl(GLenum(clip_origin_), GLenum(clip_depth_mode_));
   if (draw_saved_) {
     const DrawState& s = draw_;
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, exists(glIsFramebuffer, s.draw_framebuffer));
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(s.draw_framebuffer));  // as the read one
     setEnabled(GL_CULL_FACE, s.cull_face);
     glCullFace(GLenum(s.cull_mode));
     glFrontFace(GLenum(s.front_face));

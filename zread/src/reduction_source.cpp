@@ -128,8 +128,8 @@ Bindings bindings() {
 
 }  // namespace
 
-ReductionSource::ReductionSource(std::uint32_t framebuffer, Kernel kernel)
-    : framebuffer_(framebuffer), kernel_(kernel) {
+ReductionSource::ReductionSource(std::uint32_t framebuffer, Kernel kernel, GlStatePolicy state)
+    : framebuffer_(framebuffer), kernel_(kernel), guard_(state, &counters_.state_queries) {
   GLint major = 0, minor = 0;
   glGetIntegerv(GL_MAJOR_VERSION, &major);
   glGetIntegerv(GL_MINOR_VERSION, &minor);

@@ -55,6 +55,7 @@ class Reader {
   }
   void getBytes(void* out, std::size_t n) {
     if (n > end_ - at_) fail("is truncated");
+    if (n == 0) return;  // `out` may be the null data() of an empty list (memcpy's contract)
     std::memcpy(out, bytes_.data() + at_, n);
     at_ += n;
   }

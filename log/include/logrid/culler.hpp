@@ -80,7 +80,7 @@
 
 #include "logrid/camera.hpp"
 #include "logrid/depth_source.hpp"
-#include "logrid/grid.hpp"
+#include "logrid/grid_settings.hpp"
 #include "logrid/hierarchy.hpp"
 #include "logrid/method.hpp"
 #include "logrid/occluder_source.hpp"
@@ -156,6 +156,8 @@ class CullObserver {
   virtual void onTested(NodeId, const BoxProjection&, Visibility) {}
   virtual void onDrawn(NodeId, const BoxProjection&) {}
 };
+
+class OcclusionGrid;  // grid.hpp: the grid's internals, for overlays (Culler::grid())
 
 namespace detail {
 struct MethodDef;

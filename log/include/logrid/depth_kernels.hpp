@@ -1,7 +1,8 @@
 // Scalar kernels that turn depth values in their native storage type into the answers
-// of a DepthSource. Shared by every source that reads pixels (logrid::cpu::PixelReader
-// and its subclasses in cpu/ and zread/) so that all of them round the same way: min
-// keys down, max keys up, and threshold counts towards "not occluded".
+// of a DepthSource. Shared by every source that reads pixels (logrid::PixelSource of
+// pixel_source.hpp and its subclasses in cpu/, zread/ and applications) so that all of
+// them round the same way: min keys down, max keys up, and threshold counts towards "not
+// occluded".
 #pragma once
 
 #include <cstddef>

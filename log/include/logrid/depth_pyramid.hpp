@@ -23,8 +23,8 @@ class DepthPyramid {
   void reset(float clear_key);
 
   // Reads `rect` (clipped to the viewport) from `source` into level 0 and updates the
-  // levels above. The source must read pixels.
-  void update(const PixelRect& rect, DepthSource& source);
+  // levels above.
+  void update(const PixelRect& rect, KeyReader& source);
 
   // Is any pixel of `rect` at or beyond `threshold`? Descends from the coarsest level
   // whose cells the rectangle spans at most 2x2 of, into cells that cannot decide.

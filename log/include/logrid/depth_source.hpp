@@ -4,7 +4,8 @@
 // always in depth keys (types.hpp). logrid's core never touches GL: the sources in
 // zread/ read through glReadPixels, rings of pixel-buffer objects, a compute-shader
 // reduction or hardware occlusion queries; those in cpu/ read a buffer in memory; a
-// Vulkan or software renderer writes its own.
+// Vulkan or software renderer writes its own, most simply over logrid::PixelSource
+// (pixel_source.hpp), which needs only the depth values of a rectangle.
 //
 // Asking and waiting are separate (docs/DESIGN.md, "Depth sources: asking and waiting apart"):
 //   submit()   takes a batch of requests, from as many boxes as the caller gathered,
@@ -64,7 +65,7 @@ struct AreaAnswer {
 
 struct DepthSourceTraits {
   const char* name = "";
-  bool reads_depth = true;    // answers Summary requests and readKeys(), exactly
+  bool reads_depth = true;    // answers Summary requests, exactly
   bool asynchronous = false;  // submit() returns before the answers exist
 };
 
@@ -76,6 +77,8 @@ struct ReadCounters {
   std::uint64_t queries = 0;  // hardware occlusion queries issued
   std::uint64_t batches = 0;  // submit() calls that asked for anything
   std::uint64_t flushes = 0;  // times the source had to wait for the renderer
+  std::uint64_t state_queries = 0;  // queries of the renderer's state (a GL source's
+                                    // glGet* and glGetError, to keep the application's)
   double seconds = 0;         // wall time spent inside the source
 };
 
@@ -95,16 +98,21 @@ class DepthSource {
   // last request: the next read waits for it.
   virtual void noteDraw() {}
 
+  // The culler brackets the requests of each Culler::nextBatch() with these: in between,
+  // nothing but the culler's sources uses the renderer. A GL source saves the
+  // application's state once at its first request and restores it in endAccess() instead
+  // of around each request (zread/gl_state.hpp, "Access windows"). endAccess() may throw
+  // logrid::Error for a renderer error of the window's requests; it is called (with its
+  // exception ignored) also when an exception leaves nextBatch().
+  virtual void beginAccess() {}
+  virtual void endAccess() {}
+
   // Asks `count` requests. answers[i] answers requests[i]; it is written no later than
   // the next collect() and must stay valid until then. Preconditions: every rect is
   // non-empty and inside the viewport; Summary only where traits().reads_depth.
   virtual void submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) = 0;
   // Waits until every answer submitted since the last collect() is written.
   virtual void collect() {}
-
-  // Writes rect.area() keys, row by row from the bottom row (glReadPixels order), at
-  // once. Only where traits().reads_depth.
-  virtual void readKeys(const PixelRect& rect, float* keys) = 0;
 
   // Synchronous conveniences over submit() + collect(), one answer per rectangle.
   void summarize(const PixelRect* rects, std::size_t count, AreaDepth* out);
@@ -119,6 +127,18 @@ class DepthSource {
  private:
   std::vector<AreaRequest> scratch_requests_;
   std::vector<AreaAnswer> scratch_answers_;
+};
+
+// What only the HZB baseline needs besides a DepthSource: the keys of a whole area, to
+// build its pyramid from (depth_pyramid.hpp). A source for the lazy grid does without;
+// logrid::PixelSource (pixel_source.hpp) is both.
+class KeyReader {
+ public:
+  virtual ~KeyReader() = default;
+  // Writes rect.area() keys, row by row from the bottom row (glReadPixels order), at
+  // once. Preconditions: rect non-empty and inside the viewport; nothing submitted and
+  // not yet collected.
+  virtual void readKeys(const PixelRect& rect, float* keys) = 0;
 };
 
 }  // namespace logrid

@@ -42,33 +42,11 @@
 #include <vector>
 
 #include "logrid/depth_source.hpp"
+#include "logrid/grid_settings.hpp"
+#include "logrid/stats.hpp"
 #include "logrid/types.hpp"
 
 namespace logrid {
-
-enum class GridVariant : std::uint8_t {
-  OcclusionState,  // free / partial / full per tile (§3)
-  Zfar,            // farthest depth per tile (§4)
-};
-
-const char* toString(GridVariant);
-
-// Settings that trade accuracy for speed. All off by default; with any of them on the
-// grid is no longer conservative (a box with a few visible pixels may be culled).
-// culler.hpp (CullerDesc::approximation) documents what each gives up.
-struct GridApproximation {
-  // A test answers occluded when at most this many pixels of the box's rectangle are
-  // at or beyond the threshold (0: exact). Such counting tests are never batched.
-  std::uint32_t visible_pixels = 0;
-  // Occlusion-state variant: a tile, or the part of a border tile under a box, counts
-  // as full when at most this fraction of its (sampled) pixels are free (0: exact).
-  float full_free_fraction = 0;
-  // Reads sample every k-th pixel row of a tile or area, starting with its first row
-  // (1: every row). Counts are scaled back by k.
-  std::uint32_t row_stride = 1;
-
-  bool exact() const { return visible_pixels == 0 && full_free_fraction == 0 && row_stride == 1; }
-};
 
 struct GridDesc {
   std::uint32_t width = 0;  // viewport in pixels, >= 1
@@ -88,12 +66,6 @@ struct TileRecord {
   float near_key = 0;
   float far_key = 0;
   bool outdated = false;
-};
-
-// Per-test counts (added to, never reset, by test(), decide() and plan()).
-struct GridTestCounts {
-  std::uint64_t tiles_tested = 0;  // tiles whose record or pixels decided something
-  std::uint64_t tiles_read = 0;    // tiles (or tile intersections) read from the source
 };
 
 class OcclusionGrid;

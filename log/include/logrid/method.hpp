@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "logrid/grid.hpp"
+#include "logrid/grid_settings.hpp"
 #include "logrid/query_schedule.hpp"
 
 namespace logrid {

@@ -55,6 +55,7 @@ struct QueryCounters {
   std::uint64_t waits = 0;    // result() calls whose answer was not there yet
   std::uint64_t flushes = 0;  // polls and results that made the renderer start or finish
                               // work drawn since the last one (each splits llvmpipe's frame)
+  std::uint64_t state_queries = 0;  // queries of the renderer's state (ReadCounters')
   double seconds = 0;         // wall time inside the source
 };
 
@@ -71,6 +72,10 @@ class OcclusionQueries {
   virtual void endQueryFrame() {}
   // Something was drawn since the last query call (counts flushes; nothing else).
   virtual void noteDraw() {}
+  // Bracket each Culler::nextBatch()'s queries, as DepthSource::beginAccess() and
+  // endAccess() do its reads.
+  virtual void beginAccess() {}
+  virtual void endAccess() {}
 
   // Issues one query over `count` >= 1 boxes (see above).
   virtual QueryHandle issueBoxes(const QueryBox* boxes, std::size_t count) = 0;

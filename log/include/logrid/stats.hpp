@@ -6,6 +6,13 @@
 
 namespace logrid {
 
+// What the grid's tests examined and read (added to, never reset, by the grid's test(),
+// decide() and plan()); FrameStats::tiles_tested and tiles_read are a frame's.
+struct GridTestCounts {
+  std::uint64_t tiles_tested = 0;  // tiles whose record or pixels decided something
+  std::uint64_t tiles_read = 0;    // tiles (or tile intersections) read from the source
+};
+
 struct FrameStats {
   // Traversal.
   std::uint64_t nodes_visited = 0;      // nodes taken from the test-list
@@ -30,6 +37,8 @@ struct FrameStats {
   std::uint64_t batches = 0;      // batches of requests submitted to the source
   std::uint64_t queries = 0;      // hardware occlusion queries issued (by a source or a schedule)
   std::uint64_t flushes = 0;      // times a read or query made the renderer start or finish work
+  std::uint64_t state_queries = 0;  // renderer-state queries of the sources (a GL source's
+                                    // glGet* and glGetError, keeping the application's state)
 
   // Query schedules (hwq, chc, stat, nohc, log+hwq; differences of OcclusionQueries'
   // counters, and the schedules' own counts).

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "logrid/bvh/bvh.hpp"
-#include "logrid/culler.hpp"
+#include "logrid/logrid.hpp"
 
 namespace {
 
@@ -26,9 +26,6 @@ class EmptyDepth : public logrid::DepthSource {
       answers[i].depth = {clear_, clear_, area};
       answers[i].count = clear_ >= requests[i].threshold ? area : 0u;
     }
-  }
-  void readKeys(const logrid::PixelRect& rect, float* keys) override {
-    std::fill_n(keys, rect.area(), clear_);
   }
 
  private:

@@ -57,7 +57,11 @@
 // A block is covered only if every pixel centre in it is, and holds the farthest key of
 // them: the rules above are applied to the square spanned by the block's centres (its
 // half-width r = 0.5 or 1.5 pixel is added to every slack and to the depth terms). A
-// request about viewport pixels is answered as if each held its block's key.
+// request about viewport pixels is answered as if each held its block's key. A
+// multisampled renderer (Camera::multisample) may cover a sample of a pixel and miss
+// another, and the depth sources keep a pixel's farthest sample: its pixels count as
+// squares of half-width 0.5 (every sample lies within half a pixel of the centre), so r
+// grows by 0.5 at every resolution.
 //
 // Models inside the object (OccluderObject::inside_solid): a triangle inside a closed
 // convex solid S that GL draws is hidden by S wherever its claims hold: the claimed
@@ -141,7 +145,7 @@ struct OcclusionBufferStats {
   double worker_seconds = 0;  // time the workers spent on objects (summed over workers)
 };
 
-class OcclusionBuffer final : public DepthSource {
+class OcclusionBuffer final : public DepthSource, public KeyReader {
  public:
   // `meshes` must outlive the buffer. Throws logrid::Error for an invalid descriptor or
   // an ISA this CPU does not run.

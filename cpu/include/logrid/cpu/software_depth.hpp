@@ -7,11 +7,11 @@
 #include <vector>
 
 #include "logrid/camera.hpp"
-#include "logrid/cpu/pixel_reader.hpp"
+#include "logrid/pixel_source.hpp"
 
 namespace logrid::cpu {
 
-class SoftwareDepthBuffer : public PixelReader {
+class SoftwareDepthBuffer : public PixelSource {
  public:
   // Throws logrid::Error for a size outside [1, kMaxViewportSide].
   SoftwareDepthBuffer(std::uint32_t width, std::uint32_t height, DepthConvention convention);

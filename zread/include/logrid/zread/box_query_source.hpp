@@ -52,7 +52,8 @@ enum class QueryTarget : std::uint8_t {
 class BoxQuerySource final : public OcclusionQueries {
  public:
   explicit BoxQuerySource(std::uint32_t framebuffer,
-                          QueryTarget target = QueryTarget::SamplesPassed);
+                          QueryTarget target = QueryTarget::SamplesPassed,
+                          GlStatePolicy state = GlStatePolicy::Restore);
   ~BoxQuerySource() override;
   BoxQuerySource(const BoxQuerySource&) = delete;
   BoxQuerySource& operator=(const BoxQuerySource&) = delete;
@@ -61,6 +62,8 @@ class BoxQuerySource final : public OcclusionQueries {
   void beginQueryFrame(const Camera& camera) override;
   void endQueryFrame() override;
   void noteDraw() override { pending_work_ = true; }
+  void beginAccess() override { guard_.beginAccess(); }
+  void endAccess() override { guard_.endAccess(); }
 
   QueryHandle issueBoxes(const QueryBox* boxes, std::size_t count) override;
   QueryHandle issueRects(const RectQuery* rects, std::size_t count) override;

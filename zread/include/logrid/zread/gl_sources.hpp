@@ -31,14 +31,27 @@
 // application's exactly (GlStateGuard, gl_state.hpp); it refuses conditional rendering,
 // unpaused transform feedback and a GL error the application left pending, and reports a
 // GL error of its own calls as a logrid::Error naming the call. The query source also
-// refuses while the application has a GL_SAMPLES_PASSED query active.
+// refuses while the application has a GL_SAMPLES_PASSED query active. The culler opens
+// one access window per Culler::nextBatch() on each source (beginAccess, endAccess): the
+// state is saved and restored, and errors checked, once per batch, not once per read.
+//
+// Constructed with GlStatePolicy::ApplicationManaged (gl_state.hpp), a source queries
+// nothing and leaves what its passes set as they set it; per source (the items each
+// GlStateGuard call lists in gl_state.hpp):
+//   ReadPixelsSource, PboSource  prepareRead; for a multisampled buffer also the
+//                                resolve's prepareDraw, program, vertex array and
+//                                bindTexture (multisample.hpp).
+//   QuerySource                  prepareDraw, its program and vertex array.
+//   ReductionSource              prepareProgram, bindTexture, two bindStorageBuffer
+//                                points; for a multisampled buffer also the resolve's.
+//   BoxQuerySource               prepareDraw, clipControl, its program and vertex array.
 #pragma once
 
 #include <cstdint>
 #include <memory>
 #include <vector>
 
-#include "logrid/cpu/pixel_reader.hpp"
+#include "logrid/pixel_source.hpp"
 #include "logrid/depth_source.hpp"
 #include "logrid/zread/gl_state.hpp"
 #include "logrid/zread/multisample.hpp"
@@ -46,11 +59,14 @@
 
 namespace logrid::zread {
 
-class ReadPixelsSource : public cpu::PixelReader {
+class ReadPixelsSource : public PixelSource {
  public:
-  explicit ReadPixelsSource(std::uint32_t framebuffer);
+  explicit ReadPixelsSource(std::uint32_t framebuffer,
+                            GlStatePolicy state = GlStatePolicy::Restore);
   DepthSourceTraits traits() const override { return {"readpixels", true, false}; }
   void beginFrame(const Camera& camera) override;
+  void beginAccess() override { guard_.beginAccess(); }
+  void endAccess() override { guard_.endAccess(); }
 
  protected:
   void fetch(const PixelRect* rects, std::size_t count, const void** data,
@@ -65,15 +81,17 @@ class ReadPixelsSource : public cpu::PixelReader {
   std::vector<unsigned char> scratch_;
 };
 
-class PboSource : public cpu::PixelReader {
+class PboSource : public PixelSource {
  public:
-  explicit PboSource(std::uint32_t framebuffer);
+  explicit PboSource(std::uint32_t framebuffer, GlStatePolicy state = GlStatePolicy::Restore);
   ~PboSource() override;
   PboSource(const PboSource&) = delete;
   PboSource& operator=(const PboSource&) = delete;
   DepthSourceTraits traits() const override { return {"pbo", true, true}; }
   void beginFrame(const Camera& camera) override;
   void endFrame() override;
+  void beginAccess() override { guard_.beginAccess(); }
+  void endAccess() override { guard_.endAccess(); }
 
   // Buffers in the ring (grows when more batches are in flight than it holds).
   std::size_t ringSize() const { return slots_.size(); }
@@ -110,7 +128,7 @@ class PboSource : public cpu::PixelReader {
 
 class QuerySource : public DepthSource {
  public:
-  explicit QuerySource(std::uint32_t framebuffer);
+  explicit QuerySource(std::uint32_t framebuffer, GlStatePolicy state = GlStatePolicy::Restore);
   ~QuerySource() override;
   QuerySource(const QuerySource&) = delete;
   QuerySource& operator=(const QuerySource&) = delete;
@@ -118,12 +136,13 @@ class QuerySource : public DepthSource {
   DepthSourceTraits traits() const override { return {"query", false, true}; }
   void beginFrame(const Camera& camera) override;
   void noteDraw() override { drawn_since_query_ = true; }
+  void beginAccess() override { guard_.beginAccess(); }
+  void endAccess() override { guard_.endAccess(); }
 
-  // Count requests only: a Summary request or readKeys() throws logrid::Error
-  // (Unsupported): this source never reads depth values.
+  // Count requests only: a Summary request throws logrid::Error (Unsupported): this
+  // source never reads depth values (and is no KeyReader).
   void submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) override;
   void collect() override;
-  void readKeys(const PixelRect& rect, float* keys) override;
 
  private:
   std::uint32_t framebuffer_;

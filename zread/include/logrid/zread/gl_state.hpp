@@ -19,9 +19,12 @@
 //                   (NV_scissor_exclusive).
 //   clipControl()   after prepareDraw(), for draws whose vertices come in a depth
 //                   convention's clip space: the clip origin and depth mode.
-//   prepareRead()   for glReadPixels: the read framebuffer, the pixel-pack buffer, every
-//                   pack parameter (alignment, row length, skip pixels, rows and images,
-//                   image height, swap bytes, LSB first) and GL_CLAMP_READ_COLOR.
+//   prepareRead()   for glReadPixels and two-dimensional texture reads of depth, integer
+//                   or normalised values: the read framebuffer, the pixel-pack buffer and
+//                   the pack parameters such reads apply (alignment, row length, skip
+//                   pixels and rows, swap bytes; image height and skipped images act on
+//                   three-dimensional images, LSB-first on bitmaps and read colour
+//                   clamping on float colour, none of which logrid reads).
 //   prepareProgram() for compute dispatches: program, program pipeline.
 //   bindTexture()   a texture on a texture unit for the source's shaders to fetch from:
 //                   the active texture unit, the unit's binding for the target and its
@@ -40,16 +43,52 @@
 // After its GL calls a source calls check(), which throws a logrid::Error naming the
 // call if GL reported an error.
 //
+// Access windows: the guard above works per scope, so a source that reads one tile at a
+// time queries and restores the state once per tile. Between beginAccess() and
+// endAccess() every scope of the guard shares one window instead: the state is saved at
+// the window's first prepare call, set again (without queries) by later ones, restored
+// by endAccess(), and the GL errors of the window's calls are checked once, in
+// endAccess(), which throws them as check() does. Only logrid's own GL calls may run in a
+// window: the culler opens one on each source for the span of one Culler::nextBatch()
+// (DepthSource::beginAccess), the application's draws come between windows. A window
+// costs about 15 queries however many reads it holds. A scope of another guard that opens
+// while a window is open closes that window first (it restores its state), so that
+// two sources' saves and restores nest.
+//
+// Who keeps the application's state is the guard's GlStatePolicy:
+//   Restore             the default: everything above.
+//   ApplicationManaged  for an application that tracks its own GL state (a state cache
+//                       that it invalidates, or sets everything it draws with before
+//                       drawing): the guard queries nothing, sets what the prepare and
+//                       bind calls list above, and leaves it so; it refuses nothing, and
+//                       checks GL errors once per window (or scope outside one). The
+//                       application's part of the contract: after a source ran (after
+//                       each Culler::nextBatch() or cullFrame()), the state the source's
+//                       passes set (gl_sources.hpp lists them per source) holds logrid's
+//                       values until the application sets its own; it leaves no GL error
+//                       pending, no conditional rendering active and no transform feedback
+//                       active and unpaused when logrid runs. What logrid's passes need is
+//                       set by them under either policy: the application never sets
+//                       state for logrid.
+//
 // One thing is restored as GL allows and not exactly: a program the application deleted
 // while it was current ceases to exist once the source switches away from it, so the
 // program binding is restored to 0 in that case (as if the application had unbound it).
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <string>
 
 #include "logrid/types.hpp"
 
 namespace logrid::zread {
+
+// Who keeps the application's GL state (above).
+enum class GlStatePolicy : std::uint8_t {
+  Restore,             // logrid saves and restores what it changes (the default)
+  ApplicationManaged,  // logrid queries nothing and leaves what it set
+};
 
 class GlStateGuard {
  public:
@@ -61,16 +100,42 @@ class GlStateGuard {
   static constexpr int kMaxStorageBuffers = 2;
 
   // Needs a current GL 4.5 context; creates the query object of the conditional-rendering
-  // probe. Not copyable: the query belongs to this context.
-  GlStateGuard();
+  // probe. Not copyable: the query belongs to this context. `query_counter` (optional)
+  // is where stateQueries() counts, e.g. a source's ReadCounters::state_queries.
+  explicit GlStateGuard(GlStatePolicy policy = GlStatePolicy::Restore,
+                        std::uint64_t* query_counter = nullptr);
   ~GlStateGuard();
   GlStateGuard(const GlStateGuard&) = delete;
   GlStateGuard& operator=(const GlStateGuard&) = delete;
 
   class Scope;
 
+  // Opens an access window (above); nothing is queried or set until a scope's prepare
+  // call. Does nothing if one is open.
+  void beginAccess();
+  // Closes the window: restores what its scopes saved, and throws logrid::Error naming
+  // the first call of the window if GL reported an error (the state is restored then
+  // too). Does nothing if no window is open.
+  void endAccess();
+  bool inAccess() const { return access_; }
+
+  GlStatePolicy policy() const { return policy_; }
+  // GL state queries made so far (glGet*, glIsEnabled*, glIs*, glGetError, the
+  // conditional-rendering probe): what the guard costs a threaded driver, where each
+  // query waits for the driver's thread.
+  std::uint64_t stateQueries() const { return *queries_; }
+
  private:
   friend class Scope;
+  // Ends the window's outer scope (restoring), checking errors first if `check`.
+  void closeWindow(bool check);
+
+  GlStatePolicy policy_;
+  std::uint64_t own_queries_ = 0;
+  std::uint64_t* queries_;
+  bool access_ = false;
+  std::unique_ptr<Scope> window_;  // the open window's outer scope, from its first scope
+  std::string unchecked_;          // the window's first call whose errors are unchecked
   std::uint32_t probe_query_ = 0;
   std::uint32_t sampler_ = 0;
   std::int32_t clip_distances_ = 0;
@@ -84,7 +149,9 @@ class GlStateGuard {
 class GlStateGuard::Scope {
  public:
   // `who` names the source and call in every message (e.g. "QuerySource::submit").
-  // Throws logrid::Error if a GL error is pending (nothing is changed then).
+  // Throws logrid::Error if a GL error is pending (nothing is changed then). In an
+  // access window the scope is a view of the window's: it saves into it, and neither
+  // checks nor restores on its own.
   Scope(GlStateGuard& guard, const char* who);
   // Restores everything the prepare and bind calls saved, in reverse order.
   ~Scope();
@@ -104,8 +171,8 @@ class GlStateGuard::Scope {
   // Sets glClipControl(origin, depth_mode) (e.g. GL_LOWER_LEFT, GL_ZERO_TO_ONE), saving
   // the application's clip origin and depth mode first.
   void clipControl(std::uint32_t origin, std::uint32_t depth_mode);
-  // Sets the read framebuffer, the pixel-pack buffer (0: client memory), tightly packed
-  // rows with alignment 1 and no skips, and no read clamping.
+  // Sets the read framebuffer, the pixel-pack buffer (0: client memory), and tightly
+  // packed rows with alignment 1, no skips and no byte swapping.
   void prepareRead(std::uint32_t framebuffer, std::uint32_t pack_buffer);
   // Saves program and program pipeline for a compute dispatch; throws like prepareDraw()
   // if conditional rendering or unpaused transform feedback is active.
@@ -122,18 +189,26 @@ class GlStateGuard::Scope {
   void bindStorageBuffer(std::uint32_t index, std::uint32_t buffer, std::int64_t offset,
                          std::int64_t size);
 
-  // Throws logrid::Error naming `call` if GL reported an error since the last check.
+  // Throws logrid::Error naming `call` if GL reported an error since the last check. In
+  // an access window the check waits for GlStateGuard::endAccess().
   void check(const char* call);
 
   // Is conditional rendering active? (The probe; exposed for tests.)
   static bool conditionalRenderingActive(std::uint32_t probe_query);
 
  private:
+  struct Window {};
+  Scope(GlStateGuard& guard, const char* who, Window);
+  void open();
+  bool saving() const { return guard_.policy_ == GlStatePolicy::Restore; }
   void refuseUnsavable();
   void restore();
+  std::uint8_t enabled(std::uint32_t cap);
+  std::int32_t integer(std::uint32_t name);
 
   GlStateGuard& guard_;
   const char* who_;
+  Scope* window_ = nullptr;  // the access window's outer scope this one is a view of
   bool draw_saved_ = false;
   bool clip_saved_ = false;
   bool read_saved_ = false;
@@ -164,8 +239,7 @@ class GlStateGuard::Scope {
   } program_;
   struct ReadState {
     std::int32_t read_framebuffer = 0, pack_buffer = 0, alignment = 4, row_length = 0,
-                 skip_pixels = 0, skip_rows = 0, image_height = 0, skip_images = 0, swap_bytes = 0,
-                 lsb_first = 0, clamp_read_color = 0;
+                 skip_pixels = 0, skip_rows = 0, swap_bytes = 0;
   } read_;
   struct TextureState {
     std::uint32_t unit = 0, target = 0, texture = 0;

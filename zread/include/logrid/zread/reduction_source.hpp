@@ -35,11 +35,12 @@
 
 namespace logrid::zread {
 
-class ReductionSource : public DepthSource {
+class ReductionSource : public DepthSource, public KeyReader {
  public:
   enum class Kernel : std::uint8_t { Auto, PerRequest, PerWorkgroup };
 
-  explicit ReductionSource(std::uint32_t framebuffer, Kernel kernel = Kernel::Auto);
+  explicit ReductionSource(std::uint32_t framebuffer, Kernel kernel = Kernel::Auto,
+                           GlStatePolicy state = GlStatePolicy::Restore);
   ~ReductionSource() override;
   ReductionSource(const ReductionSource&) = delete;
   ReductionSource& operator=(const ReductionSource&) = delete;
@@ -48,6 +49,8 @@ class ReductionSource : public DepthSource {
   void beginFrame(const Camera& camera) override;
   void endFrame() override;
   void noteDraw() override { drawn_since_read_ = true; }
+  void beginAccess() override { guard_.beginAccess(); }
+  void endAccess() override { guard_.endAccess(); }
 
   void submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) override;
   void collect() override;

@@ -1,13 +1,13 @@
-#include "logrid/cpu/pixel_reader.hpp"
+#include "logrid/pixel_source.hpp"
 
 #include <cassert>
 #include <chrono>
 
 #include "logrid/elapsed.hpp"
 
-namespace logrid::cpu {
+namespace logrid {
 
-void PixelReader::submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) {
+void PixelSource::submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) {
   if (count == 0) return;
   const auto start = std::chrono::steady_clock::now();
   for (std::size_t i = 0; i < count; ++i) {
@@ -34,14 +34,14 @@ void PixelReader::submit(const AreaRequest* requests, std::size_t count, AreaAns
   if (!traits().asynchronous) collect();
 }
 
-void PixelReader::collect() {
+void PixelSource::collect() {
   if (pending_.empty()) return;
   const auto start = std::chrono::steady_clock::now();
   answerPending();
   counters_.seconds += secondsSince(start);
 }
 
-void PixelReader::answerPending() {
+void PixelSource::answerPending() {
   const std::size_t n = pending_.size();
   rects_.resize(n);
   data_.resize(n);
@@ -62,8 +62,8 @@ void PixelReader::answerPending() {
   pending_answers_.clear();
 }
 
-void PixelReader::readKeys(const PixelRect& rect, float* keys) {
-  assert(pending_.empty() && "PixelReader::readKeys: collect() the submitted requests first");
+void PixelSource::readKeys(const PixelRect& rect, float* keys) {
+  assert(pending_.empty() && "PixelSource::readKeys: collect() the submitted requests first");
   const auto start = std::chrono::steady_clock::now();
   issue(&rect, 1);
   data_.resize(1);
@@ -89,4 +89,4 @@ void PixelReader::readKeys(const PixelRect& rect, float* keys) {
   counters_.seconds += secondsSince(start);
 }
 
-}  // namespace logrid::cpu
+}  // namespace logrid

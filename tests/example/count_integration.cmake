@@ -1,0 +1,32 @@
+# The minimal integration stays minimal (issue 22): the code lines of
+# samples/example/integrate.cpp between its "logrid integration (2/2)" markers (blank and
+# comment-only lines not counted; the hierarchy adapter, 1/2, is not counted) number at
+# most LIMIT, and README.md quotes every one of them.
+# cmake -DSOURCE=<integrate.cpp> -DREADME=<README.md> -DLIMIT=15 -P count_integration.cmake
+file(STRINGS "${SOURCE}" lines)
+file(READ "${README}" readme)
+set(inside FALSE)
+set(count 0)
+foreach(line IN LISTS lines)
+  if(line MATCHES "==== end of logrid integration \\(2/2\\)")
+    set(inside FALSE)
+  elseif(inside)
+    string(STRIP "${line}" stripped)
+    if(NOT stripped STREQUAL "" AND NOT stripped MATCHES "^//")
+      math(EXPR count "${count} + 1")
+      string(FIND "${readme}" "${stripped}" at)
+      if(at EQUAL -1)
+        message(FATAL_ERROR "README.md does not quote the integration line: ${stripped}")
+      endif()
+    endif()
+  elseif(line MATCHES "==== logrid integration \\(2/2\\)")
+    set(inside TRUE)
+  endif()
+endforeach()
+if(count EQUAL 0)
+  message(FATAL_ERROR "no lines between the integration markers of ${SOURCE}")
+endif()
+if(count GREATER LIMIT)
+  message(FATAL_ERROR "the minimal integration has ${count} lines, more than ${LIMIT}")
+endif()
+message(STATUS "minimal integration: ${count} lines (at most ${LIMIT}), all quoted in README.md")
