@@ -54,9 +54,11 @@ const bvh::FlatHierarchy& cityHierarchy() {
     std::vector<Aabb> boxes;
     for (int bx = 0; bx < kBlocks; ++bx) {
       for (int bz = 0; bz < kBlocksZ; ++bz) {
-        const float x0 = (bx - kBlocks / 2) * kPitch, z0 = (bz - kBlocksZ / 2) * kPitch;
+        const float x0 = float(bx - kBlocks / 2) * kPitch;
+        const float z0 = float(bz - kBlocksZ / 2) * kPitch;
         for (int lot = 0; lot < 4; ++lot) {
-          const float lx = x0 + (lot & 1) * kLot + kGap, lz = z0 + (lot >> 1) * kLot + kGap;
+          const float lx = x0 + float(lot & 1) * kLot + kGap;
+          const float lz = z0 + float(lot >> 1) * kLot + kGap;
           const float side = kLot - 2 * kGap, top = 3.5f * float(storeys(rng));
           const float t = 0.35f;  // walls' depth: the window boxes stand out
           boxes.push_back({{lx, 0, lz}, {lx + side, top, lz + t}});

@@ -76,11 +76,13 @@ const OcclusionGrid* Culler::grid() const { return tester_->grid(); }
 
 namespace {
 
-// Min-heaps on Entry::order.
-template <typename E>
-bool laterFirst(const E& a, const E& b) {
-  return a.order > b.order;
-}
+// Min-heaps on Entry::order: a function object, so that the heap operations inline it.
+struct LaterFirst {
+  template <typename E>
+  bool operator()(const E& a, const E& b) const {
+    return a.order > b.order;
+  }
+};
 
 constexpr float kNothingDrawn = -std::numeric_limits<float>::infinity();
 
@@ -423,7 +425,7 @@ bool Culler::traverse() {
           test_list_.empty() ? std::numeric_limits<float>::infinity() : test_list_.front().order;
       if (!pending_.empty()) gate = std::min(gate, pending_.front().order);
       if (draw_list_.front().order < gate) {
-        std::pop_heap(draw_list_.begin(), draw_list_.end(), laterFirst<Entry>);
+        std::pop_heap(draw_list_.begin(), draw_list_.end(), LaterFirst{});
         const Entry entry = draw_list_.back();
         draw_list_.pop_back();
         drawEntry(entry);
@@ -431,7 +433,7 @@ bool Culler::traverse() {
       }
     }
     if (!test_list_.empty() && pending_.size() < lookahead_) {
-      std::pop_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
+      std::pop_heap(test_list_.begin(), test_list_.end(), LaterFirst{});
       const Entry entry = test_list_.back();
       test_list_.pop_back();
       ++stats_.nodes_visited;
@@ -444,7 +446,7 @@ bool Culler::traverse() {
           --stats_.nodes_visited;
           ++stats_.colliding_waits;
           test_list_.push_back(entry);
-          std::push_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
+          std::push_heap(test_list_.begin(), test_list_.end(), LaterFirst{});
           resolve_due_ = true;
           continue;
         }
@@ -512,7 +514,7 @@ void Culler::pushTest(NodeId node, const BoxProjection& projection) {
   }
   entry.order = entry.projection.near_key - entry.projection.margin;
   test_list_.push_back(entry);
-  std::push_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
+  std::push_heap(test_list_.begin(), test_list_.end(), LaterFirst{});
 }
 bool Culler::forced(const Entry& entry, Visibility& result) {
   switch (entry.projection.cls) {
@@ -589,7 +591,7 @@ void Culler::finish(const Entry& entry, Visibility v) {
       Entry drawn = entry;
       drawn.order = entry.projection.far_key + entry.projection.margin;
       draw_list_.push_back(drawn);
-      std::push_heap(draw_list_.begin(), draw_list_.end(), laterFirst<Entry>);
+      std::push_heap(draw_list_.begin(), draw_list_.end(), LaterFirst{});
     } else {
       drawEntry(entry);
     }
@@ -611,7 +613,7 @@ void Culler::resolvePending() {
       // Planned as "any drawn pixel hides it", but something was drawn behind it since
       // (announced out of order): no longer sound. Tested again, by depth.
       test_list_.push_back(batch[i]);
-      std::push_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
+      std::push_heap(test_list_.begin(), test_list_.end(), LaterFirst{});
       continue;
     }
     decided(batch[i], v);
@@ -621,7 +623,7 @@ void Culler::resolvePending() {
   batch.swap(pending_);  // keep the capacity
   for (const Entry& e : deferred_) {
     test_list_.push_back(e);
-    std::push_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
+    std::push_heap(test_list_.begin(), test_list_.end(), LaterFirst{});
   }
   deferred_.clear();
 }
@@ -728,7 +730,7 @@ void Culler::noteDepthCleared(float window_depth) {
   // What was found hidden while it waited to be drawn is placed after it: tested again.
   for (const Entry& e : culled_undrawn_) {
     test_list_.push_back(e);
-    std::push_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
+    std::push_heap(test_list_.begin(), test_list_.end(), LaterFirst{});
   }
   culled_undrawn_.clear();
   if (query_frame_) query_frame_->reconsiderCulled(*schedule_);

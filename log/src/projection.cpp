@@ -113,36 +113,65 @@ bool Projector::validBox(const Aabb& box) {
          box.min.y <= box.max.y && box.min.z <= box.max.z;
 }
 
-void Projector::clipCorners(const Aabb& box, Corners& k) const {
-  // Corner i (bits x: 1, y: 2, z: 4) relative to the render origin, in clip space:
-  //   c[r] = ((m[r] qx + m[4 + r] qy) + m[8 + r] qz) + m[12 + r],
-  // summed in that order as a four-term dot product is. Each product takes one of two
-  // values per axis, so the 96 products of the eight corners are 24, computed once.
-  const double q[3][2] = {{double(box.min.x) - origin_.x, double(box.max.x) - origin_.x},
-                          {double(box.min.y) - origin_.y, double(box.max.y) - origin_.y},
-                          {double(box.min.z) - origin_.z, double(box.max.z) - origin_.z}};
-  for (int r = 0; r < 4; ++r) {
-    const double x[2] = {render_[r] * q[0][0], render_[r] * q[0][1]};
-    const double y[2] = {render_[4 + r] * q[1][0], render_[4 + r] * q[1][1]};
-    const double z[2] = {render_[8 + r] * q[2][0], render_[8 + r] * q[2][1]};
-    for (int i = 0; i < 8; ++i) {
-      k.c[r][i] = ((x[i & 1] + y[(i >> 1) & 1]) + z[i >> 2]) + render_[12 + r];
-    }
+namespace {
+
+// One value per clip-space row (x, y, z, w), which the compiler keeps in vector registers.
+struct Rows {
+  double v[4];
+};
+
+inline Rows operator+(const Rows& a, const Rows& b) {
+  Rows r;
+  for (int k = 0; k < 4; ++k) r.v[k] = a.v[k] + b.v[k];
+  return r;
+}
+
+// Column `j` of the column-major matrix m, times f.
+inline Rows scaledColumn(const double* m, int j, double f) {
+  Rows r;
+  for (int k = 0; k < 4; ++k) r.v[k] = m[4 * j + k] * f;
+  return r;
+}
+
+// sum = ((m0 a + m1 b) + m2 c) + m3 (m's columns) at the eight corners (bits a: 1, b: 2,
+// c: 4) of the two values of a, b and c, into out[row][corner]: summed in the order of a
+// four-term dot product, so each corner is bit for bit what the dot product gives, while
+// each product is computed once.
+void cornerSums(const double* m, const double a[2], const double b[2], const double c[2],
+                double out[4][8]) {
+  const Rows x[2] = {scaledColumn(m, 0, a[0]), scaledColumn(m, 0, a[1])};
+  const Rows y[2] = {scaledColumn(m, 1, b[0]), scaledColumn(m, 1, b[1])};
+  const Rows z[2] = {scaledColumn(m, 2, c[0]), scaledColumn(m, 2, c[1])};
+  const Rows t = {{m[12], m[13], m[14], m[15]}};
+  const Rows xy[4] = {x[0] + y[0], x[1] + y[0], x[0] + y[1], x[1] + y[1]};
+  for (int i = 0; i < 8; ++i) {
+    const Rows sum = (xy[i & 3] + z[i >> 2]) + t;
+    for (int r = 0; r < 4; ++r) out[r][i] = sum.v[r];
   }
-  for (int i = 0; i < 8; ++i) k.q_abs[0][i] = std::fabs(q[0][i & 1]);
-  for (int i = 0; i < 8; ++i) k.q_abs[1][i] = std::fabs(q[1][(i >> 1) & 1]);
-  for (int i = 0; i < 8; ++i) k.q_abs[2][i] = std::fabs(q[2][i >> 2]);
+}
+
+}  // namespace
+
+void Projector::clipCorners(const Aabb& box, Corners& k) const {
+  // Corner i (bits x: 1, y: 2, z: 4) relative to the render origin, in clip space.
+  const double qx[2] = {double(box.min.x) - origin_.x, double(box.max.x) - origin_.x};
+  const double qy[2] = {double(box.min.y) - origin_.y, double(box.max.y) - origin_.y};
+  const double qz[2] = {double(box.min.z) - origin_.z, double(box.max.z) - origin_.z};
+  cornerSums(render_, qx, qy, qz, k.c);
+  for (int a = 0; a < 2; ++a) {
+    k.q_abs[0][a] = std::fabs(qx[a]);
+    k.q_abs[1][a] = std::fabs(qy[a]);
+    k.q_abs[2][a] = std::fabs(qz[a]);
+  }
 }
 
 void Projector::termMagnitudes(Corners& k) const {
-  // S per corner (see "Why the margins have their values"): the same sum with |m| and |q|.
-  for (int r = 0; r < 4; ++r) {
-    for (int i = 0; i < 8; ++i) {
-      k.s[r][i] = ((render_abs_[r] * k.q_abs[0][i] + render_abs_[4 + r] * k.q_abs[1][i]) +
-                   render_abs_[8 + r] * k.q_abs[2][i]) +
-                  render_abs_[12 + r];
-    }
-  }
+  // S per corner (see "Why the margins have their values"): the same sums over |m| and
+  // |q| (clipCorners() left |q| of the two values per axis in q_abs[axis][0..1]).
+  const double ax[2] = {k.q_abs[0][0], k.q_abs[0][1]};
+  const double ay[2] = {k.q_abs[1][0], k.q_abs[1][1]};
+  const double az[2] = {k.q_abs[2][0], k.q_abs[2][1]};
+  cornerSums(render_abs_, ax, ay, az, k.s);
 }
 
 bool Projector::outsideOnePlane(const Corners& k) const {

@@ -224,8 +224,9 @@ class Projector {
     double c[4];
     double s[4];
   };
-  // The eight corners as structure of arrays: c[row][corner], s[row][corner], and the
-  // magnitudes of the corners' coordinates relative to the render origin.
+  // The eight corners as structure of arrays: c[row][corner], s[row][corner], and in
+  // q_abs[axis][0 and 1] the magnitudes of the box's min and max relative to the render
+  // origin.
   struct Corners {
     double c[4][8];
     double s[4][8];
