@@ -1,6 +1,7 @@
 #include "logrid/cpu/occlusion_buffer.hpp"
 
 #include <algorithm>
+#include <bitset>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
@@ -37,6 +38,24 @@ const char* toString(Isa isa) {
   return "?";
 }
 
+const char* toString(Representation r) {
+  switch (r) {
+    case Representation::PerPixel: return "per-pixel";
+    case Representation::Masked: return "masked";
+  }
+  return "?";
+}
+
+bool parseRepresentation(const std::string& text, Representation& out) {
+  for (Representation r : {Representation::PerPixel, Representation::Masked}) {
+    if (text == toString(r)) {
+      out = r;
+      return true;
+    }
+  }
+  return false;
+}
+
 bool parseResolution(const std::string& text, Resolution& out) {
   for (Resolution r : {Resolution::Full, Resolution::Half, Resolution::Quarter}) {
     if (text == toString(r)) {
@@ -65,12 +84,19 @@ std::string validateOcclusionBufferDesc(const OcclusionBufferDesc& d) {
       d.resolution != Resolution::Quarter) {
     out << "OcclusionBuffer: resolution " << int(d.resolution)
         << " is unknown; use full, half or quarter";
+  } else if (d.representation != Representation::PerPixel &&
+             d.representation != Representation::Masked) {
+    out << "OcclusionBuffer: representation " << int(d.representation)
+        << " is unknown; use per-pixel or masked";
   } else if (d.isa != Isa::Auto && d.isa != Isa::Scalar && d.isa != Isa::Sse41 &&
              d.isa != Isa::Avx2) {
     out << "OcclusionBuffer: ISA " << int(d.isa) << " is unknown; use auto, scalar, sse4.1 or avx2";
   } else if (!isaSupported(d.isa)) {
     out << "OcclusionBuffer: this CPU does not run the " << toString(d.isa)
         << " kernel; use auto (picks the widest it runs) or scalar";
+  } else if (!(d.min_pixels_per_triangle >= 0) || !std::isfinite(d.min_pixels_per_triangle)) {
+    out << "OcclusionBuffer: min_pixels_per_triangle " << d.min_pixels_per_triangle
+        << " must be a finite number >= 0 (0: every object is an occluder)";
   } else if (d.threads > 64) {
     out << "OcclusionBuffer: " << d.threads << " worker threads is too many; use 0 to 64";
   } else {
@@ -149,8 +175,12 @@ struct OcclusionBuffer::Impl {
   std::int32_t bin = 32;  // buffer pixels per bin side
   std::int32_t bins_x = 0, bins_y = 0;
   float clear_key = 1;
+  std::uint64_t frame_triangles = 0;  // triangles of the occluders selected this frame
   std::uint32_t stamp = 0;
-  std::vector<float> keys;
+  std::vector<float> keys;  // per pixel (Representation::PerPixel)
+  bool masked = false;
+  std::vector<detail::MaskedBlock> blocks;  // Representation::Masked
+  std::size_t blocks_per_row = 0;
   std::vector<Bin> bins;
   std::vector<PendingObject> pending;
   std::vector<detail::RasterTriangle> tris;  // [0, tri_count) this frame (never shrunk)
@@ -179,6 +209,21 @@ struct OcclusionBuffer::Impl {
   void ensure(const PixelRect& rect);
   void setUpObject(const PendingObject& p);
   void rasterizeBin(std::int32_t bx, std::int32_t by);
+  // Runs the kernel of the representation over triangles tris[list[0..n)] in bin (bx, by).
+  void rasterizeList(const detail::RasterTriangle* t, const std::uint32_t* list, std::size_t n,
+                     Bin& b, std::int32_t bx, std::int32_t by);
+  // A buffer pixel's key (either representation).
+  float keyAt(std::int32_t i, std::int32_t j) const {
+    if (!masked) return keys[std::size_t(j) * stride + std::size_t(i)];
+    const detail::MaskedBlock& b =
+        blocks[std::size_t(j / detail::kMaskH) * blocks_per_row + std::size_t(i / detail::kMaskW)];
+    const int bit = (j % detail::kMaskH) * detail::kMaskW + i % detail::kMaskW;
+    return (b.mask >> bit) & 1u ? b.z_layer : b.z_far;
+  }
+  // Masked: calls visit(key, weight) for the pixels of buffer rectangle `b` that share a
+  // key in a block, weight = the viewport pixels of `r` they cover.
+  template <class Visit>
+  void visitMasked(const PixelRect& r, const PixelRect& b, Visit visit) const;
   PixelRect bufferRect(const PixelRect& r) const {
     return {r.x0 / scale, r.y0 / scale, (r.x1 + scale - 1) / scale, (r.y1 + scale - 1) / scale};
   }
@@ -237,13 +282,22 @@ void OcclusionBuffer::Impl::begin(const Camera& camera) {
   height = std::int32_t(camera.height);
   const std::int32_t new_bw = (width + scale - 1) / scale, new_bh = (height + scale - 1) / scale;
   bin = std::max(8, kBinViewport / scale);
-  if (new_bw != bw || new_bh != bh) {
+  const bool new_masked = desc.representation == Representation::Masked;
+  if (new_bw != bw || new_bh != bh || new_masked != masked) {
+    masked = new_masked;
     bw = new_bw;
     bh = new_bh;
     bins_x = (bw + bin - 1) / bin;
     bins_y = (bh + bin - 1) / bin;
     stride = std::size_t(bins_x) * std::size_t(bin);  // whole bins: 8-wide stores stay inside
-    keys.assign(stride * std::size_t(bins_y) * std::size_t(bin), clear_key);
+    if (masked) {
+      keys.clear();
+      blocks_per_row = stride / detail::kMaskW;
+      blocks.assign(blocks_per_row * std::size_t(bins_y) * std::size_t(bin / detail::kMaskH), {});
+    } else {
+      blocks.clear();
+      keys.assign(stride * std::size_t(bins_y) * std::size_t(bin), clear_key);
+    }
     bins.assign(std::size_t(bins_x) * std::size_t(bins_y), Bin{});
     if (!workers.empty()) bin_locks.reset(new std::mutex[bins.size()]);
     stamp = 0;
@@ -258,6 +312,7 @@ void OcclusionBuffer::Impl::begin(const Camera& camera) {
   for (Bin& b : bins) b.pending.clear();
   pending.clear();
   tri_count = 0;
+  frame_triangles = 0;
   in_frame = true;
 }
 
@@ -282,6 +337,16 @@ void OcclusionBuffer::Impl::draw(std::uint32_t id) {
     ++stats.objects_skipped;
     return;
   }
+  // Selection: screen pixels per triangle, then the frame's budget.
+  const std::uint64_t triangles = meshes.object(id).triangle_count;
+  const double pixels = double(p.rect.x1 - p.rect.x0) * double(p.rect.y1 - p.rect.y0);
+  if (pixels < desc.min_pixels_per_triangle * double(triangles) ||
+      (desc.triangle_budget > 0 && frame_triangles + triangles > desc.triangle_budget)) {
+    ++stats.objects_unselected;
+    return;
+  }
+  frame_triangles += triangles;
+  stats.triangles_selected += triangles;
   PendingObject po;
   po.object.occluder = id;
   if (model && meshes.object(id).inside_solid) {
@@ -343,17 +408,7 @@ void OcclusionBuffer::Impl::rasterizeObject(Worker& w, const PendingObject& p) {
     std::lock_guard<std::mutex> lock(bin_locks[index]);
     Bin& b = bins[index];
     clearBinIfStale(b, bx, by);
-    detail::RasterTarget target;
-    target.keys = keys.data();
-    target.stride = stride;
-    target.x0 = bx * bin;
-    target.y0 = by * bin;
-    target.x1 = std::min(target.x0 + bin, bw);
-    target.y1 = std::min(target.y0 + bin, bh);
-    target.scale = float(scale);
-    target.half = 0.5f * float(scale);
-    target.block_max = b.block_max.data();
-    kernels.raster(w.tris.data(), w.list.data(), w.list.size(), target);
+    rasterizeList(w.tris.data(), w.list.data(), w.list.size(), b, bx, by);
     w.counted.triangles_rasterized += w.list.size();
     ++w.counted.tiles_rasterized;
   }
@@ -394,7 +449,17 @@ void OcclusionBuffer::Impl::setUpObject(const PendingObject& p) {
 
 void OcclusionBuffer::Impl::clearBinIfStale(Bin& b, std::int32_t bx, std::int32_t by) {
   const std::int32_t x0 = bx * bin, y0 = by * bin;
-  if (b.stamp != stamp) {
+  if (b.stamp != stamp && masked) {
+    detail::MaskedBlock clear_block;
+    clear_block.z_layer = -HUGE_VALF;
+    clear_block.z_far = clear_key;
+    for (std::int32_t y = y0 / detail::kMaskH; y < (y0 + bin) / detail::kMaskH; ++y) {
+      std::fill_n(blocks.begin() + std::ptrdiff_t(std::size_t(y) * blocks_per_row +
+                                                  std::size_t(x0 / detail::kMaskW)),
+                  bin / detail::kMaskW, clear_block);
+    }
+    b.stamp = stamp;
+  } else if (b.stamp != stamp) {
     for (std::int32_t y = y0; y < y0 + bin; ++y) {
       std::fill_n(keys.begin() + std::ptrdiff_t(std::size_t(y) * stride + std::size_t(x0)), bin,
                   clear_key);
@@ -405,22 +470,36 @@ void OcclusionBuffer::Impl::clearBinIfStale(Bin& b, std::int32_t bx, std::int32_
   }
 }
 
-void OcclusionBuffer::Impl::rasterizeBin(std::int32_t bx, std::int32_t by) {
-  Bin& b = bins[std::size_t(by) * std::size_t(bins_x) + std::size_t(bx)];
-  const std::int32_t x0 = bx * bin, y0 = by * bin;
-  clearBinIfStale(b, bx, by);
-  if (b.pending.empty()) return;
+void OcclusionBuffer::Impl::rasterizeList(const detail::RasterTriangle* t,
+                                          const std::uint32_t* list, std::size_t n, Bin& b,
+                                          std::int32_t bx, std::int32_t by) {
   detail::RasterTarget target;
   target.keys = keys.data();
   target.stride = stride;
-  target.x0 = x0;
-  target.y0 = y0;
-  target.x1 = std::min(x0 + bin, bw);
-  target.y1 = std::min(y0 + bin, bh);
+  target.x0 = bx * bin;
+  target.y0 = by * bin;
+  target.x1 = std::min(target.x0 + bin, bw);
+  target.y1 = std::min(target.y0 + bin, bh);
   target.scale = float(scale);
   target.half = 0.5f * float(scale);
   target.block_max = b.block_max.data();
-  kernels.raster(tris.data(), b.pending.data(), b.pending.size(), target);
+  if (!masked) {
+    kernels.raster(t, list, n, target);
+    return;
+  }
+  detail::MaskedTarget m;
+  m.tile = target;
+  m.blocks = blocks.data();
+  m.blocks_per_row = blocks_per_row;
+  m.unsafe_merge = desc.unsafe_masked_merge;
+  kernels.masked(t, list, n, m);
+}
+
+void OcclusionBuffer::Impl::rasterizeBin(std::int32_t bx, std::int32_t by) {
+  Bin& b = bins[std::size_t(by) * std::size_t(bins_x) + std::size_t(bx)];
+  clearBinIfStale(b, bx, by);
+  if (b.pending.empty()) return;
+  rasterizeList(tris.data(), b.pending.data(), b.pending.size(), b, bx, by);
   stats.triangles_rasterized += b.pending.size();
   ++stats.tiles_rasterized;
   b.pending.clear();
@@ -428,25 +507,72 @@ void OcclusionBuffer::Impl::rasterizeBin(std::int32_t bx, std::int32_t by) {
 
 void OcclusionBuffer::Impl::ensure(const PixelRect& rect) {
   drain();
-  for (std::size_t i = 0; i < pending.size();) {
+  // In the order drawn (roughly front to back): a masked block's keys depend on the order
+  // triangles land in, and near triangles first let the kernels skip more of the rest.
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < pending.size(); ++i) {
     if (overlaps(pending[i].rect, rect)) {
-      const PendingObject p = pending[i];
-      pending[i] = pending.back();
-      pending.pop_back();
-      setUpObject(p);
+      setUpObject(pending[i]);
     } else {
-      ++i;
+      pending[kept++] = pending[i];
     }
   }
+  pending.resize(kept);
   const PixelRect b = bufferRect(rect);
   for (std::int32_t by = b.y0 / bin; by <= (b.y1 - 1) / bin; ++by) {
     for (std::int32_t bx = b.x0 / bin; bx <= (b.x1 - 1) / bin; ++bx) rasterizeBin(bx, by);
   }
 }
 
+template <class Visit>
+void OcclusionBuffer::Impl::visitMasked(const PixelRect& r, const PixelRect& b, Visit visit) const {
+  using detail::kMaskH;
+  using detail::kMaskW;
+  for (std::int32_t by = b.y0 / kMaskH; by <= (b.y1 - 1) / kMaskH; ++by) {
+    const std::int32_t ya = std::max(b.y0, by * kMaskH), yb = std::min(b.y1, by * kMaskH + kMaskH);
+    for (std::int32_t bx = b.x0 / kMaskW; bx <= (b.x1 - 1) / kMaskW; ++bx) {
+      const std::int32_t xa = std::max(b.x0, bx * kMaskW),
+                         xb = std::min(b.x1, bx * kMaskW + kMaskW);
+      const std::uint32_t row_bits = ((1u << (xb - xa)) - 1u) << (xa - bx * kMaskW);
+      std::uint32_t in_rect = 0;
+      for (std::int32_t y = ya; y < yb; ++y) in_rect |= row_bits << ((y - by * kMaskH) * kMaskW);
+      const detail::MaskedBlock& k = blocks[std::size_t(by) * blocks_per_row + std::size_t(bx)];
+      const std::uint32_t groups[2] = {in_rect & k.mask, in_rect & ~k.mask};
+      const float group_keys[2] = {k.z_layer, k.z_far};
+      for (int g = 0; g < 2; ++g) {
+        if (groups[g] == 0) continue;
+        if (scale == 1) {
+          visit(group_keys[g], std::uint64_t(std::bitset<32>(groups[g]).count()));
+          continue;
+        }
+        std::uint64_t weight = 0;
+        for (int bit = 0; bit < kMaskW * kMaskH; ++bit) {
+          if (!((groups[g] >> bit) & 1u)) continue;
+          weight += std::uint64_t(spanX(r, bx * kMaskW + bit % kMaskW)) *
+                    std::uint64_t(spanY(r, by * kMaskH + bit / kMaskW));
+        }
+        visit(group_keys[g], weight);
+      }
+    }
+  }
+}
+
 AreaDepth OcclusionBuffer::Impl::summary(const PixelRect& r) {
   ensure(r);
   const PixelRect b = bufferRect(r);
+  if (masked) {
+    AreaDepth out;
+    out.min_key = HUGE_VALF;
+    out.max_key = -HUGE_VALF;
+    std::uint64_t free_pixels = 0;
+    visitMasked(r, b, [&](float key, std::uint64_t weight) {
+      out.min_key = std::min(out.min_key, key);
+      out.max_key = std::max(out.max_key, key);
+      if (!(key < clear_key)) free_pixels += weight;
+    });
+    out.free_pixels = std::uint32_t(free_pixels);
+    return out;
+  }
   const detail::KeyRange range =
       kernels.range(keys.data(), stride, b.x0, b.y0, b.x1, b.y1, clear_key);
   AreaDepth out;
@@ -473,6 +599,13 @@ AreaDepth OcclusionBuffer::Impl::summary(const PixelRect& r) {
 std::uint32_t OcclusionBuffer::Impl::count(const PixelRect& r, float threshold) {
   ensure(r);
   const PixelRect b = bufferRect(r);
+  if (masked) {
+    std::uint64_t n = 0;
+    visitMasked(r, b, [&](float key, std::uint64_t weight) {
+      if (!(key < threshold)) n += weight;
+    });
+    return std::uint32_t(n);
+  }
   if (scale == 1) {
     return kernels.range(keys.data(), stride, b.x0, b.y0, b.x1, b.y1, threshold).at_or_beyond;
   }
@@ -553,8 +686,7 @@ void OcclusionBuffer::readKeys(const PixelRect& rect, float* keys) {
   m.ensure(rect);
   std::size_t o = 0;
   for (std::int32_t y = rect.y0; y < rect.y1; ++y) {
-    const float* row = m.keys.data() + std::size_t(y / m.scale) * m.stride;
-    for (std::int32_t x = rect.x0; x < rect.x1; ++x) keys[o++] = row[x / m.scale];
+    for (std::int32_t x = rect.x0; x < rect.x1; ++x) keys[o++] = m.keyAt(x / m.scale, y / m.scale);
   }
   counters_.reads += 1;
   counters_.pixels += std::uint64_t(rect.area());

@@ -26,6 +26,10 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
     throw Error(ErrorCode::InvalidArgument, "CPU buffer resolution '" + o.cpu_resolution +
                                                 "' is unknown; use full, half or quarter");
   }
+  if (!cpu::parseRepresentation(o.cpu_buffer, c.cpu.representation)) {
+    throw Error(ErrorCode::InvalidArgument,
+                "CPU buffer '" + o.cpu_buffer + "' is unknown; use per-pixel or masked");
+  }
   const auto occluders = parseOccluderChoice(o.occluders);
   if (!occluders) {
     throw Error(ErrorCode::InvalidArgument,
@@ -33,6 +37,8 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
   }
   c.cpu.occluders = *occluders;
   c.cpu.threads = o.cpu_threads;
+  c.cpu.min_pixels_per_triangle = o.occluder_pixels;
+  c.cpu.triangle_budget = o.occluder_budget;
   if (!cpu::parseIsa(o.cpu_isa, c.cpu.isa)) {
     throw Error(ErrorCode::InvalidArgument,
                 "CPU kernel '" + o.cpu_isa + "' is unknown; use auto, scalar, sse4.1 or avx2");

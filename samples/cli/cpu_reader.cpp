@@ -7,8 +7,11 @@ CpuFrameReader::CpuFrameReader(const PreparedScene& scene, const CpuReaderOption
     : static_objects_(scene.static_objects) {
   cpu::OcclusionBufferDesc desc;
   desc.resolution = options.resolution;
+  desc.representation = options.representation;
   desc.isa = options.isa;
   desc.threads = options.threads;
+  desc.min_pixels_per_triangle = options.min_pixels_per_triangle;
+  desc.triangle_budget = options.triangle_budget;
   desc.projection = projection;
   buffer_ = std::make_unique<cpu::OcclusionBuffer>(
       sceneOccluders(scene, options.occluders,
@@ -28,6 +31,7 @@ CpuFrameStats CpuFrameReader::takeFrameStats() {
   f.tile_triangles = now.triangles_rasterized - last_.triangles_rasterized;
   f.tiles = now.tiles_rasterized - last_.tiles_rasterized;
   f.fallbacks = now.objects_fallback - last_.objects_fallback;
+  f.unselected = now.objects_unselected - last_.objects_unselected;
   last_ = now;
   return f;
 }

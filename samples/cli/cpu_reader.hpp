@@ -15,9 +15,12 @@ namespace logrid::samples {
 
 struct CpuReaderOptions {
   cpu::Resolution resolution = cpu::Resolution::Full;
+  cpu::Representation representation = cpu::Representation::PerPixel;
   OccluderChoice occluders = OccluderChoice::Mesh;
   std::uint32_t threads = 0;  // worker threads of the buffer
   cpu::Isa isa = cpu::Isa::Auto;
+  double min_pixels_per_triangle = 0;  // occluder selection (OcclusionBufferDesc)
+  std::uint32_t triangle_budget = 0;
 };
 
 // What the buffer did in one frame.
@@ -30,6 +33,7 @@ struct CpuFrameStats {
   std::uint64_t tile_triangles = 0;  // triangle-tile pairs rasterised
   std::uint64_t tiles = 0;           // tiles rasterised
   std::uint64_t fallbacks = 0;       // models replaced by their object's mesh
+  std::uint64_t unselected = 0;      // drawn objects the occluder selection left out
 };
 
 class CpuFrameReader final : public FrameReader {

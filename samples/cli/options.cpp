@@ -84,9 +84,18 @@ void addViewOptions(CLI::App& app, WalkOptions& o) {
                "(colliding-query detection)");
   app.add_option("--cpu-resolution", o.cpu_resolution,
                  "--reader cpu: buffer resolution full, half or quarter");
+  app.add_option("--cpu-buffer", o.cpu_buffer,
+                 "--reader cpu: what the buffer holds: per-pixel (a key per pixel) or masked (a "
+                 "coverage mask and two keys per 8x4 block)");
   app.add_option("--occluders", o.occluders,
                  "--reader cpu: what it rasterises per drawn object: mesh (its triangles) or "
                  "model (the scene's simpler occluder where it has one)");
+  addNumber(app, "--occluder-pixels", o.occluder_pixels, closed(0.0, 1e9),
+            "--reader cpu: rasterise only objects whose box covers at least this many pixels "
+            "per occluder triangle (0: every drawn object)");
+  addNumber(app, "--occluder-budget", o.occluder_budget, closed(0u, 4000000000u),
+            "--reader cpu: occluder triangles rasterised per frame at most, in the order drawn "
+            "(0: no budget)");
   addNumber(app, "--cpu-threads", o.cpu_threads, closed(0u, kMaxCpuThreads),
             "--reader cpu: worker threads (0: none)");
   app.add_option("--cpu-isa", o.cpu_isa, "--reader cpu: kernel auto, scalar, sse4.1 or avx2");

@@ -49,6 +49,7 @@ FrameAverages averageFrames(const std::vector<FrameRecord>& records) {
       a.cpu_tile_triangles += double(r.cpu->tile_triangles);
       a.cpu_tiles += double(r.cpu->tiles);
       a.cpu_fallbacks += double(r.cpu->fallbacks);
+      a.cpu_unselected += double(r.cpu->unselected);
     }
     if (r.visible >= 0) {
       a.verified = true;
@@ -91,7 +92,8 @@ FrameAverages averageFrames(const std::vector<FrameRecord>& records) {
                       &a.cpu_triangles,
                       &a.cpu_tile_triangles,
                       &a.cpu_tiles,
-                      &a.cpu_fallbacks}) {
+                      &a.cpu_fallbacks,
+                      &a.cpu_unselected}) {
     *sum /= n;
   }
   if (a.occluders) *a.occluders /= n;
@@ -148,7 +150,8 @@ nlohmann::json frameJson(const FrameRecord& r) {
                 {"triangles_set_up", r.cpu->triangles},
                 {"tile_triangles", r.cpu->tile_triangles},
                 {"tiles", r.cpu->tiles},
-                {"fallbacks", r.cpu->fallbacks}};
+                {"fallbacks", r.cpu->fallbacks},
+                {"unselected", r.cpu->unselected}};
   }
   if (r.visible >= 0) {
     j["visible_objects"] = r.visible;
@@ -237,9 +240,12 @@ nlohmann::json queriesJson(const RunConfig& config) {
 // The CPU occlusion buffer's settings and per-frame averages (--reader cpu).
 nlohmann::json cpuJson(const RunConfig& config, const FrameAverages& a) {
   return {{"resolution", cpu::toString(config.cpu.resolution)},
+          {"representation", cpu::toString(config.cpu.representation)},
           {"occluders", toString(config.cpu.occluders)},
           {"threads", config.cpu.threads},
           {"isa", cpu::toString(config.cpu.isa)},
+          {"occluder_pixels", config.cpu.min_pixels_per_triangle},
+          {"occluder_budget", config.cpu.triangle_budget},
           {"avg_ms", a.cpu_ms},
           {"avg_wait_ms", a.cpu_wait_ms},
           {"avg_worker_ms", a.cpu_worker_ms},
@@ -247,7 +253,8 @@ nlohmann::json cpuJson(const RunConfig& config, const FrameAverages& a) {
           {"avg_triangles_set_up", a.cpu_triangles},
           {"avg_tile_triangles", a.cpu_tile_triangles},
           {"avg_tiles", a.cpu_tiles},
-          {"avg_fallbacks", a.cpu_fallbacks}};
+          {"avg_fallbacks", a.cpu_fallbacks},
+          {"avg_unselected", a.cpu_unselected}};
 }
 
 }  // namespace

@@ -5,7 +5,8 @@
 // valgrind (no GL driver, no image libraries loaded).
 //
 //   logrid_cpu_cull [forest|city] [scale] [frames] [log-zfar|log-state] [mesh|model]
-//                   [full|half|quarter] [threads] [repeats] [isa]
+//                   [full|half|quarter] [threads] [repeats] [isa] [per-pixel|masked]
+//                   [min pixels per occluder triangle] [occluder triangle budget]
 #include <time.h>
 
 #include <chrono>
@@ -49,11 +50,17 @@ int main(int argc, char** argv) {
     desc.threads = std::uint32_t(std::stoul(arg(7, "0")));
     const int repeats = std::stoi(arg(8, "3"));
     const bool isa_ok = cpu::parseIsa(arg(9, "auto"), desc.isa);
-    if (!method || !occluders || !resolution_ok || !isa_ok || frames < 1 || repeats < 1) {
+    const bool representation_ok =
+        cpu::parseRepresentation(arg(10, "per-pixel"), desc.representation);
+    desc.min_pixels_per_triangle = std::stod(arg(11, "0"));
+    desc.triangle_budget = std::uint32_t(std::stoul(arg(12, "0")));
+    if (!method || !occluders || !resolution_ok || !isa_ok || !representation_ok || frames < 1 ||
+        repeats < 1) {
       std::fprintf(stderr,
                    "usage: logrid_cpu_cull [forest|city] [scale] [frames] "
                    "[log-zfar|log-state] [mesh|model] [full|half|quarter] [threads] "
-                   "[repeats] [auto|scalar|sse4.1|avx2]\n");
+                   "[repeats] [auto|scalar|sse4.1|avx2] [per-pixel|masked] [pixels per triangle] "
+                   "[triangle budget]\n");
       return 2;
     }
     samples::Scene scene =
@@ -69,12 +76,15 @@ int main(int argc, char** argv) {
     samples::ViewSettings view;
     view.near_plane = prepared.near_plane;
     view.far_plane = prepared.far_plane;
-    std::printf("%s scale %g, %s, %s occluders, %s, %u threads, %s kernel, %zu frames\n",
-                scene_name.c_str(), scale, toString(*method), samples::toString(*occluders),
-                cpu::toString(desc.resolution), desc.threads, cpu::toString(buffer.isa()), frames);
+    std::printf(
+        "%s scale %g, %s, %s occluders, %s %s, %u threads, %s kernel, %zu frames, occluders "
+        "of >= %g pixels per triangle, budget %u triangles\n",
+        scene_name.c_str(), scale, toString(*method), samples::toString(*occluders),
+        cpu::toString(desc.resolution), cpu::toString(desc.representation), desc.threads,
+        cpu::toString(buffer.isa()), frames, desc.min_pixels_per_triangle, desc.triangle_budget);
     for (int rep = 0; rep < repeats; ++rep) {
       const cpu::OcclusionBufferStats before = buffer.stats();
-      double ms = 0, cpu_ms = 0, objects = 0;
+      double ms = 0, cpu_ms = 0, objects = 0, boxes_tested = 0, boxes_occluded = 0;
       for (std::size_t f = 0; f < frames; ++f) {
         const Camera cam =
             samples::makeCamera(prepared.path.frame(f, frames), prepared.origin, view);
@@ -86,19 +96,25 @@ int main(int argc, char** argv) {
                   .count();
         cpu_ms += threadCpuMs() - cpu_start;
         objects += double(s.objects_drawn);
+        boxes_tested += double(s.boxes_tested);
+        boxes_occluded += double(s.boxes_occluded);
       }
       const cpu::OcclusionBufferStats& after = buffer.stats();
       const double n = double(frames);
       std::printf(
           "  cull %.3f ms/frame wall, %.3f ms CPU of this thread (buffer %.3f wall, waiting "
           "%.3f, workers %.3f), %.1f objects, %.0f triangles set up, %.0f triangle-tiles in "
-          "%.0f tiles\n",
+          "%.0f tiles; %.1f occluders left out (%.0f triangles selected); %.1f boxes tested, "
+          "%.1f found occluded\n",
           ms / n, cpu_ms / n, (after.seconds - before.seconds) * 1e3 / n,
           (after.wait_seconds - before.wait_seconds) * 1e3 / n,
           (after.worker_seconds - before.worker_seconds) * 1e3 / n, objects / n,
           double(after.triangles_set_up - before.triangles_set_up) / n,
           double(after.triangles_rasterized - before.triangles_rasterized) / n,
-          double(after.tiles_rasterized - before.tiles_rasterized) / n);
+          double(after.tiles_rasterized - before.tiles_rasterized) / n,
+          double(after.objects_unselected - before.objects_unselected) / n,
+          double(after.triangles_selected - before.triangles_selected) / n, boxes_tested / n,
+          boxes_occluded / n);
     }
   } catch (const Error& e) {
     std::fprintf(stderr, "logrid_cpu_cull: %s\n", e.what());

@@ -33,13 +33,37 @@ namespace logrid::samples {
 namespace {
 
 // Text options that hold no number: names, choices and paths.
-const std::set<std::string> kTextOptions = {
-    "--scene",    "--path",         "--tree-parts",       "--animate",        "--platform",
-    "--ddo-file", "--reader",       "--hierarchy",        "--cpu-resolution", "--occluders",
-    "--cpu-isa",  "--depth-format", "--depth-convention", "--query-schedule", "--query-shape",
-    "--method",   "--json",         "--images",           "--markdown",       "--plots",
-    "--scenes",   "--methods",      "--readers",          "--hierarchies",    "--motion-method",
-    "--plot",     "--obj",          "--path-json",        "--script",         "--out"};
+const std::set<std::string> kTextOptions = {"--scene",
+                                            "--path",
+                                            "--tree-parts",
+                                            "--animate",
+                                            "--platform",
+                                            "--ddo-file",
+                                            "--reader",
+                                            "--hierarchy",
+                                            "--cpu-resolution",
+                                            "--cpu-buffer",
+                                            "--occluders",
+                                            "--cpu-isa",
+                                            "--depth-format",
+                                            "--depth-convention",
+                                            "--query-schedule",
+                                            "--query-shape",
+                                            "--method",
+                                            "--json",
+                                            "--images",
+                                            "--markdown",
+                                            "--plots",
+                                            "--scenes",
+                                            "--methods",
+                                            "--readers",
+                                            "--hierarchies",
+                                            "--motion-method",
+                                            "--plot",
+                                            "--obj",
+                                            "--path-json",
+                                            "--script",
+                                            "--out"};
 
 constexpr int kParsed = 99;  // what a subcommand's callback returns here instead of running
 

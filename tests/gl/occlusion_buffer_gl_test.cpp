@@ -99,6 +99,7 @@ struct Case {
   DepthFormat format;
   DepthConvention convention;
   cpu::Resolution resolution;
+  cpu::Representation representation;
 };
 
 class OcclusionBufferGlTest : public testing::TestWithParam<Case> {};
@@ -106,18 +107,22 @@ class OcclusionBufferGlTest : public testing::TestWithParam<Case> {};
 TEST_P(OcclusionBufferGlTest, NeverNearerThanGl) {
   LOGRID_REQUIRE_GL();
   const Case c = GetParam();
-  const Comparison r = compare(c.format, c.convention, c.resolution, {}, 24);
+  cpu::OcclusionBufferDesc desc;
+  desc.representation = c.representation;
+  const Comparison r = compare(c.format, c.convention, c.resolution, desc, 24);
   EXPECT_EQ(r.nearer, 0u) << r.first;
   const double share = double(r.covered) / double(std::max<std::uint64_t>(1, r.gl_covered));
-  std::printf("[ cpu ] %s %s %s: covers %.1f%% of GL's pixels\n", toString(c.format),
-              toString(c.convention), cpu::toString(c.resolution), 100 * share);
+  std::printf("[ cpu ] %s %s %s %s: covers %.1f%% of GL's pixels\n", toString(c.format),
+              toString(c.convention), cpu::toString(c.resolution), cpu::toString(c.representation),
+              100 * share);
   // Meaningful: the buffer covers a good part of what GL covers.
   EXPECT_GT(share, c.resolution == cpu::Resolution::Full ? 0.8 : 0.3);
 }
 
 std::string caseName(const testing::TestParamInfo<Case>& p) {
   return std::string("d") + toString(p.param.format) + "_" + toString(p.param.convention) + "_" +
-         cpu::toString(p.param.resolution);
+         cpu::toString(p.param.resolution) +
+         (p.param.representation == cpu::Representation::Masked ? "_masked" : "");
 }
 
 std::vector<Case> cases() {
@@ -126,7 +131,9 @@ std::vector<Case> cases() {
     for (DepthConvention c : {DepthConvention::Standard, DepthConvention::Reversed}) {
       for (cpu::Resolution r :
            {cpu::Resolution::Full, cpu::Resolution::Half, cpu::Resolution::Quarter}) {
-        out.push_back({f, c, r});
+        for (cpu::Representation m : {cpu::Representation::PerPixel, cpu::Representation::Masked}) {
+          out.push_back({f, c, r, m});
+        }
       }
     }
   }
@@ -154,6 +161,32 @@ TEST(OcclusionBufferGlRules, BreakingARuleShowsOnGl) {
   std::printf("[ cpu ] exact coverage: %llu pixels nearer (%s); exact depth: %llu (%s)\n",
               (unsigned long long)a.nearer, a.first.c_str(), (unsigned long long)b.nearer,
               b.first.c_str());
+}
+
+// The same in the masked representation, and its own rule: a triangle joining a block's
+// layer must leave the layer's key at the farther of the two keys (taking the nearer
+// gives the layer's other pixels keys nearer than GL's).
+TEST(OcclusionBufferGlRules, BreakingAMaskedRuleShowsOnGl) {
+  LOGRID_REQUIRE_GL();
+  struct Broken {
+    const char* name;
+    bool cpu::OcclusionBufferDesc::*flag;
+    DepthFormat format;
+  };
+  for (const Broken b :
+       {Broken{"exact coverage", &cpu::OcclusionBufferDesc::unsafe_exact_coverage,
+               DepthFormat::D32F},
+        Broken{"exact depth", &cpu::OcclusionBufferDesc::unsafe_exact_depth, DepthFormat::D24},
+        Broken{"nearer merge", &cpu::OcclusionBufferDesc::unsafe_masked_merge, DepthFormat::D24}}) {
+    cpu::OcclusionBufferDesc desc;
+    desc.representation = cpu::Representation::Masked;
+    desc.*b.flag = true;
+    const Comparison c =
+        compare(b.format, DepthConvention::Standard, cpu::Resolution::Full, desc, 24);
+    EXPECT_GT(c.nearer, 0u) << "masked, " << b.name << ": never nearer than GL";
+    std::printf("[ cpu ] masked, %s: %llu pixels nearer (%s)\n", b.name,
+                (unsigned long long)c.nearer, c.first.c_str());
+  }
 }
 
 }  // namespace

@@ -195,8 +195,11 @@ inline std::string reproducer(const SceneKey& key, const RunConfig& c) {
     out << " --fov " << c.view.fov_degrees;
   }
   if (c.reader == "cpu") {
-    out << " --cpu-resolution " << cpu::toString(c.cpu.resolution) << " --occluders "
-        << samples::toString(c.cpu.occluders) << " --cpu-threads " << c.cpu.threads;
+    out << " --cpu-resolution " << cpu::toString(c.cpu.resolution) << " --cpu-buffer "
+        << cpu::toString(c.cpu.representation) << " --occluders "
+        << samples::toString(c.cpu.occluders) << " --cpu-threads " << c.cpu.threads
+        << " --occluder-pixels " << c.cpu.min_pixels_per_triangle << " --occluder-budget "
+        << c.cpu.triangle_budget;
   }
   out << " --verify";
   return out.str();

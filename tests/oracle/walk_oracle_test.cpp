@@ -169,6 +169,7 @@ struct CpuCase {
   cpu::Resolution resolution;
   samples::OccluderChoice occluders;
   std::uint32_t threads;
+  cpu::Representation representation;
 };
 
 class CpuBuffer : public testing::TestWithParam<CpuCase> {};
@@ -188,6 +189,7 @@ TEST_P(CpuBuffer, NoVisibleObjectIsMissed) {
   config.cpu.resolution = c.resolution;
   config.cpu.occluders = c.occluders;
   config.cpu.threads = c.threads;
+  config.cpu.representation = c.representation;
   const WalkTotals t = checkedWalk(key, scene, config);
   std::printf("[ oracle ] %s\n", summary(t).c_str());
   EXPECT_EQ(t.missed, 0u) << reproducer(key, config);
@@ -204,6 +206,14 @@ std::vector<CpuCase> cpuCases() {
     cpu::Resolution resolution;
     OccluderChoice occluders;
     std::uint32_t threads;
+    cpu::Representation representation = cpu::Representation::PerPixel;
+  };
+  // The masked representation: full resolution with models and a worker, half with meshes.
+  const Variant masked_variants[] = {
+      {DepthConvention::Standard, DepthFormat::D24, cpu::Resolution::Full, OccluderChoice::Model, 1,
+       cpu::Representation::Masked},
+      {DepthConvention::Reversed, DepthFormat::D32F, cpu::Resolution::Half, OccluderChoice::Mesh, 0,
+       cpu::Representation::Masked},
   };
   const Variant variants[] = {
       {DepthConvention::Standard, DepthFormat::D32F, cpu::Resolution::Full, OccluderChoice::Model,
@@ -222,7 +232,12 @@ std::vector<CpuCase> cpuCases() {
   for (const char* scene : {"forest", "city"}) {
     for (Method m : {Method::LogState, Method::LogZfar}) {
       for (const Variant& v : variants) {
-        out.push_back({scene, m, v.convention, v.format, v.resolution, v.occluders, v.threads});
+        out.push_back({scene, m, v.convention, v.format, v.resolution, v.occluders, v.threads,
+                       v.representation});
+      }
+      for (const Variant& v : masked_variants) {
+        out.push_back({scene, m, v.convention, v.format, v.resolution, v.occluders, v.threads,
+                       v.representation});
       }
     }
   }
@@ -233,7 +248,8 @@ std::string cpuName(const testing::TestParamInfo<CpuCase>& p) {
   const CpuCase& c = p.param;
   return sanitize(c.scene + "_" + toString(c.method) + "_" + toString(c.convention) + "_d" +
                   formatName(c.format) + "_" + cpu::toString(c.resolution) + "_" +
-                  samples::toString(c.occluders) + "_t" + std::to_string(c.threads));
+                  samples::toString(c.occluders) + "_t" + std::to_string(c.threads) +
+                  (c.representation == cpu::Representation::Masked ? "_masked" : ""));
 }
 
 INSTANTIATE_TEST_SUITE_P(Variants, CpuBuffer, testing::ValuesIn(cpuCases()), cpuName);

@@ -215,32 +215,139 @@ TEST(OcclusionBufferTest, ExactDepthIsNearerThanGlMayStore) {
   std::printf("exact depth: %llu nearer: %s\n", (unsigned long long)t.nearer, t.first.c_str());
 }
 
-TEST(OcclusionBufferTest, EveryKernelWritesTheSameBuffer) {
-  for (cpu::Isa isa : {cpu::Isa::Sse41, cpu::Isa::Avx2}) {
-    if (!cpu::isaSupported(isa)) {
-      std::printf("skipping %s: this CPU does not run it\n", cpu::toString(isa));
-      continue;
+// The masked representation (a mask and two keys per 8 x 4 block) under the same
+// reference: never nearer, at every resolution, lazily and with a worker (whose order of
+// triangles differs, and a block's keys depend on the order they land in).
+TEST(OcclusionBufferTest, MaskedNeverNearerThanASnappingRasterizer) {
+  for (std::uint32_t threads : {0u, 1u}) {
+    OcclusionBufferDesc desc;
+    desc.representation = cpu::Representation::Masked;
+    desc.threads = threads;
+    const Tally t = compareWithReference(threads ? 60 : 240, desc);
+    std::printf("masked, %u workers: covered %llu of %llu reference pixels\n", threads,
+                (unsigned long long)t.covered, (unsigned long long)t.reference);
+    EXPECT_EQ(t.nearer, 0u) << t.first;
+    EXPECT_GT(double(t.covered), 0.4 * double(t.reference)) << t.covered << " of " << t.reference;
+  }
+}
+
+// Each rule broken in the masked representation shows against the reference: the two
+// rules it shares with the per-pixel buffer, and its own merge rule.
+TEST(OcclusionBufferTest, MaskedBreakingARuleIsNearerThanGlMayStore) {
+  struct Broken {
+    const char* name;
+    bool OcclusionBufferDesc::*flag;
+  };
+  for (const Broken b : {Broken{"exact coverage", &OcclusionBufferDesc::unsafe_exact_coverage},
+                         Broken{"exact depth", &OcclusionBufferDesc::unsafe_exact_depth},
+                         Broken{"nearer merge", &OcclusionBufferDesc::unsafe_masked_merge}}) {
+    OcclusionBufferDesc desc;
+    desc.representation = cpu::Representation::Masked;
+    desc.*b.flag = true;
+    const Tally t = compareWithReference(120, desc);
+    EXPECT_GT(t.nearer, 0u) << b.name << ": no pixel differed";
+    std::printf("masked, %s: %llu nearer: %s\n", b.name, (unsigned long long)t.nearer,
+                t.first.c_str());
+  }
+}
+
+// Every masked key is at or behind the per-pixel buffer's key there (a block holds the
+// farthest bound of what landed in it), and the masked buffer still covers most of it.
+TEST(OcclusionBufferTest, MaskedKeysAreAtOrBehindPerPixelKeys) {
+  std::mt19937 rng(5);
+  std::uint64_t per_pixel_covered = 0, masked_covered = 0;
+  for (int s = 0; s < 60; ++s) {
+    const PropertyCase c = randomCase(rng);
+    const Camera cam = test::randomCamera(std::uint32_t(s) + 17, 67 + std::uint32_t(rng() % 30), 51,
+                                          c.convention, c.range, c.format);
+    const OccluderMeshes meshes = meshesOf(test::randomScene(std::uint32_t(s) + 300));
+    OcclusionBufferDesc desc;
+    desc.resolution = c.resolution;
+    const std::vector<float> per_pixel = render(meshes, cam, desc);
+    desc.representation = cpu::Representation::Masked;
+    const std::vector<float> masked = render(meshes, cam, desc);
+    const float clear = clearKey(cam.depth);
+    for (std::size_t i = 0; i < masked.size(); ++i) {
+      // Both are float bounds evaluated from rows stepped from different starts (blocks
+      // of 8 x 8 and 8 x 4): equal up to a few roundings.
+      ASSERT_GE(masked[i], per_pixel[i] - 4e-7f) << "scene " << s << " pixel " << i;
+      per_pixel_covered += per_pixel[i] < clear;
+      masked_covered += masked[i] < clear;
     }
-    std::mt19937 rng(7);
-    std::size_t compared = 0;
-    for (int s = 0; s < 60; ++s) {
-      const PropertyCase c = randomCase(rng);
-      const Camera cam = test::randomCamera(std::uint32_t(s) + 3, 61 + std::uint32_t(rng() % 30),
-                                            47, c.convention, c.range, c.format);
-      const OccluderMeshes meshes = meshesOf(test::randomScene(std::uint32_t(s)));
+  }
+  std::printf("masked covers %llu of the per-pixel buffer's %llu pixels\n",
+              (unsigned long long)masked_covered, (unsigned long long)per_pixel_covered);
+  EXPECT_GT(double(masked_covered), 0.7 * double(per_pixel_covered));
+}
+
+// Occluder selection leaves objects out (never a key nearer than with every object) and
+// keeps each frame's selected triangles within the budget.
+TEST(OcclusionBufferTest, SelectionKeepsTheBudgetAndOnlyLeavesKeysFarther) {
+  std::mt19937 rng(9);
+  std::uint64_t left_out = 0, farther = 0;
+  for (int s = 0; s < 30; ++s) {
+    const PropertyCase c = randomCase(rng);
+    const Camera cam =
+        test::randomCamera(std::uint32_t(s) + 23, 70, 52, c.convention, c.range, c.format);
+    const OccluderMeshes meshes = meshesOf(test::randomScene(std::uint32_t(s) + 500));
+    for (cpu::Representation rep : {cpu::Representation::PerPixel, cpu::Representation::Masked}) {
       OcclusionBufferDesc desc;
       desc.resolution = c.resolution;
-      desc.isa = cpu::Isa::Scalar;
-      const std::vector<float> scalar = render(meshes, cam, desc);
-      desc.isa = isa;
-      const std::vector<float> simd = render(meshes, cam, desc);
-      ASSERT_EQ(scalar.size(), simd.size());
-      for (std::size_t i = 0; i < scalar.size(); ++i) {
-        ASSERT_EQ(scalar[i], simd[i]) << cpu::toString(isa) << " scene " << s << " pixel " << i;
+      desc.representation = rep;
+      const std::vector<float> all = render(meshes, cam, desc);
+      desc.min_pixels_per_triangle = 4;
+      desc.triangle_budget = 40;
+      OcclusionBuffer buffer(meshes, desc);
+      buffer.beginFrame(cam);
+      for (std::uint32_t i = 0; i < meshes.objectCount(); ++i) buffer.drawObject(i);
+      std::vector<float> keys(all.size());
+      buffer.readKeys({0, 0, std::int32_t(cam.width), std::int32_t(cam.height)}, keys.data());
+      buffer.endFrame();
+      EXPECT_LE(buffer.stats().triangles_selected, 40u) << "scene " << s;
+      EXPECT_LE(buffer.stats().triangles_set_up, buffer.stats().triangles_selected);
+      left_out += buffer.stats().objects_unselected;
+      for (std::size_t i = 0; i < keys.size(); ++i) {
+        if (rep == cpu::Representation::PerPixel) {
+          ASSERT_GE(keys[i], all[i]) << "scene " << s << " pixel " << i;
+        }
+        farther += keys[i] > all[i];
       }
-      compared += scalar.size();
     }
-    EXPECT_GT(compared, 0u);
+  }
+  EXPECT_GT(left_out, 0u);
+  EXPECT_GT(farther, 0u);
+}
+
+TEST(OcclusionBufferTest, EveryKernelWritesTheSameBuffer) {
+  for (cpu::Isa isa : {cpu::Isa::Sse41, cpu::Isa::Avx2}) {
+    for (cpu::Representation rep : {cpu::Representation::PerPixel, cpu::Representation::Masked}) {
+      if (!cpu::isaSupported(isa)) {
+        std::printf("skipping %s: this CPU does not run it\n", cpu::toString(isa));
+        continue;
+      }
+      std::mt19937 rng(7);
+      std::size_t compared = 0;
+      for (int s = 0; s < 60; ++s) {
+        const PropertyCase c = randomCase(rng);
+        const Camera cam = test::randomCamera(std::uint32_t(s) + 3, 61 + std::uint32_t(rng() % 30),
+                                              47, c.convention, c.range, c.format);
+        const OccluderMeshes meshes = meshesOf(test::randomScene(std::uint32_t(s)));
+        OcclusionBufferDesc desc;
+        desc.resolution = c.resolution;
+        desc.representation = rep;
+        desc.isa = cpu::Isa::Scalar;
+        const std::vector<float> scalar = render(meshes, cam, desc);
+        desc.isa = isa;
+        const std::vector<float> simd = render(meshes, cam, desc);
+        ASSERT_EQ(scalar.size(), simd.size());
+        for (std::size_t i = 0; i < scalar.size(); ++i) {
+          ASSERT_EQ(scalar[i], simd[i]) << cpu::toString(isa) << " " << cpu::toString(rep)
+                                        << " scene " << s << " pixel " << i;
+        }
+        compared += scalar.size();
+      }
+      EXPECT_GT(compared, 0u);
+    }
   }
 }
 

@@ -30,6 +30,7 @@ struct Lanes {
   static M and_(M a, M b) { return _mm256_and_ps(a, b); }
   static M or_(M a, M b) { return _mm256_or_ps(a, b); }
   static M andNot(M a, M b) { return _mm256_andnot_ps(b, a); }
+  static int bits(M m) { return _mm256_movemask_ps(m); }
   static bool any(M m) { return _mm256_movemask_ps(m) != 0; }
   static F select(M m, F a, F b) { return _mm256_blendv_ps(b, a, m); }
   static F min(F a, F b) { return _mm256_min_ps(a, b); }
@@ -57,6 +58,11 @@ struct Lanes {
 void rasterAvx2(const RasterTriangle* tris, const std::uint32_t* list, std::size_t n,
                 RasterTarget& target) {
   rasterTile<Lanes>(tris, list, n, target);
+}
+
+void maskedAvx2(const RasterTriangle* tris, const std::uint32_t* list, std::size_t n,
+                MaskedTarget& target) {
+  rasterTileMasked<Lanes>(tris, list, n, target);
 }
 
 KeyRange rangeAvx2(const float* keys, std::size_t stride, std::int32_t x0, std::int32_t y0,

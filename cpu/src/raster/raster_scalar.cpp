@@ -26,6 +26,7 @@ struct Lanes {
   static M and_(M a, M b) { return {a.v && b.v}; }
   static M or_(M a, M b) { return {a.v || b.v}; }
   static M andNot(M a, M b) { return {a.v && !b.v}; }
+  static int bits(M m) { return m.v ? 1 : 0; }
   static bool any(M m) { return m.v; }
   static F select(M m, F a, F b) { return m.v ? a : b; }
   static F min(F a, F b) { return {a.v < b.v ? a.v : b.v}; }
@@ -43,6 +44,11 @@ struct Lanes {
 void rasterScalar(const RasterTriangle* tris, const std::uint32_t* list, std::size_t n,
                   RasterTarget& target) {
   rasterTile<Lanes>(tris, list, n, target);
+}
+
+void maskedScalar(const RasterTriangle* tris, const std::uint32_t* list, std::size_t n,
+                  MaskedTarget& target) {
+  rasterTileMasked<Lanes>(tris, list, n, target);
 }
 
 KeyRange rangeScalar(const float* keys, std::size_t stride, std::int32_t x0, std::int32_t y0,

@@ -28,6 +28,7 @@ struct Lanes {
   static M and_(M a, M b) { return _mm_and_ps(a, b); }
   static M or_(M a, M b) { return _mm_or_ps(a, b); }
   static M andNot(M a, M b) { return _mm_andnot_ps(b, a); }
+  static int bits(M m) { return _mm_movemask_ps(m); }
   static bool any(M m) { return _mm_movemask_ps(m) != 0; }
   static F select(M m, F a, F b) { return _mm_blendv_ps(b, a, m); }
   static F min(F a, F b) { return _mm_min_ps(a, b); }
@@ -53,6 +54,11 @@ struct Lanes {
 void rasterSse41(const RasterTriangle* tris, const std::uint32_t* list, std::size_t n,
                  RasterTarget& target) {
   rasterTile<Lanes>(tris, list, n, target);
+}
+
+void maskedSse41(const RasterTriangle* tris, const std::uint32_t* list, std::size_t n,
+                 MaskedTarget& target) {
+  rasterTileMasked<Lanes>(tris, list, n, target);
 }
 
 KeyRange rangeSse41(const float* keys, std::size_t stride, std::int32_t x0, std::int32_t y0,

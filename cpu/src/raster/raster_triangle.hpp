@@ -58,6 +58,24 @@ struct RasterTarget {
 using RasterFunction = void (*)(const RasterTriangle* tris, const std::uint32_t* list,
                                 std::size_t n, RasterTarget& target);
 
+// The masked representation: blocks of kMaskW x kMaskH buffer pixels (bit y * kMaskW + x
+// of the mask is pixel (x, y) of the block). A pixel's key is z_layer where its mask bit
+// is set and z_far elsewhere; z_layer <= z_far whenever the mask has a bit set.
+inline constexpr int kMaskW = 8, kMaskH = 4;
+struct MaskedBlock {
+  std::uint32_t mask = 0;
+  float z_layer = 0;
+  float z_far = 0;
+};
+struct MaskedTarget {
+  RasterTarget tile;  // the tile's pixels, sampling (keys and block_max are unused)
+  MaskedBlock* blocks = nullptr;
+  std::size_t blocks_per_row = 0;
+  bool unsafe_merge = false;  // test aid (OcclusionBufferDesc::unsafe_masked_merge)
+};
+using MaskedFunction = void (*)(const RasterTriangle* tris, const std::uint32_t* list,
+                                std::size_t n, MaskedTarget& target);
+
 // Over buffer pixels [x0, x1) x [y0, y1) of `keys` (rows `stride` floats apart): the
 // nearest and farthest key and how many keys are not below `threshold`.
 struct KeyRange {
@@ -72,6 +90,7 @@ using RangeFunction = KeyRange (*)(const float* keys, std::size_t stride, std::i
 struct Kernels {
   RasterFunction raster = nullptr;
   RangeFunction range = nullptr;
+  MaskedFunction masked = nullptr;
 };
 
 // The kernels of an ISA (not Auto); null functions if this build or CPU lacks it.
@@ -81,6 +100,9 @@ Isa bestIsa();
 void rasterScalar(const RasterTriangle*, const std::uint32_t*, std::size_t, RasterTarget&);
 void rasterSse41(const RasterTriangle*, const std::uint32_t*, std::size_t, RasterTarget&);
 void rasterAvx2(const RasterTriangle*, const std::uint32_t*, std::size_t, RasterTarget&);
+void maskedScalar(const RasterTriangle*, const std::uint32_t*, std::size_t, MaskedTarget&);
+void maskedSse41(const RasterTriangle*, const std::uint32_t*, std::size_t, MaskedTarget&);
+void maskedAvx2(const RasterTriangle*, const std::uint32_t*, std::size_t, MaskedTarget&);
 KeyRange rangeScalar(const float*, std::size_t, std::int32_t, std::int32_t, std::int32_t,
                      std::int32_t, float);
 KeyRange rangeSse41(const float*, std::size_t, std::int32_t, std::int32_t, std::int32_t,

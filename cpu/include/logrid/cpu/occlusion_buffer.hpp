@@ -63,6 +63,30 @@
 // squares of half-width 0.5 (every sample lies within half a pixel of the centre), so r
 // grows by 0.5 at every resolution.
 //
+// Masked (OcclusionBufferDesc::representation), after masked occlusion culling: per block
+// of 8 x 4 buffer pixels a coverage mask M and two keys, z_layer and z_far; a pixel's key
+// is z_layer if its bit in M is set, z_far otherwise. A triangle reaching a block is
+// classified and tested sample by sample exactly as in the per-pixel buffer (the same
+// coverage rules, the same key bounds), and lands as the mask C of the samples it claims
+// and the largest key bound k of them. The block keeps, for every pixel p, the invariant
+//   key(p) >= min(key_before(p), k if p is in C),
+// which is all the per-pixel buffer's min() guarantees, so the argument above carries
+// over unchanged: every key is at or behind a key the per-pixel buffer may hold there,
+// never nearer than GL's. Merging (raster_kernel.inl, mergeMasked), with k_n = min(
+// z_layer, k) and k_f = max(z_layer, k):
+//   * k >= z_far: the triangle is dropped (no pixel gains);
+//   * M and C cover the block together: z_far = k_f, and the layer keeps the pixels
+//     whose bound is k_n (those of M, or those of C) with z_layer = k_n;
+//   * else the triangle joins the layer: M |= C and z_layer = the largest of z_layer
+//     over M \ C, k over C \ M and k_n over C and M.
+// When M covers the block, z_far = z_layer and M = 0. (The paper would rather start a
+// new layer from a triangle nearer z_far than z_layer, the old layer's pixels falling
+// back to z_far; on the forest that left more pixels clear and drew more objects, and so
+// did dropping such triangles.) The coarser representation holds farther keys than the
+// per-pixel one (a block's layer holds the farthest claimed sample of what joined it),
+// so it culls less; a request is answered from the keys it implies.
+// OcclusionBufferDesc::unsafe_masked_merge breaks the join rule.
+//
 // Models inside the object (OccluderObject::inside_solid): a triangle inside a closed
 // convex solid S that GL draws is hidden by S wherever its claims hold: the claimed
 // centre lies inside the model's projection by more than s, hence inside S's by more
@@ -98,20 +122,28 @@ namespace logrid::cpu {
 
 enum class Resolution : std::uint8_t { Full = 1, Half = 2, Quarter = 4 };
 
+// What the buffer holds per pixel (see "Masked" above): a key each, or per block of 8 x 4
+// buffer pixels a coverage mask and two keys.
+enum class Representation : std::uint8_t { PerPixel, Masked };
+
 // The SIMD kernel. Auto picks the widest the CPU runs (AVX2, then SSE4.1, then scalar);
 // every kernel writes bit-identical buffers (same operations in the same order).
 enum class Isa : std::uint8_t { Auto, Scalar, Sse41, Avx2 };
 
 const char* toString(Resolution);
 const char* toString(Isa);
-// Parse "full" / "half" / "quarter" and "auto" / "scalar" / "sse4.1" / "avx2".
+const char* toString(Representation);
+// Parse "full" / "half" / "quarter", "auto" / "scalar" / "sse4.1" / "avx2" and
+// "per-pixel" / "masked".
 bool parseResolution(const std::string& text, Resolution& out);
 bool parseIsa(const std::string& text, Isa& out);
+bool parseRepresentation(const std::string& text, Representation& out);
 // Whether this CPU runs a kernel (Auto and Scalar always).
 bool isaSupported(Isa isa);
 
 struct OcclusionBufferDesc {
   Resolution resolution = Resolution::Full;
+  Representation representation = Representation::PerPixel;
   Isa isa = Isa::Auto;
   std::uint32_t threads = 0;  // worker threads (0: everything in the caller, lazily)
   // The same settings the culler projects boxes with: sub-pixel bits (coverage slack),
@@ -121,11 +153,24 @@ struct OcclusionBufferDesc {
   // that face the eye (counter-clockwise on screen): the others cover nothing more and
   // lie behind them. Set to rasterise every triangle.
   bool closed_back_faces = false;
+  // Occluder selection: what each drawn object is expected to hide. An object is
+  // rasterised only if its box covers at least `min_pixels_per_triangle` viewport
+  // pixels for each triangle of its occluder (screen size against cost: near, large and
+  // solid objects, whose models have few triangles, pass first), and only while the
+  // frame's selected occluder triangles stay within `triangle_budget` (0: no budget),
+  // taken in the order drawn (the culler draws roughly front to back). Leaving an
+  // occluder out only leaves keys farther: always conservative.
+  double min_pixels_per_triangle = 0;
+  std::uint32_t triangle_budget = 0;
   // Test aids that break the conservative rules on purpose (tests show what each rule
   // prevents): no coverage slack at all (exact edges, as if GL did not snap), and no
   // depth slack (the exact plane, no margin, no snapping term).
   bool unsafe_exact_coverage = false;
   bool unsafe_exact_depth = false;
+  // Test aid of the masked representation: a triangle joining a block's non-empty layer
+  // sets the layer's key to the nearer of the two instead of the farthest bound of the
+  // union (pixels only one of them claims get a key nearer than their bound).
+  bool unsafe_masked_merge = false;
 };
 
 // Returns an empty string if the descriptor is usable, else a message naming the field.
@@ -137,6 +182,8 @@ struct OcclusionBufferStats {
   std::uint64_t objects_set_up = 0;        // objects whose triangles were set up
   std::uint64_t objects_fallback = 0;      // models replaced by their fallback
   std::uint64_t objects_skipped = 0;       // models without a usable fallback, empty objects
+  std::uint64_t objects_unselected = 0;    // left out by the occluder selection
+  std::uint64_t triangles_selected = 0;    // triangles of the selected occluders
   std::uint64_t triangles_set_up = 0;      // triangles transformed and set up
   std::uint64_t triangles_rasterized = 0;  // triangle-tile pairs rasterised
   std::uint64_t tiles_rasterized = 0;      // tiles brought up to date
