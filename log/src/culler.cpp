@@ -9,6 +9,7 @@
 #include <sstream>
 #include <utility>
 
+#include "logrid/coverage.hpp"
 #include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
 #include "logrid/grid.hpp"
@@ -247,6 +248,13 @@ void Culler::beginFrame(const Camera& camera, const Hierarchy& hierarchy,
     stats_.occluders = sources_.occluders->beginFrame(
         camera, desc_.projection, info.occluders == OccluderUse::Drawn, occluder_areas_);
     for (const DrawnArea& area : occluder_areas_) noteDrawnWith(area, false);
+    // What the CPU knows of them: tiles a quad covers entirely are full, read or not.
+    if (info.occluders == OccluderUse::Drawn) {
+      const CoverageRule rule = coverageRule(camera, desc_.projection);
+      for (const DrawnQuad& quad : sources_.occluders->drawnQuads()) {
+        stats_.occluder_tiles += tester_->recordCovered(quad, rule);
+      }
+    }
   }
   if (schedule_) {
     if (schedule_hierarchy_ != &hierarchy || schedule_revision_ != hierarchy.revision()) {

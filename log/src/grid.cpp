@@ -219,6 +219,34 @@ void OcclusionGrid::markOutdated(const PixelRect& rect) {
   }
 }
 
+std::uint32_t OcclusionGrid::recordCovered(const DrawnQuad& quad, const CoverageRule& rule) {
+  double xlo = HUGE_VAL, xhi = -HUGE_VAL, ylo = HUGE_VAL, yhi = -HUGE_VAL;
+  for (const auto& corner : quad.window) {
+    xlo = std::min(xlo, corner[0]), xhi = std::max(xhi, corner[0]);
+    ylo = std::min(ylo, corner[1]), yhi = std::max(yhi, corner[1]);
+  }
+  // The tiles under the quad's box (NaN corners give an empty range).
+  const auto clampTo = [](double v, std::uint32_t n) {
+    return v >= double(n) ? std::int32_t(n) : v > 0 ? std::int32_t(v) : 0;
+  };
+  const PixelRect box{clampTo(std::floor(xlo), desc_.width), clampTo(std::floor(ylo), desc_.height),
+                      clampTo(std::ceil(xhi), desc_.width), clampTo(std::ceil(yhi), desc_.height)};
+  if (box.empty()) return 0;
+  std::uint32_t recorded = 0;
+  bool drawn = false;
+  forEachTile(tileSpan(box), [&](std::size_t i, bool) {
+    if (!coversRect(quad, tileRectOf(i), rule)) return false;
+    if (!drawn) ++draw_stamp_, drawn = true;
+    // Keys only shrink within a frame: the nearer of two bounds holds.
+    far_[i] = std::min(far_[i], quad.far_key);
+    outdated_[i] = 1;
+    stamp_[i] = draw_stamp_;
+    ++recorded;
+    return false;
+  });
+  return recorded;
+}
+
 OcclusionGrid::Decision OcclusionGrid::decideFromRecord(std::size_t i, bool internal,
                                                         float threshold) const {
   // far_key bounds the tile even when outdated (keys only shrink within a frame).

@@ -56,6 +56,10 @@ class GridTester final : public BoxTester {
   void noteDrawn(const PixelRect& rect) override {
     if (refresh_ == GridRefresh::Lazy) grid_->markOutdated(rect);
   }
+  std::uint64_t recordCovered(const DrawnQuad& quad, const CoverageRule& rule) override {
+    // The busy grid reads what was drawn at once (afterDraw): nothing to record.
+    return refresh_ == GridRefresh::Lazy ? grid_->recordCovered(quad, rule) : 0;
+  }
   bool readsAfterDraw() const override { return refresh_ == GridRefresh::Busy; }
   void afterDraw(const PixelRect& rect) override { grid_->refreshNow(rect, *source_); }
   void noteCleared(float key) override { grid_->fill(key); }

@@ -44,6 +44,13 @@ class BoxTester {
 
   // Something is drawn over `rect` (clipped to the viewport): bookkeeping at once.
   virtual void noteDrawn(const PixelRect& rect) = 0;
+  // A convex quad was drawn whose coverage the CPU knows (coverage.hpp): tiles it covers
+  // entirely may be recorded without a read. Returns the tiles recorded.
+  virtual std::uint64_t recordCovered(const DrawnQuad& quad, const CoverageRule& rule) {
+    (void)quad;
+    (void)rule;
+    return 0;
+  }
   // Testers that read what was drawn right after the draw (busy grid, pyramid): the
   // culler calls afterDraw() once it is drawn, before any test.
   virtual bool readsAfterDraw() const { return false; }

@@ -98,9 +98,10 @@ struct Row {
   double tiles_per_box = 0;
   double read_share = 0;
   double flushes = 0;
-  double state_queries = 0;  // GL state queries of the sources (the state guard's cost)
-  double occluders = -1;     // DDO methods: occluders per frame
-  bool box_queries = false;  // a hardware-query method (MethodNeeds::queries)
+  double state_queries = 0;    // GL state queries of the sources (the state guard's cost)
+  double occluders = -1;      // DDO methods: occluders per frame
+  double occluder_tiles = 0;  // ddo+log: tiles recorded full from their coverage per frame
+  bool box_queries = false;   // a hardware-query method (MethodNeeds::queries)
   double queries = 0, query_waits = 0, query_boxes = 0;
   std::int64_t missed = -1;
   std::int64_t missed_artifacts = 0;  // objects shown only by depth-extrapolated fragments
@@ -128,6 +129,7 @@ Row makeRow(const Measured& m) {
   row.flushes = a.flushes;
   row.state_queries = a.state_queries;
   if (a.occluders) row.occluders = *a.occluders;
+  if (a.occluder_tiles) row.occluder_tiles = *a.occluder_tiles;
   if (r.config.method.method && methodInfo(*r.config.method.method).needs.queries) {
     row.box_queries = true;
     row.queries = a.queries;
@@ -178,8 +180,10 @@ void writeOccluderLines(std::ostream& md, const std::vector<Row>& rows) {
     if (r.occluders >= 0) {
       md << "\n"
          << r.label << ": " << formatFixed(r.occluders, 1)
-         << (r.label == "ddo" ? " octree faces entered into the occlusion map"
-                              : " occluder quads drawn before the grid")
+         << (r.method == "ddo"
+                 ? " octree faces entered into the occlusion map"
+                 : " occluder quads drawn before the grid, " + formatFixed(r.occluder_tiles, 1) +
+                       " grid tiles recorded full from them without a read")
          << " per frame.\n";
     }
   }

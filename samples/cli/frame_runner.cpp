@@ -115,6 +115,12 @@ class NoDepthSource : public DepthSource {
 
 NoDepthSource g_no_depth;
 
+// Whether the culler begins and ends the reader's source: only for methods that read
+// depth. For the others the runner does (render()).
+bool sourceBegunByCuller(const RunConfig& config) {
+  return methodInfo(*config.method.method).needs.depth;
+}
+
 // Sky: a light blue-grey, distinct from every scene colour.
 constexpr float kBackground[4] = {0.62f, 0.72f, 0.82f, 1.0f};
 
@@ -184,72 +190,37 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
     }
     dynamic_ = bvh::makeMotionHierarchy(*kind, motion_.boxes, config.motion);
   }
-  gl::FramebufferDesc fb;
-  fb.width = config.view.width;
-  fb.height = config.view.height;
-  fb.depth = config.view.depth;
-  fb.samples = config.view.samples;
-  fb.object_ids = config.verify || config.method.oracle();
-  framebuffer_ = std::make_unique<gl::Framebuffer>(fb);
-
+  makeFramebuffer();
   if (config.method.method) {
     CullerDesc desc = config.culler;
     desc.method = *config.method.method;
     measureHardwareIfNeeded(desc);
     culler_ = std::make_unique<Culler>(desc);
     config_.culler.queries.hardware = desc.queries.hardware;
-    const MethodInfo& info = methodInfo(desc.method);
-    if (info.needs.queries) {
-      queries_ = std::make_unique<zread::BoxQuerySource>(
-          framebuffer_->handle(), config.any_samples_passed
-                                      ? zread::QueryTarget::AnySamplesPassedConservative
-                                      : zread::QueryTarget::SamplesPassed);
-    }
     if (config.overlay) fan_out_->to.push_back(observer_.get());
     if (dynamic_ && dynamic_->observer()) fan_out_->to.push_back(dynamic_->observer());
     if (!fan_out_->to.empty()) culler_->setObserver(fan_out_.get());
-    const ReaderInfo* reader = findReader(config.reader);
-    if (!reader) {
+  }
+  makeSources();
+  if (config.method.method && methodInfo(*config.method.method).needs.occluders) {
+    const MethodInfo& info = methodInfo(*config.method.method);
+    if (!scene.ddo) {
       throw Error(ErrorCode::InvalidArgument,
-                  "reader '" + config.reader + "' is unknown; use " + readerNames());
+                  std::string("method ") + info.name +
+                      " needs the scene's DDO octree, which is prepared when the command's "
+                      "--method names a method that needs it (samples/scene/ddo_scene.hpp)");
     }
-    const auto readersThat = [](bool ReaderInfo::*what) {
-      std::string readers;
-      for (const ReaderInfo& r : readerTable()) {
-        if (r.*what) readers += std::string(readers.empty() ? "" : ", ") + r.name;
-      }
-      return readers;
-    };
-    if (!reader->reads_depth && info.needs.depth_values) {
-      throw Error(ErrorCode::InvalidArgument, std::string("method ") + info.name +
-                                                  " needs depth values, which " + reader->name +
-                                                  " cannot give; use --reader " +
-                                                  readersThat(&ReaderInfo::reads_depth));
+    ddo::OccluderPass::Drawer drawer;
+    if (info.occluders == OccluderUse::Drawn) {
+      occluder_renderer_ = std::make_unique<gl::OccluderRenderer>();
+      drawer = [this](const std::vector<ddo::Occluder>& occluders, const Camera& camera) {
+        occluder_renderer_->draw(occluders, camera, framebuffer_->handle());
+      };
     }
-    if (!reader->reads_framebuffer && info.occluders == OccluderUse::Drawn) {
-      throw Error(ErrorCode::InvalidArgument,
-                  std::string("method ") + info.name + " draws its occluders with GL, which " +
-                      "reader " + config.reader + " does not see; use --reader " +
-                      readersThat(&ReaderInfo::reads_framebuffer));
-    }
-    reader_ = reader->make({scene, framebuffer_->handle(), fb.width, fb.height, fb.depth, &motion_,
-                            &config.cpu, desc.projection, desc.method});
-    if (info.needs.occluders) {
-      if (!scene.ddo) {
-        throw Error(ErrorCode::InvalidArgument,
-                    std::string("method ") + info.name +
-                        " needs the scene's DDO octree, which is prepared when the command's "
-                        "--method names a method that needs it (samples/scene/ddo_scene.hpp)");
-      }
-      ddo::OccluderPass::Drawer drawer;
-      if (info.occluders == OccluderUse::Drawn) {
-        occluder_renderer_ = std::make_unique<gl::OccluderRenderer>();
-        drawer = [this](const std::vector<ddo::Occluder>& occluders, const Camera& camera) {
-          occluder_renderer_->draw(occluders, camera, framebuffer_->handle());
-        };
-      }
-      occluders_ = std::make_unique<ddo::OccluderPass>(*scene.ddo, drawer);
-    }
+    ddo::OccluderBudget budget;
+    budget.tile_size = config.culler.tile_size;  // count the tiles of the grid that records them
+    occluders_ =
+        std::make_unique<ddo::OccluderPass>(*scene.ddo, drawer, ddo::SelectorSettings{}, budget);
   }
   CullerDesc vfc;
   vfc.method = Method::Vfc;
@@ -261,6 +232,75 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
 }
 
 FrameRunner::~FrameRunner() = default;
+
+void FrameRunner::makeFramebuffer() {
+  const RunConfig& config = config_;
+  gl::FramebufferDesc fb;
+  fb.width = config.view.width;
+  fb.height = config.view.height;
+  fb.depth = config.view.depth;
+  fb.samples = config.view.samples;
+  fb.object_ids = config.verify || config.method.oracle();
+  reader_.reset();  // readers and queries hold the old framebuffer's handle
+  queries_.reset();
+  framebuffer_ = std::make_unique<gl::Framebuffer>(fb);
+}
+
+void FrameRunner::makeSources() {
+  const RunConfig& config = config_;
+  if (!config.method.method) return;
+  const gl::FramebufferDesc& fb = framebuffer_->desc();
+  const MethodInfo& info = methodInfo(*config.method.method);
+  if (info.needs.queries) {
+    queries_ = std::make_unique<zread::BoxQuerySource>(
+        framebuffer_->handle(), config.any_samples_passed
+                                    ? zread::QueryTarget::AnySamplesPassedConservative
+                                    : zread::QueryTarget::SamplesPassed);
+  }
+  const ReaderInfo* reader = findReader(config.reader);
+  if (!reader) {
+    throw Error(ErrorCode::InvalidArgument,
+                "reader '" + config.reader + "' is unknown; use " + readerNames());
+  }
+  const auto readersThat = [](bool ReaderInfo::*what) {
+    std::string readers;
+    for (const ReaderInfo& r : readerTable()) {
+      if (r.*what) readers += std::string(readers.empty() ? "" : ", ") + r.name;
+    }
+    return readers;
+  };
+  if (!reader->reads_depth && info.needs.depth_values) {
+    throw Error(ErrorCode::InvalidArgument,
+                std::string("method ") + info.name + " needs depth values, which " + reader->name +
+                    " cannot give; use --reader " + readersThat(&ReaderInfo::reads_depth));
+  }
+  if (!reader->reads_framebuffer && info.occluders == OccluderUse::Drawn) {
+    throw Error(ErrorCode::InvalidArgument, std::string("method ") + info.name +
+                                                " draws its occluders with GL, which " + "reader " +
+                                                config.reader + " does not see; use --reader " +
+                                                readersThat(&ReaderInfo::reads_framebuffer));
+  }
+  reader_ = reader->make({scene_, framebuffer_->handle(), fb.width, fb.height, fb.depth, &motion_,
+                          &config.cpu, config.culler.projection, info.method});
+}
+
+void FrameRunner::setView(const ViewSettings& view) {
+  config_.view = view;
+  oracle_cache_.reset();  // its ID passes were of the old view
+  makeFramebuffer();
+  makeSources();
+  gl::checkGlErrors("FrameRunner::setView");
+}
+
+void FrameRunner::setHierarchy(const Hierarchy* hierarchy) {
+  if (dynamic_ || !culler_) {
+    throw Error(ErrorCode::InvalidArgument,
+                "FrameRunner::setHierarchy: only a runner that culls the scene's static "
+                "hierarchy can be given another");
+  }
+  static_override_ = hierarchy;
+  oracle_cache_.reset();  // its ID passes drew the old hierarchy's objects
+}
 
 double FrameRunner::frameTime(std::size_t frame) const {
   if (config_.time_step > 0 && !scene_.path.empty()) {
@@ -280,7 +320,7 @@ Camera FrameRunner::cameraAt(const CameraPose& pose) const {
 }
 
 const Hierarchy& FrameRunner::hierarchy() const {
-  return dynamic_ ? static_cast<const Hierarchy&>(*dynamic_) : scene_.hierarchy;
+  return dynamic_ ? static_cast<const Hierarchy&>(*dynamic_) : staticHierarchy();
 }
 
 void FrameRunner::applyMotion(double time) {
@@ -307,7 +347,8 @@ gl::OracleFrame FrameRunner::idPass(const Camera& camera) {
   return gl::objectIdOracle(*framebuffer_, camera, motion_.boxes, [&] {
     if (config_.hooks.after_clear) config_.hooks.after_clear();
     renderer_.begin(gl::Pass::ObjectIds, camera);
-    vfc_->cullFrame(camera, scene_.hierarchy, g_no_depth, [&](ObjectId id) { renderer_.draw(id); });
+    vfc_->cullFrame(camera, staticHierarchy(), g_no_depth,
+                    [&](ObjectId id) { renderer_.draw(id); });
     // The movers, from their own boxes at the frame's time.
     const Projector frustum(camera, config_.culler.projection);
     for (ObjectId id = scene_.static_objects; id < motion_.boxes.size(); ++id) {
@@ -385,6 +426,10 @@ FrameRecord FrameRunner::render(const CameraPose& pose, std::size_t frame, bool 
     rec.stats.objects_drawn = oracle.visible.size() + oracle.artifacts.size();
   } else {
     reader_->beginFrame(camera);
+    // A method that reads no depth leaves the reader's source alone, but the runner still
+    // feeds it what is drawn (objectDrawn: the cpu reader's buffer) and the motion
+    // hierarchy's statistics pass reads it (measure): its frame is begun here instead.
+    if (!sourceBegunByCuller(config_)) reader_->source().beginFrame(camera);
     if (hooks.before_cull) hooks.before_cull();
     // The pull form (the callback form is a loop over it): each batch drawn, then the next.
     culler_->beginFrame(camera, hierarchy(),
@@ -395,6 +440,7 @@ FrameRecord FrameRunner::render(const CameraPose& pose, std::size_t frame, bool 
       }
     } catch (...) {
       culler_->abandonFrame();  // a draw failed: the runner stays usable (the viewer goes on)
+      if (!sourceBegunByCuller(config_)) reader_->source().endFrame();
       throw;
     }
     rec.stats = culler_->endFrame();
@@ -405,6 +451,7 @@ FrameRecord FrameRunner::render(const CameraPose& pose, std::size_t frame, bool 
   renderer_.end();
   // The hierarchy's statistics of this frame (ternary: the additional queries).
   if (dynamic_ && culler_) rec.measure = dynamic_->measure(camera, reader_->source());
+  if (culler_ && !sourceBegunByCuller(config_)) reader_->source().endFrame();
   glFinish();
   rec.ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

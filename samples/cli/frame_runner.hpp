@@ -146,8 +146,23 @@ class FrameRunner {
   Camera cameraAt(const CameraPose& pose) const;
   CameraPose poseFor(std::size_t frame) const;
   double frameTime(std::size_t frame) const;
-  // The hierarchy culled (the scene's static one or the motion hierarchy).
+  // The hierarchy culled (the scene's static one, one set by setHierarchy(), or the
+  // motion hierarchy).
   const Hierarchy& hierarchy() const;
+
+  // Discontinuities between frames, as an application meets them. The culler is kept,
+  // with what it remembers of the last frame (temporal coherence, the query schedules'
+  // node states); it must itself drop what no longer holds.
+  // A new view (a window resized, the depth format or convention changed): the
+  // framebuffer, the depth reader and the query source are made again for it, as an
+  // application makes its render targets again. Throws logrid::Error as the constructor.
+  void setView(const ViewSettings& view);
+  // Culls `hierarchy` (the application's own, over the scene's object ids) instead of the
+  // scene's static one, from the next frame on; nullptr: the scene's again. Objects it does
+  // not hold are out of the scene: the ID pass does not draw them either (objects removed
+  // and added between frames). Not owned; must outlive its use. Refused (logrid::Error)
+  // for a runner with a motion hierarchy or no culler.
+  void setHierarchy(const Hierarchy* hierarchy);
   const bvh::MotionHierarchy* motionHierarchy() const { return dynamic_.get(); }
   // Every object's box in the last frame rendered (movers where they were).
   const std::vector<Aabb>& objectBoxes() const { return motion_.boxes; }
@@ -174,6 +189,13 @@ class FrameRunner {
   gl::OracleFrame visibleSet(std::optional<std::size_t> frame, const Camera& camera);
   FrameRecord render(const CameraPose& pose, std::size_t frame, bool cached);
   void writeImages(std::size_t frame, const Camera& camera);
+  // The framebuffer of config_.view, then the reader and the query source over it
+  // (constructor, setView).
+  void makeFramebuffer();
+  void makeSources();
+  const Hierarchy& staticHierarchy() const {
+    return static_override_ ? *static_override_ : scene_.hierarchy;
+  }
 
   const PreparedScene& scene_;
   gl::MeshRenderer& renderer_;
@@ -190,6 +212,7 @@ class FrameRunner {
   struct FanOut;
   std::unique_ptr<FanOut> fan_out_;
   std::unique_ptr<bvh::MotionHierarchy> dynamic_;  // null: the static hierarchy
+  const Hierarchy* static_override_ = nullptr;     // setHierarchy()
   MotionFrame motion_;
   std::vector<std::uint8_t> drawn_;  // per object, this frame
   std::vector<ObjectId> drawn_list_;

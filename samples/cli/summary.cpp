@@ -31,7 +31,10 @@ FrameAverages averageFrames(const std::vector<FrameRecord>& records) {
     a.query_boxes += double(s.query_boxes);
     a.records_decided += double(s.records_decided);
     a.colliding_waits += double(s.colliding_waits);
-    if (r.occluders >= 0) a.occluders = a.occluders.value_or(0) + double(r.occluders);
+    if (r.occluders >= 0) {
+      a.occluders = a.occluders.value_or(0) + double(r.occluders);
+      a.occluder_tiles = a.occluder_tiles.value_or(0) + double(s.occluder_tiles);
+    }
     a.moved += double(r.moved);
     a.update_ms += r.update.seconds * 1e3;
     a.measure_ms += r.measure.seconds * 1e3;
@@ -97,6 +100,7 @@ FrameAverages averageFrames(const std::vector<FrameRecord>& records) {
     *sum /= n;
   }
   if (a.occluders) *a.occluders /= n;
+  if (a.occluder_tiles) *a.occluder_tiles /= n;
   return a;
 }
 
@@ -128,7 +132,10 @@ nlohmann::json frameJson(const FrameRecord& r) {
                       {"query_boxes", s.query_boxes},
                       {"multi_queries", s.multi_queries},
                       {"records_decided", s.records_decided}};
-  if (r.occluders >= 0) j["occluders"] = r.occluders;
+  if (r.occluders >= 0) {
+    j["occluders"] = r.occluders;
+    j["occluder_tiles"] = s.occluder_tiles;
+  }
   if (r.update.seconds > 0 || r.moved > 0) {  // a motion hierarchy (docs/MOTION.md)
     j["time"] = r.time;
     j["moved_objects"] = r.moved;
@@ -265,6 +272,7 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
   nlohmann::json j = settingsJson(config, records.size());
   j.update(averagesJson(a));
   if (a.occluders) j["avg_occluders"] = *a.occluders;
+  if (a.occluder_tiles) j["avg_occluder_tiles"] = *a.occluder_tiles;
   if (config.method.method && methodInfo(*config.method.method).needs.queries) {
     j["queries"] = queriesJson(config);
   }

@@ -191,7 +191,8 @@ std::vector<MeshAnimation> loadMeshAnimations(const std::string& file, std::size
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {
+    // parse_error, and out_of_range for a number beyond double (1e1111...).
     fail(std::string("is not valid JSON (") + e.what() + ")");
   }
   if (!j.is_object() || !j.contains("objects") || !j["objects"].is_array()) {

@@ -83,7 +83,13 @@ std::shared_ptr<const cpu::OccluderMeshes> build(const PreparedScene& scene, int
   const bool models = slot != 0 && !scene.occluder_models.empty();
   std::vector<ObjectId> modelled;
   for (ObjectId id = 0; id < objects; ++id) {
-    // Movers (after the static objects) have no models.
+    if (id >= scene.static_objects) {
+      // Movers (after the static objects): the buffer never draws them (the cpu reader
+      // leaves them out), and their triangles are in their own coordinates, not inside
+      // their boxes in the scene; an empty object keeps the ids in step.
+      out->addObject(nullptr, 0, nullptr, 0, &scene.object_boxes[id]);
+      continue;
+    }
     if (models && id < scene.occluder_models.size() &&
         addModel(scene, id, scene.occluder_models[id], slot == 2, *out)) {
       modelled.push_back(id);

@@ -24,18 +24,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Scratch {
-  fs::path dir;
-  Scratch() {
-    dir = fs::temp_directory_path() / ("logrid_animation_fuzzer." + std::to_string(::getpid()));
-    fs::create_directories(dir);
-  }
-  ~Scratch() {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-};
-
 // Eight unit boxes in a row (no triangles needed: only the boxes move).
 logrid::samples::Scene eightMeshes(std::uint8_t origin) {
   logrid::samples::Scene s;
@@ -57,7 +45,7 @@ bool finiteBox(const logrid::Aabb& b) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static Scratch scratch;
+  static logrid::fuzz::ScratchDir scratch("animation_fuzzer");
   if (size == 0) return 0;
   const std::string path = (scratch.dir / "motion.json").string();
   {

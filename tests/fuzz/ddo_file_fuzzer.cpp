@@ -24,19 +24,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// One scratch directory per process, removed at exit.
-struct Scratch {
-  fs::path dir;
-  Scratch() {
-    dir = fs::temp_directory_path() / ("logrid_ddo_file_fuzzer." + std::to_string(::getpid()));
-    fs::create_directories(dir);
-  }
-  ~Scratch() {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-};
-
 // The file's checksum as file.cpp computes it (FNV-1a over 8-byte words, then bytes).
 std::uint64_t payloadChecksum(const unsigned char* data, std::size_t bytes) {
   std::uint64_t h = 0xCBF29CE484222325ull;
@@ -88,7 +75,7 @@ void checkWalkable(const logrid::ddo::Octree& o, const logrid::ddo::FileExpectat
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static Scratch scratch;
+  static logrid::fuzz::ScratchDir scratch("ddo_file_fuzzer");
   if (size == 0) return 0;
   const std::uint8_t mode = data[0];
   std::vector<unsigned char> bytes(data + 1, data + size);

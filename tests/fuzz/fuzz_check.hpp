@@ -9,6 +9,11 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <system_error>
+
+#include <unistd.h>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size);
 
@@ -48,6 +53,23 @@ class Reader {
   const std::uint8_t* data_;
   std::size_t size_;
   std::size_t at_ = 0;
+};
+
+// One scratch directory per process for the targets that read files (`name` tells the
+// targets apart), removed at exit.
+struct ScratchDir {
+  std::filesystem::path dir;
+  explicit ScratchDir(const char* name)
+      : dir(std::filesystem::temp_directory_path() /
+            (std::string("logrid_") + name + "." + std::to_string(::getpid()))) {
+    std::filesystem::create_directories(dir);
+  }
+  ~ScratchDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
+  }
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
 };
 
 }  // namespace logrid::fuzz

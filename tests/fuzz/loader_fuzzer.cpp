@@ -29,19 +29,6 @@ namespace fs = std::filesystem;
 
 constexpr const char* kExtensions[] = {".obj", ".ply", ".stl", ".gltf", ".glb"};
 
-// One scratch directory per process, removed at exit.
-struct Scratch {
-  fs::path dir;
-  Scratch() {
-    dir = fs::temp_directory_path() / ("logrid_loader_fuzzer." + std::to_string(::getpid()));
-    fs::create_directories(dir);
-  }
-  ~Scratch() {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-};
-
 bool finiteBox(const logrid::Aabb& b) {
   return std::isfinite(b.min.x) && std::isfinite(b.min.y) && std::isfinite(b.min.z) &&
          std::isfinite(b.max.x) && std::isfinite(b.max.y) && std::isfinite(b.max.z) &&
@@ -51,7 +38,7 @@ bool finiteBox(const logrid::Aabb& b) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static Scratch scratch;
+  static logrid::fuzz::ScratchDir scratch("loader_fuzzer");
   if (size == 0) return 0;
   const char* extension = kExtensions[data[0] % (sizeof kExtensions / sizeof *kExtensions)];
   const std::string path = (scratch.dir / (std::string("input") + extension)).string();

@@ -11,9 +11,11 @@
 #include <random>
 
 #include "gl_state_probe.hpp"
+#include "logrid/coverage.hpp"
 #include "logrid/error.hpp"
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/gl/occluder_renderer.hpp"
+#include "logrid/grid.hpp"
 #include "oracle_harness.hpp"
 #include "scene/ddo_scene.hpp"
 #include "scene/loader.hpp"
@@ -24,6 +26,9 @@ namespace {
 
 constexpr std::size_t kFrames = 6;
 constexpr double kOfficeScale = 0.35;  // 4 rooms on each side of each corridor
+// ddo+log's grid tile: at the tests' 160x120 the city's occluders fill no 32-pixel tile,
+// and an occluder that fills none is not drawn (ddo::OccluderBudget).
+constexpr std::uint32_t kDdoLogTile = 8;
 
 // The DDO of the tests: 32 regions (the unit tests cover both layouts), built in memory.
 samples::DdoOptions ddoOptions() {
@@ -77,7 +82,8 @@ std::string reproduce(const std::string& scene, const RunConfig& c) {
         << (scene == "city" ? kCityScale : kForestScale);
   }
   out << " --ddo-regions 32 --frames " << c.frames << " --method " << c.method.name() << " --size "
-      << c.view.width << "x" << c.view.height << " --depth-convention "
+      << c.view.width << "x" << c.view.height << " --tile " << c.culler.tile_size
+      << " --depth-convention "
       << toString(c.view.depth.convention) << " --depth-format " << formatName(c.view.depth.format)
       << " --verify";
   return out.str();
@@ -102,12 +108,14 @@ TEST_P(DdoWalk, NoVisibleObjectIsMissed) {
   View v;
   v.convention = c.convention;
   v.format = c.format;
+  if (c.method == "ddo+log") v.tile = kDdoLogTile;
   RunConfig config = makeConfig(scene.prepared, Method::LogState, "readpixels", v, kFrames);
   config.method = *samples::parseMethodChoice(c.method);
   const SceneKey key{c.scene, 0, Offset::None, 0};
   const WalkTotals t = checkedWalk(key, scene, config);
-  std::printf("[ oracle ] %s %s: %s, %llu occluders\n", c.scene.c_str(), c.method.c_str(),
-              summary(t).c_str(), (unsigned long long)t.occluders);
+  std::printf("[ oracle ] %s %s: %s, %llu occluders, %llu tiles recorded from them\n",
+              c.scene.c_str(), c.method.c_str(), summary(t).c_str(),
+              (unsigned long long)t.occluders, (unsigned long long)t.occluder_tiles);
   EXPECT_EQ(t.missed, 0u) << reproduce(c.scene, config);
   EXPECT_GT(t.visible, 0u);
   // Not vacuous where the scene has closed surfaces across octree cells: occluders were
@@ -119,6 +127,10 @@ TEST_P(DdoWalk, NoVisibleObjectIsMissed) {
     if (c.method == "ddo") {
       EXPECT_GT(t.occluded, 0u) << "the occlusion map never culled a node; "
                                 << reproduce(c.scene, config);
+    } else {
+      // ddo+log draws only occluders that fill a tile, and records those tiles.
+      EXPECT_GT(t.occluder_tiles, 0u)
+          << "no tile was recorded from the occluders' coverage; " << reproduce(c.scene, config);
     }
   }
 }
@@ -168,7 +180,7 @@ TEST_P(DdoOccluderPixels, DrawingOccludersFirstChangesNoPixel) {
   ddo::Selector selector(*scene.prepared.ddo);
   const float background[4] = {0.1f, 0.2f, 0.3f, 1.0f};
   const float clear = c.convention == DepthConvention::Reversed ? 0.0f : 1.0f;
-  std::uint64_t occluder_pixels = 0;
+  std::uint64_t occluder_pixels = 0, recorded_tiles = 0;
   for (std::size_t f = 0; f < config.frames; ++f) {
     const Camera camera = samples::makeCamera(scene.prepared.path.frame(f, config.frames),
                                               scene.prepared.origin, config.view);
@@ -188,6 +200,28 @@ TEST_P(DdoOccluderPixels, DrawingOccludersFirstChangesNoPixel) {
     selector.select(camera, {}, stats);
     occluders.draw(selector.occluders(), camera, framebuffer.handle());
     const std::vector<float> occluder_depth = framebuffer.readDepth();
+    // The coverage ddo+log records without a read (coverage.hpp): every pixel of a tile
+    // an occluder covers entirely holds a key at or in front of its far key.
+    OcclusionGrid grid({v.width, v.height, kDdoLogTile, GridVariant::OcclusionState});
+    grid.reset(clear);
+    const CoverageRule rule = coverageRule(camera);
+    for (const ddo::Occluder& o : selector.occluders()) {
+      DrawnQuad q;
+      for (int i = 0; i < 4; ++i) q.window[i][0] = o.window[i][0], q.window[i][1] = o.window[i][1];
+      q.near_key = o.near_key;
+      q.far_key = o.far_key;
+      recorded_tiles += grid.recordCovered(q, rule);
+    }
+    for (std::uint32_t y = 0; y < v.height; ++y) {
+      for (std::uint32_t x = 0; x < v.width; ++x) {
+        const float bound = grid.tile(x / kDdoLogTile, y / kDdoLogTile).far_key;
+        if (!(bound < clear)) continue;
+        const float stored = depthKey(c.convention, occluder_depth[y * v.width + x]);
+        EXPECT_LE(stored, bound) << "frame " << f << " pixel " << x << ", " << y
+                                 << ": recorded full, but stored beyond the recorded key";
+        if (!(stored <= bound)) y = v.height - 1, x = v.width - 1;
+      }
+    }
     drawAll();
     const std::vector<std::uint8_t> with = framebuffer.readColor();
 
@@ -222,10 +256,12 @@ TEST_P(DdoOccluderPixels, DrawingOccludersFirstChangesNoPixel) {
                              << " pixels differ when the occluders are drawn first, the first at "
                              << first % v.width << ", " << first / v.width;
   }
-  std::printf("[ oracle ] %s: %llu occluder pixels over %zu frames\n", c.scene.c_str(),
-              (unsigned long long)occluder_pixels, config.frames);
+  std::printf("[ oracle ] %s: %llu occluder pixels, %llu tiles recorded full over %zu frames\n",
+              c.scene.c_str(), (unsigned long long)occluder_pixels,
+              (unsigned long long)recorded_tiles, config.frames);
   if (c.scene != "forest") {
     EXPECT_GT(occluder_pixels, 0u) << "no occluder reached the screen";
+    EXPECT_GT(recorded_tiles, 0u) << "no tile was recorded from the occluders' coverage";
   }
 }
 
@@ -257,6 +293,7 @@ TEST_P(DdoGlStateWalk, NoMissesAndTheApplicationStateIsKept) {
   View v;
   v.convention = c.convention;
   v.format = c.format;
+  if (c.method == "ddo+log") v.tile = kDdoLogTile;
   RunConfig config = makeConfig(scene.prepared, Method::LogState, "readpixels", v, kFrames);
   config.method = *samples::parseMethodChoice(c.method);
   const int w = int(config.view.width), h = int(config.view.height);
@@ -333,7 +370,9 @@ TEST_P(DdoMovingWalk, NoVisibleObjectIsMissed) {
   for (ObjectId id : scene.prepared.ddo->objects()) {
     ASSERT_LT(id, scene.prepared.static_objects) << "a moving object is in the DDO octree";
   }
-  RunConfig config = makeConfig(scene.prepared, Method::LogState, "readpixels", View{}, kFrames);
+  View v;
+  if (method == "ddo+log") v.tile = kDdoLogTile;
+  RunConfig config = makeConfig(scene.prepared, Method::LogState, "readpixels", v, kFrames);
   config.method = *samples::parseMethodChoice(method);
   const WalkTotals t = checkedWalk(key, scene, config);
   std::printf("[ oracle ] city with %u movers %s: %s, %llu occluders\n", kMovers, method.c_str(),

@@ -1,6 +1,9 @@
 // What the oracle tests share: procedural scenes loaded once per process (optionally
-// moved far from the world origin), a run configuration built from a few named fields,
-// and a walk that checks every frame against the object-ID pass of FrameRunner.
+// moved far from the world origin, with moving objects, with a DDO octree), a run
+// configuration built from a few named fields, a walk that checks every frame against the
+// object-ID pass of FrameRunner, and the one harness of the walk, motion and DDO oracle
+// tests: an OracleCase in (scene, method with its settings, reader, view, frames, what
+// the walk must show), checkCase() asserts zero misses and that the walk tests something.
 //
 // The oracle (docs/DESIGN.md, "The oracle"): after each frame FrameRunner draws the
 // whole frustum-culled scene into an R32UI ID buffer with the same renderer and the same
@@ -10,11 +13,13 @@
 #pragma once
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -23,8 +28,11 @@
 #include "cli/frame_runner.hpp"
 #include "gl_test_context.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
+#include "scene/ddo_scene.hpp"
 #include "scene/generators.hpp"
+#include "scene/loader.hpp"
 #include "scene/movers.hpp"
+#include "scene/obj_writer.hpp"
 #include "scene/prepare.hpp"
 #include "scene/view.hpp"
 
@@ -39,6 +47,10 @@ using samples::RunConfig;
 // 0.1 has 492 objects (134k triangles), the city at 0.01 has 256 chunks (266k triangles).
 inline constexpr double kForestScale = 0.1;
 inline constexpr double kCityScale = 0.01;
+// "office-file": the office generator at this scale written as OBJ and read back through
+// the model loader (closed, finely tessellated walls and slabs; 4 rooms on each side of
+// each corridor).
+inline constexpr double kOfficeScale = 0.35;
 
 // How a scene is moved away from the world origin.
 enum class Offset : std::uint8_t {
@@ -66,13 +78,34 @@ struct SceneKey {
   Offset offset = Offset::None;
   double distance = 0;       // added to x, y and z (world units)
   std::uint32_t movers = 0;  // moving objects (samples/scene/movers.hpp, seed 1)
+  bool ddo = false;          // with its DDO octree (ddoOptions(), built in memory)
 
   std::string id() const {
     std::ostringstream out;
-    out << name << "@" << scale << "/" << toString(offset) << "/" << distance << "/" << movers;
+    out << name << "@" << scale << "/" << toString(offset) << "/" << distance << "/" << movers
+        << (ddo ? "/ddo" : "");
     return out.str();
   }
 };
+
+// The scene of a name at the tests' scale: forest, city or office-file.
+inline SceneKey sceneKey(const std::string& name, std::uint32_t movers = 0, bool ddo = false) {
+  SceneKey k;
+  k.name = name;
+  k.scale = name == "city" ? kCityScale : name == "office-file" ? kOfficeScale : kForestScale;
+  k.movers = movers;
+  k.ddo = ddo;
+  return k;
+}
+
+// The DDO of the tests: 32 regions (the unit tests cover both layouts), built in memory.
+inline samples::DdoOptions ddoOptions() {
+  samples::DdoOptions d;
+  d.regions = 32;
+  d.threads = 2;
+  d.progress = false;
+  return d;
+}
 
 struct LoadedScene {
   PreparedScene prepared;
@@ -98,19 +131,35 @@ inline void offsetScene(samples::Scene& scene, Offset offset, double distance) {
   }
 }
 
+// The office generator written as OBJ, then read back through the model loader.
+inline samples::Scene officeFromFile(double scale) {
+  samples::Scene generated = samples::makeOffice({scale, 1});
+  const std::string file =
+      testing::TempDir() + "logrid_oracle_office_" + std::to_string(getpid()) + ".obj";
+  samples::writeObj(generated, file);
+  samples::Scene scene = samples::loadSceneFile(file);
+  std::remove(file.c_str());
+  scene.path = generated.path;
+  scene.near_plane = generated.near_plane;
+  scene.far_plane = generated.far_plane;
+  return scene;
+}
+
 // The scene for a key, generated, prepared and uploaded once per process. Needs a
 // current context (call LOGRID_REQUIRE_GL() first).
 inline LoadedScene& loadScene(const SceneKey& key) {
   static std::map<std::string, std::unique_ptr<LoadedScene>> cache;
   std::unique_ptr<LoadedScene>& slot = cache[key.id()];
   if (!slot) {
-    samples::Scene scene = key.name == "city" ? samples::makeCity({key.scale, 1})
-                                              : samples::makeForest({key.scale, 1});
+    samples::Scene scene = key.name == "city"          ? samples::makeCity({key.scale, 1})
+                           : key.name == "office-file" ? officeFromFile(key.scale)
+                                                       : samples::makeForest({key.scale, 1});
     offsetScene(scene, key.offset, key.distance);
     samples::addMovers(scene, key.movers, 1);
     const bvh::BuildArgs args = samples::defaultBuildArgs(scene);
     slot = std::make_unique<LoadedScene>();
     slot->prepared = samples::prepareScene(std::move(scene), args);
+    if (key.ddo) slot->prepared.ddo = samples::prepareDdo(slot->prepared, ddoOptions()).octree;
     slot->renderer = std::make_unique<gl::MeshRenderer>(slot->prepared.mesh);
   }
   return *slot;
@@ -171,7 +220,14 @@ inline std::string reproducer(const SceneKey& key, const RunConfig& c) {
     out << "(no CLI equivalent: scene moved by " << key.distance << " via " << toString(key.offset)
         << "; run this test) ";
   }
-  out << "logrid walk --scene " << key.name << " --scale " << key.scale;
+  if (key.name == "office-file") {
+    out << "logrid export --scene office --scale " << key.scale
+        << " --obj office.obj --path-json office.json && logrid walk --scene office.obj --path "
+           "office.json";
+  } else {
+    out << "logrid walk --scene " << key.name << " --scale " << key.scale;
+  }
+  if (key.ddo) out << " --ddo-regions 32";
   if (key.movers) {
     out << " --movers " << key.movers << " --hierarchy " << c.hierarchy;
     if (c.time_step > 0) out << " --time-step " << c.time_step;
@@ -222,6 +278,7 @@ struct WalkTotals {
   std::uint64_t tested = 0;     // occlusion tests
   std::uint64_t invalid = 0;    // boxes the culler found NaN or inverted
   std::uint64_t occluders = 0;  // DDO occluders drawn or entered into the map
+  std::uint64_t occluder_tiles = 0;  // ddo+log: tiles recorded full from their coverage
   double ms = 0;
 };
 
@@ -272,6 +329,7 @@ inline WalkTotals checkedWalk(const SceneKey& key, LoadedScene& scene, const Run
     t.tested += r.stats.boxes_tested;
     t.invalid += r.stats.invalid_boxes;
     t.occluders += std::uint64_t(std::max<std::int64_t>(r.occluders, 0));
+    t.occluder_tiles += r.stats.occluder_tiles;
     t.ms += r.ms;
   }
   return t;
@@ -295,6 +353,75 @@ inline std::string sanitize(std::string s) {
     if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
   }
   return s;
+}
+
+// One oracle case: a walk over a scene with one method and its settings, every frame
+// checked against the ID pass. What it must show besides zero misses (not vacuous):
+// visible objects, boxes found occluded, DDO occluders selected.
+struct OracleCase {
+  SceneKey scene;
+  samples::MethodChoice method{Method::LogState};  // with its settings (:K, :tc, schedule)
+  std::string reader = "readpixels";
+  View view;
+  std::size_t frames = 4;  // times LOGRID_ORACLE_INTENSITY
+  std::string hierarchy;   // RunConfig::hierarchy; empty: auto
+  double time_step = 0;    // RunConfig::time_step
+  bool colliding = false;  // CullerDesc::detect_colliding
+  bool expect_occluded = true;
+  bool expect_occluders = false;
+  // Anything else of the run (the cpu reader's settings, the motion hierarchies', ...).
+  std::function<void(RunConfig&)> adjust;
+  std::string name;  // the gtest parameter name (sanitize()d) and the printed label
+};
+
+inline void PrintTo(const OracleCase& c, std::ostream* out) { *out << c.name; }
+inline std::string oracleCaseName(const testing::TestParamInfo<OracleCase>& p) {
+  return sanitize(p.param.name);
+}
+
+// The RunConfig of a case (the method's settings carried into CullerDesc, as the CLI does).
+inline RunConfig configFor(const OracleCase& c, const PreparedScene& scene) {
+  RunConfig config = makeConfig(scene, Method::LogState, c.reader, c.view, c.frames);
+  config.method = c.method;
+  if (c.method.lookahead) config.culler.lookahead = *c.method.lookahead;
+  config.culler.temporal_coherence = c.method.coherence;
+  if (c.method.schedule) config.culler.queries.schedule = *c.method.schedule;
+  config.culler.detect_colliding = c.colliding;
+  if (!c.hierarchy.empty()) config.hierarchy = c.hierarchy;
+  config.time_step = c.time_step;
+  if (c.adjust) c.adjust(config);
+  return config;
+}
+
+// Walks the case over `scene` (loadScene(c.scene) in the overload below) and asserts zero
+// misses and what the case expects; returns the totals for further checks.
+inline WalkTotals checkCase(const OracleCase& c, LoadedScene& scene) {
+  const RunConfig config = configFor(c, scene.prepared);
+  const WalkTotals t = checkedWalk(c.scene, scene, config);
+  std::printf("[ oracle ] %s: %s, %llu occluders\n",
+              (c.name.empty() ? c.scene.name + " " + config.method.name() : c.name).c_str(),
+              summary(t).c_str(), (unsigned long long)t.occluders);
+  EXPECT_EQ(t.missed, 0u) << reproducer(c.scene, config);
+  EXPECT_GT(t.visible, 0u) << "no object was visible; " << reproducer(c.scene, config);
+  if (c.expect_occluded) {
+    EXPECT_GT(t.occluded, 0u) << "no box was ever found occluded; the walk tests nothing; "
+                              << reproducer(c.scene, config);
+  }
+  if (c.expect_occluders) {
+    EXPECT_GT(t.occluders, 0u) << "no occluder was ever selected; " << reproducer(c.scene, config);
+  }
+  return t;
+}
+
+inline WalkTotals checkCase(const OracleCase& c) { return checkCase(c, loadScene(c.scene)); }
+
+// A method choice with its settings.
+inline samples::MethodChoice choice(Method m, std::optional<std::uint32_t> lookahead = {},
+                                    bool coherence = false) {
+  samples::MethodChoice out{m};
+  out.lookahead = lookahead;
+  out.coherence = coherence;
+  return out;
 }
 
 }  // namespace logrid::oracle

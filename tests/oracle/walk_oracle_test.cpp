@@ -23,54 +23,47 @@ namespace {
 
 constexpr std::size_t kMatrixFrames = 4;
 
-SceneKey sceneKey(const std::string& name) {
-  return {name, name == "city" ? kCityScale : kForestScale, Offset::None, 0};
+View sized(std::uint32_t width, std::uint32_t height, std::uint32_t tile,
+           DepthConvention convention = DepthConvention::Standard,
+           DepthFormat format = DepthFormat::D32F) {
+  View v;
+  v.width = width;
+  v.height = height;
+  v.tile = tile;
+  v.convention = convention;
+  v.format = format;
+  return v;
 }
 
 // ---------------------------------------------------------------------------
 // A. The walkthrough matrix.
 // ---------------------------------------------------------------------------
 
-struct MatrixCase {
-  std::string scene;
-  Method method;
-  DepthConvention convention;
-  DepthFormat format;
-  std::uint32_t width;
-  std::uint32_t height;
-  std::uint32_t tile;
-};
-
-class WalkMatrix : public testing::TestWithParam<MatrixCase> {};
+class WalkMatrix : public testing::TestWithParam<OracleCase> {};
 
 TEST_P(WalkMatrix, NoVisibleObjectIsMissed) {
   LOGRID_REQUIRE_GL();
-  const MatrixCase& c = GetParam();
-  const SceneKey key = sceneKey(c.scene);
-  LoadedScene& scene = loadScene(key);
-  View v;
-  v.width = c.width;
-  v.height = c.height;
-  v.tile = c.tile;
-  v.convention = c.convention;
-  v.format = c.format;
-  const RunConfig config = makeConfig(scene.prepared, c.method, "readpixels", v, kMatrixFrames);
-  const WalkTotals t = checkedWalk(key, scene, config);
-  std::printf("[ oracle ] %s\n", summary(t).c_str());
-  EXPECT_EQ(t.missed, 0u) << reproducer(key, config);
-  // The check is not vacuous: the walk sees objects and the grid culls some.
-  EXPECT_GT(t.visible, 0u);
-  EXPECT_GT(t.occluded, 0u) << "no box was ever found occluded; the walk tests nothing";
+  checkCase(GetParam());
 }
 
-std::vector<MatrixCase> matrixCases() {
-  std::vector<MatrixCase> out;
+std::vector<OracleCase> matrixCases() {
+  std::vector<OracleCase> out;
   for (const char* scene : {"forest", "city"}) {
     for (Method m : {Method::LogState, Method::LogZfar}) {
       for (DepthConvention conv : {DepthConvention::Standard, DepthConvention::Reversed}) {
         for (DepthFormat f : {DepthFormat::D24, DepthFormat::D32F}) {
           for (auto [w, h] : {std::pair<std::uint32_t, std::uint32_t>{160, 120}, {321, 239}}) {
-            for (std::uint32_t tile : {8u, 32u}) out.push_back({scene, m, conv, f, w, h, tile});
+            for (std::uint32_t tile : {8u, 32u}) {
+              OracleCase c;
+              c.scene = sceneKey(scene);
+              c.method = choice(m);
+              c.view = sized(w, h, tile, conv, f);
+              c.frames = kMatrixFrames;
+              c.name = std::string(scene) + "_" + toString(m) + "_" + toString(conv) + "_d" +
+                       formatName(f) + "_" + std::to_string(w) + "x" + std::to_string(h) + "_t" +
+                       std::to_string(tile);
+              out.push_back(c);
+            }
           }
         }
       }
@@ -79,66 +72,43 @@ std::vector<MatrixCase> matrixCases() {
   return out;
 }
 
-std::string matrixName(const testing::TestParamInfo<MatrixCase>& p) {
-  const MatrixCase& c = p.param;
-  return sanitize(c.scene + "_" + toString(c.method) + "_" + toString(c.convention) + "_d" +
-                  formatName(c.format) + "_" + std::to_string(c.width) + "x" +
-                  std::to_string(c.height) + "_t" + std::to_string(c.tile));
-}
-
-INSTANTIATE_TEST_SUITE_P(Scenes, WalkMatrix, testing::ValuesIn(matrixCases()), matrixName);
+INSTANTIATE_TEST_SUITE_P(Scenes, WalkMatrix, testing::ValuesIn(matrixCases()), oracleCaseName);
 
 // ---------------------------------------------------------------------------
 // Every method with every depth source, at one configuration.
 // ---------------------------------------------------------------------------
 
-struct ReaderCase {
-  std::string scene;
-  Method method;
-  std::string reader;
-};
-
-class Readers : public testing::TestWithParam<ReaderCase> {};
+class Readers : public testing::TestWithParam<OracleCase> {};
 
 TEST_P(Readers, NoVisibleObjectIsMissed) {
   LOGRID_REQUIRE_GL();
-  const ReaderCase& c = GetParam();
-  const SceneKey key = sceneKey(c.scene);
-  LoadedScene& scene = loadScene(key);
-  View v;
-  v.width = 200;
-  v.height = 150;
-  v.tile = 16;
-  // D24 standard: the software source must agree with a quantised GL buffer too.
-  v.format = DepthFormat::D24;
-  const RunConfig config = makeConfig(scene.prepared, c.method, c.reader, v, kMatrixFrames);
-  const WalkTotals t = checkedWalk(key, scene, config);
-  std::printf("[ oracle ] %s\n", summary(t).c_str());
-  EXPECT_EQ(t.missed, 0u) << reproducer(key, config);
-  EXPECT_GT(t.visible, 0u);
-  EXPECT_GT(t.occluded, 0u) << "no box was ever found occluded; the walk tests nothing";
+  checkCase(GetParam());
 }
 
-std::vector<ReaderCase> readerCases() {
-  std::vector<ReaderCase> out;
+std::vector<OracleCase> readerCases() {
+  std::vector<OracleCase> out;
   for (const char* scene : {"forest", "city"}) {
     for (Method m : {Method::LogState, Method::LogZfar, Method::Bog, Method::Hzb, Method::Pq}) {
       for (const samples::ReaderInfo& r : samples::readerTable()) {
         if (methodInfo(m).needs.depth_values && !r.reads_depth) continue;  // refused: see below
         // Reads exactly what readpixels reads; only its GL-state queries differ.
         if (r.name == std::string("readpixels-per-read")) continue;
-        out.push_back({scene, m, r.name});
+        OracleCase c;
+        c.scene = sceneKey(scene);
+        c.method = choice(m);
+        c.reader = r.name;
+        // D24 standard: the software source must agree with a quantised GL buffer too.
+        c.view = sized(200, 150, 16, DepthConvention::Standard, DepthFormat::D24);
+        c.frames = kMatrixFrames;
+        c.name = std::string(scene) + "_" + toString(m) + "_" + r.name;
+        out.push_back(c);
       }
     }
   }
   return out;
 }
 
-std::string readerName(const testing::TestParamInfo<ReaderCase>& p) {
-  return sanitize(p.param.scene + "_" + toString(p.param.method) + "_" + p.param.reader);
-}
-
-INSTANTIATE_TEST_SUITE_P(AllSources, Readers, testing::ValuesIn(readerCases()), readerName);
+INSTANTIATE_TEST_SUITE_P(AllSources, Readers, testing::ValuesIn(readerCases()), oracleCaseName);
 
 // HZB needs depth values; a query source cannot give them. That is refused up front,
 // with a message that says what to use instead, not answered wrongly.
@@ -161,43 +131,14 @@ TEST(ReadersRefusal, HzbWithQueriesIsRefusedClearly) {
 // with and without a worker thread.
 // ---------------------------------------------------------------------------
 
-struct CpuCase {
-  std::string scene;
-  Method method;
-  DepthConvention convention;
-  DepthFormat format;
-  cpu::Resolution resolution;
-  samples::OccluderChoice occluders;
-  std::uint32_t threads;
-  cpu::Representation representation;
-};
-
-class CpuBuffer : public testing::TestWithParam<CpuCase> {};
+class CpuBuffer : public testing::TestWithParam<OracleCase> {};
 
 TEST_P(CpuBuffer, NoVisibleObjectIsMissed) {
   LOGRID_REQUIRE_GL();
-  const CpuCase& c = GetParam();
-  const SceneKey key = sceneKey(c.scene);
-  LoadedScene& scene = loadScene(key);
-  View v;
-  v.width = 200;
-  v.height = 150;
-  v.tile = 16;
-  v.convention = c.convention;
-  v.format = c.format;
-  RunConfig config = makeConfig(scene.prepared, c.method, "cpu", v, kMatrixFrames);
-  config.cpu.resolution = c.resolution;
-  config.cpu.occluders = c.occluders;
-  config.cpu.threads = c.threads;
-  config.cpu.representation = c.representation;
-  const WalkTotals t = checkedWalk(key, scene, config);
-  std::printf("[ oracle ] %s\n", summary(t).c_str());
-  EXPECT_EQ(t.missed, 0u) << reproducer(key, config);
-  EXPECT_GT(t.visible, 0u);
-  EXPECT_GT(t.occluded, 0u) << "no box was ever found occluded; the walk tests nothing";
+  checkCase(GetParam());
 }
 
-std::vector<CpuCase> cpuCases() {
+std::vector<OracleCase> cpuCases() {
   using samples::OccluderChoice;
   // Each resolution meets both conventions and both formats over the two scenes.
   struct Variant {
@@ -228,31 +169,40 @@ std::vector<CpuCase> cpuCases() {
       {DepthConvention::Reversed, DepthFormat::D24, cpu::Resolution::Quarter, OccluderChoice::Model,
        1},
   };
-  std::vector<CpuCase> out;
+  const auto cpuCase = [](const char* scene, Method m, const Variant& v) {
+    OracleCase c;
+    c.scene = sceneKey(scene);
+    c.method = choice(m);
+    c.reader = "cpu";
+    c.view = sized(200, 150, 16, v.convention, v.format);
+    c.frames = kMatrixFrames;
+    c.adjust = [v](RunConfig& config) {
+      config.cpu.resolution = v.resolution;
+      config.cpu.occluders = v.occluders;
+      config.cpu.threads = v.threads;
+      config.cpu.representation = v.representation;
+    };
+    c.name = std::string(scene) + "_" + toString(m) + "_" + toString(v.convention) + "_d" +
+             formatName(v.format) + "_" + cpu::toString(v.resolution) + "_" +
+             samples::toString(v.occluders) + "_t" + std::to_string(v.threads) +
+             (v.representation == cpu::Representation::Masked ? "_masked" : "");
+    return c;
+  };
+  std::vector<OracleCase> out;
   for (const char* scene : {"forest", "city"}) {
     for (Method m : {Method::LogState, Method::LogZfar}) {
       for (const Variant& v : variants) {
-        out.push_back({scene, m, v.convention, v.format, v.resolution, v.occluders, v.threads,
-                       v.representation});
+        out.push_back(cpuCase(scene, m, v));
       }
       for (const Variant& v : masked_variants) {
-        out.push_back({scene, m, v.convention, v.format, v.resolution, v.occluders, v.threads,
-                       v.representation});
+        out.push_back(cpuCase(scene, m, v));
       }
     }
   }
   return out;
 }
 
-std::string cpuName(const testing::TestParamInfo<CpuCase>& p) {
-  const CpuCase& c = p.param;
-  return sanitize(c.scene + "_" + toString(c.method) + "_" + toString(c.convention) + "_d" +
-                  formatName(c.format) + "_" + cpu::toString(c.resolution) + "_" +
-                  samples::toString(c.occluders) + "_t" + std::to_string(c.threads) +
-                  (c.representation == cpu::Representation::Masked ? "_masked" : ""));
-}
-
-INSTANTIATE_TEST_SUITE_P(Variants, CpuBuffer, testing::ValuesIn(cpuCases()), cpuName);
+INSTANTIATE_TEST_SUITE_P(Variants, CpuBuffer, testing::ValuesIn(cpuCases()), oracleCaseName);
 
 // The city's occluder models stand for whole buildings while each chunk holds a part of
 // one (samples/scene/scene.hpp, OccluderSolid). Methods with occlusion-state semantics
@@ -260,19 +210,16 @@ INSTANTIATE_TEST_SUITE_P(Variants, CpuBuffer, testing::ValuesIn(cpuCases()), cpu
 // each chunk's box; unclipped, log-state missed 9 visible objects on these 30 frames.
 TEST(CpuBufferCityModels, StateSemanticsGetModelsWithinTheirObjects) {
   LOGRID_REQUIRE_GL();
-  const SceneKey key{"city", 0.03, Offset::None, 0};
-  LoadedScene& scene = loadScene(key);
-  View v;
-  v.width = 200;
-  v.height = 150;
-  v.tile = 16;
   for (Method m : {Method::LogState, Method::LogZfar}) {
-    RunConfig config = makeConfig(scene.prepared, m, "cpu", v, 30);
-    config.cpu.occluders = samples::OccluderChoice::Model;
-    const WalkTotals t = checkedWalk(key, scene, config);
-    std::printf("[ oracle ] %s: %s\n", toString(m), summary(t).c_str());
-    EXPECT_EQ(t.missed, 0u) << reproducer(key, config);
-    EXPECT_GT(t.occluded, 0u);
+    OracleCase c;
+    c.scene = {"city", 0.03, Offset::None, 0};
+    c.method = choice(m);
+    c.reader = "cpu";
+    c.view = sized(200, 150, 16);
+    c.frames = 30;
+    c.adjust = [](RunConfig& config) { config.cpu.occluders = samples::OccluderChoice::Model; };
+    c.name = std::string("city 0.03 cpu models ") + toString(m);
+    checkCase(c);
   }
 }
 
@@ -280,39 +227,28 @@ TEST(CpuBufferCityModels, StateSemanticsGetModelsWithinTheirObjects) {
 // Lookahead and temporal coherence: every K, with and without coherence, is exact.
 // ---------------------------------------------------------------------------
 
-struct LookaheadCase {
-  std::string scene;
-  Method method;
-  std::uint32_t lookahead;
-  bool coherence;
-  std::string reader;
-  DepthConvention convention;
-};
-
-class Lookahead : public testing::TestWithParam<LookaheadCase> {};
+class Lookahead : public testing::TestWithParam<OracleCase> {};
 
 TEST_P(Lookahead, NoVisibleObjectIsMissed) {
   LOGRID_REQUIRE_GL();
-  const LookaheadCase& c = GetParam();
-  const SceneKey key = sceneKey(c.scene);
-  LoadedScene& scene = loadScene(key);
-  View v;
-  v.width = 200;
-  v.height = 150;
-  v.tile = 16;
-  v.convention = c.convention;
-  RunConfig config = makeConfig(scene.prepared, c.method, c.reader, v, 6);
-  config.culler.lookahead = c.lookahead;
-  config.culler.temporal_coherence = c.coherence;
-  const WalkTotals t = checkedWalk(key, scene, config);
-  std::printf("[ oracle ] %s\n", summary(t).c_str());
-  EXPECT_EQ(t.missed, 0u) << reproducer(key, config);
-  EXPECT_GT(t.visible, 0u);
-  EXPECT_GT(t.occluded, 0u) << "no box was ever found occluded; the walk tests nothing";
+  checkCase(GetParam());
 }
 
-std::vector<LookaheadCase> lookaheadCases() {
-  std::vector<LookaheadCase> out;
+std::vector<OracleCase> lookaheadCases() {
+  std::vector<OracleCase> out;
+  const auto add = [&](const char* scene, Method m, std::uint32_t k, bool tc, const char* reader,
+                       DepthConvention convention) {
+    OracleCase c;
+    c.scene = sceneKey(scene);
+    c.method = choice(m, k, tc);
+    c.reader = reader;
+    c.view = sized(200, 150, 16, convention);
+    c.frames = 6;
+    c.name = std::string(scene) + "_" + toString(m) + "_K" +
+             (k == kUnlimitedLookahead ? std::string("all") : std::to_string(k)) +
+             (tc ? "_tc_" : "_") + reader + "_" + toString(convention);
+    out.push_back(c);
+  };
   // Each K with a different reader, so that every reader meets batches of many boxes.
   const std::pair<std::uint32_t, const char*> ks[] = {
       {1, "readpixels"}, {4, "pbo"}, {16, "reduce"}, {kUnlimitedLookahead, "readpixels"}};
@@ -320,26 +256,16 @@ std::vector<LookaheadCase> lookaheadCases() {
     for (Method m : {Method::LogState, Method::LogZfar}) {
       for (const auto& [k, reader] : ks) {
         for (bool tc : {false, true}) {
-          out.push_back({scene, m, k, tc, reader,
-                         tc ? DepthConvention::Reversed : DepthConvention::Standard});
+          add(scene, m, k, tc, reader, tc ? DepthConvention::Reversed : DepthConvention::Standard);
         }
       }
     }
-    out.push_back(
-        {scene, Method::LogState, kUnlimitedLookahead, true, "query", DepthConvention::Standard});
+    add(scene, Method::LogState, kUnlimitedLookahead, true, "query", DepthConvention::Standard);
   }
   return out;
 }
 
-std::string lookaheadName(const testing::TestParamInfo<LookaheadCase>& p) {
-  const LookaheadCase& c = p.param;
-  return sanitize(
-      c.scene + "_" + toString(c.method) + "_K" +
-      (c.lookahead == kUnlimitedLookahead ? std::string("all") : std::to_string(c.lookahead)) +
-      (c.coherence ? "_tc_" : "_") + c.reader + "_" + toString(c.convention));
-}
-
-INSTANTIATE_TEST_SUITE_P(Traversal, Lookahead, testing::ValuesIn(lookaheadCases()), lookaheadName);
+INSTANTIATE_TEST_SUITE_P(Traversal, Lookahead, testing::ValuesIn(lookaheadCases()), oracleCaseName);
 
 // ---------------------------------------------------------------------------
 // The point of it all: fewer objects drawn than view-frustum culling.

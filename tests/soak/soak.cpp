@@ -4,15 +4,21 @@
 //
 // Each run picks, from a seeded generator: a scene (the forest or the city at a small
 // scale with a random seed, or a model file: a small forest written as OBJ and read back
-// through the assimp loader, walked on the loader's orbit), a size, a tile size, a depth format and
-// convention, a method, a reader, a sample count, and walks `--frames-per-run` frames of the
-// scene's path. Every visible object must be drawn (misses and missed depth-extrapolation artifacts
-// both fail the run). Scenes are generated, uploaded and released per run.
+// through the assimp loader, walked on the loader's orbit), moving objects or none (with
+// each motion hierarchy, and frames either spread over the path or close together), a
+// size, a tile size, a depth format and convention, a sample count, a method of the
+// library's table (logrid::methodTable(): the grids, the baselines, the hardware-query
+// schedules, DDO with its octree built for the run) with the settings it takes (lookahead
+// K, temporal coherence, log+hwq's query schedule), and a reader (every one, cpu with a
+// random resolution, occluder choice and worker count). It walks `--frames-per-run`
+// frames. Every visible object must be drawn (misses and missed depth-extrapolation
+// artifacts both fail the run). Scenes are generated, uploaded and released per run.
 //
 // Memory: after a warm-up that visits the largest configuration of each scene kind, the
-// resident set's high-water mark (VmHWM) is recorded as the start figure; at the end it
-// is recorded again, with the resident set (VmRSS) after each run. Flat memory means the
-// end peak equals the start peak up to allocator noise.
+// resident set's high-water mark (VmHWM) is recorded as the start figure; in the middle
+// (the first run that ends past half the frames) and at the end it is recorded again,
+// with the resident set (VmRSS) at each. Flat memory means the middle and end peaks equal
+// the start peak up to allocator noise.
 //
 // Usage: logrid_soak [--frames N] [--frames-per-run K] [--seed S] [--json FILE]
 // Exit status 0 when no visible object was missed, 1 otherwise, 2 for bad usage.
@@ -35,8 +41,10 @@
 #include "logrid/error.hpp"
 #include "logrid/gl/context.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
+#include "scene/ddo_scene.hpp"
 #include "scene/generators.hpp"
 #include "scene/loader.hpp"
+#include "scene/movers.hpp"
 #include "scene/prepare.hpp"
 #include "scene/view.hpp"
 
@@ -80,14 +88,25 @@ struct Run {
   std::uint32_t width = 160, height = 120, tile = 32, samples = 0;
   DepthFormat format = DepthFormat::D32F;
   DepthConvention convention = DepthConvention::Standard;
-  Method method = Method::LogState;
+  MethodChoice method{Method::LogState};  // with its settings
   std::string reader = "readpixels";
+  CpuReaderOptions cpu;
+  std::uint32_t movers = 0;
+  std::string hierarchy = "auto";
+  double time_step = 0;
+  bool colliding = false;
 
   std::string describe() const {
     std::ostringstream out;
     out << scene << " scale " << scale << " seed " << seed << ", " << width << "x" << height
         << " tile " << tile << ", " << toString(format) << " " << toString(convention) << ", "
-        << toString(method) << " / " << reader << ", samples " << samples;
+        << method.name() << " / " << reader << ", samples " << samples;
+    if (reader == "cpu") {
+      out << " (cpu " << cpu::toString(cpu.resolution) << " " << toString(cpu.occluders) << " "
+          << cpu.threads << " threads)";
+    }
+    if (movers) out << ", " << movers << " movers on " << hierarchy << " step " << time_step;
+    if (colliding) out << ", colliding";
     return out.str();
   }
 };
@@ -95,6 +114,26 @@ struct Run {
 template <typename T>
 T pick(std::mt19937_64& rng, std::initializer_list<T> values) {
   return *(values.begin() + std::uniform_int_distribution<std::size_t>(0, values.size() - 1)(rng));
+}
+
+template <typename T>
+const T& pickFrom(std::mt19937_64& rng, const std::vector<T>& values) {
+  return values[std::uniform_int_distribution<std::size_t>(0, values.size() - 1)(rng)];
+}
+
+// A method of the table with random settings among those it takes.
+MethodChoice randomMethod(std::mt19937_64& rng) {
+  const MethodInfo& info = pickFrom(rng, methodTable());
+  MethodChoice c{info.method};
+  if (info.takes.lookahead) {
+    c.lookahead = pick(rng, {1u, 1u, 4u, 16u, kUnlimitedLookahead});
+  }
+  if (info.takes.temporal_coherence) c.coherence = rng() % 2 == 0;
+  if (info.takes.query_schedule) {
+    c.schedule = pick(
+        rng, {QuerySchedule::Hwq, QuerySchedule::Chc, QuerySchedule::Stat, QuerySchedule::Nohc});
+  }
+  return c;
 }
 
 Run randomRun(std::mt19937_64& rng) {
@@ -108,12 +147,27 @@ Run randomRun(std::mt19937_64& rng) {
   r.tile = pick(rng, {3u, 8u, 16u, 32u, 32u, 64u, 200u});
   r.format = pick(rng, {DepthFormat::D16, DepthFormat::D24, DepthFormat::D32F});
   r.convention = pick(rng, {DepthConvention::Standard, DepthConvention::Reversed});
-  r.method = pick(
-      rng, {Method::LogState, Method::LogZfar, Method::Bog, Method::Hzb, Method::Pq, Method::Vfc});
-  r.reader = pick<std::string>(rng, {"readpixels", "pbo", "query", "reduce", "software"});
-  if (r.method == Method::Hzb && r.reader == "query") r.reader = "readpixels";
+  r.method = randomMethod(rng);
+  const MethodInfo& info = methodInfo(*r.method.method);
+  std::vector<std::string> readers;
+  for (const ReaderInfo& reader : readerTable()) {
+    if (info.needs.depth_values && !reader.reads_depth) continue;  // refused up front
+    if (info.occluders == OccluderUse::Drawn && !reader.reads_framebuffer) continue;
+    readers.push_back(reader.name);
+  }
+  r.reader = pickFrom(rng, readers);
+  r.cpu.resolution =
+      pick(rng, {cpu::Resolution::Full, cpu::Resolution::Half, cpu::Resolution::Quarter});
+  r.cpu.occluders = pick(rng, {OccluderChoice::Mesh, OccluderChoice::Model});
+  r.cpu.threads = pick(rng, {0u, 0u, 1u, 3u});
   // The software reader rasterises inner coverage itself: single-sampled runs only.
   r.samples = r.reader == "software" ? 0u : pick(rng, {0u, 0u, 0u, 2u, 4u});
+  if (rng() % 3 == 0) {
+    r.movers = pick(rng, {5u, 20u, 60u});
+    r.hierarchy = pickFrom(rng, bvh::motionTable()).name;
+    r.time_step = pick(rng, {0.0, 0.0, 0.5, 3.0});
+  }
+  r.colliding = info.takes.lookahead && rng() % 4 == 0;
   return r;
 }
 
@@ -163,8 +217,8 @@ int main(int argc, char** argv) {
                                        .string();
     std::mt19937_64 rng(seed);
     Totals t;
-    std::map<std::string, std::uint64_t> frames_by_method, frames_by_reader;
-    std::uint64_t start_hwm = 0, start_rss = 0, end_rss = 0;
+    std::map<std::string, std::uint64_t> frames_by_method, frames_by_reader, frames_by_setting;
+    std::uint64_t start_hwm = 0, start_rss = 0, middle_hwm = 0, middle_rss = 0, end_rss = 0;
     const auto start_time = std::chrono::steady_clock::now();
 
     // Warm-up: the largest configuration of each scene kind first, so that the start
@@ -178,7 +232,7 @@ int main(int argc, char** argv) {
       r.height = 240;
       r.tile = 3;
       r.samples = 4;
-      r.method = Method::Hzb;
+      r.method = MethodChoice{Method::Hzb};
       warmup.push_back(r);
     }
     std::size_t run_index = 0;
@@ -186,38 +240,61 @@ int main(int argc, char** argv) {
       const bool warming = run_index < warmup.size();
       const Run run = warming ? warmup[run_index] : randomRun(rng);
       ++run_index;
-      Scene scene;
-      if (run.scene == "city") {
-        scene = makeCity({run.scale, run.seed});
-      } else {
-        scene = makeForest({run.scale, run.seed});
-        if (run.scene == "model") {
-          writeObj(scene, model_path);
-          scene = loadSceneFile(model_path);  // with the loader's orbit around the model
-        }
-      }
-      const bvh::BuildArgs args = defaultBuildArgs(scene);
-      PreparedScene prepared = prepareScene(std::move(scene), args);
-      auto renderer = std::make_unique<gl::MeshRenderer>(prepared.mesh);
-      RunConfig config;
-      config.method = MethodChoice{run.method};
-      config.culler.tile_size = run.tile;
-      config.reader = run.reader;
-      config.view.width = run.width;
-      config.view.height = run.height;
-      config.view.near_plane = prepared.near_plane;
-      config.view.far_plane = prepared.far_plane;
-      config.view.depth = depthSetupFor(run.convention, run.format);
-      config.view.samples = run.samples;
-      config.frames = std::size_t(per_run);
-      config.verify = true;
+      // Everything of a run (scene, renderer, runner, frames) inside one try: an error
+      // ends that run only, and the GL errors it left pending are drained before the next.
+      std::unique_ptr<gl::MeshRenderer> renderer;
       try {
+        Scene scene;
+        if (run.scene == "city") {
+          scene = makeCity({run.scale, run.seed});
+        } else {
+          scene = makeForest({run.scale, run.seed});
+          if (run.scene == "model") {
+            writeObj(scene, model_path);
+            scene = loadSceneFile(model_path);  // with the loader's orbit around the model
+          }
+        }
+        addMovers(scene, run.movers, run.seed);
+        const bvh::BuildArgs args = defaultBuildArgs(scene);
+        PreparedScene prepared = prepareScene(std::move(scene), args);
+        if (methodInfo(*run.method.method).needs.occluders) {
+          DdoOptions ddo;
+          ddo.regions = pick(rng, {32u, 64u});
+          ddo.threads = 2;
+          ddo.progress = false;
+          prepared.ddo = prepareDdo(prepared, ddo).octree;
+        }
+        renderer = std::make_unique<gl::MeshRenderer>(prepared.mesh);
+        RunConfig config;
+        config.method = run.method;
+        if (run.method.lookahead) config.culler.lookahead = *run.method.lookahead;
+        config.culler.temporal_coherence = run.method.coherence;
+        if (run.method.schedule) config.culler.queries.schedule = *run.method.schedule;
+        config.culler.detect_colliding = run.colliding;
+        config.culler.tile_size = run.tile;
+        config.reader = run.reader;
+        config.cpu = run.cpu;
+        config.hierarchy = run.movers ? run.hierarchy : "auto";
+        config.time_step = run.time_step;
+        config.view.width = run.width;
+        config.view.height = run.height;
+        config.view.near_plane = prepared.near_plane;
+        config.view.far_plane = prepared.far_plane;
+        config.view.depth = depthSetupFor(run.convention, run.format);
+        config.view.samples = run.samples;
+        config.frames = std::size_t(per_run);
+        config.verify = true;
         FrameRunner runner(prepared, *renderer, config);
         for (std::size_t f = 0; f < config.frames; ++f) {
           const FrameRecord r = runner.renderFrame(f);
           ++t.frames;
-          frames_by_method[toString(run.method)]++;
+          frames_by_method[toString(*run.method.method)]++;
           frames_by_reader[run.reader]++;
+          if (run.method.lookahead && *run.method.lookahead > 1) frames_by_setting["lookahead"]++;
+          if (run.method.coherence) frames_by_setting["coherence"]++;
+          if (run.method.schedule) frames_by_setting[toString(*run.method.schedule)]++;
+          if (run.movers) frames_by_setting["movers/" + run.hierarchy]++;
+          if (run.colliding) frames_by_setting["colliding"]++;
           t.visible += std::uint64_t(std::max<std::int64_t>(r.visible, 0));
           t.artifacts += std::uint64_t(std::max<std::int64_t>(r.artifacts, 0));
           t.drawn += r.stats.objects_drawn;
@@ -236,6 +313,11 @@ int main(int argc, char** argv) {
       } catch (const Error& e) {
         ++t.errors;
         std::printf("ERROR run %zu (%s): %s\n", run_index, run.describe().c_str(), e.what());
+        try {
+          gl::checkGlErrors("soak: after the failed run");
+        } catch (const Error&) {
+          // reported above; the next run starts without them
+        }
       }
       ++t.runs;
       renderer.reset();
@@ -243,6 +325,15 @@ int main(int argc, char** argv) {
       if (run_index == warmup.size()) {
         start_hwm = statusKiB("VmHWM");
         start_rss = end_rss;
+        std::fprintf(stderr, "soak: after warm-up RSS %llu KiB, peak %llu KiB\n",
+                     (unsigned long long)start_rss, (unsigned long long)start_hwm);
+      }
+      if (middle_hwm == 0 && 2 * t.frames >= total_frames && run_index > warmup.size()) {
+        middle_hwm = statusKiB("VmHWM");
+        middle_rss = end_rss;
+        std::fprintf(stderr, "soak: middle (%llu frames) RSS %llu KiB, peak %llu KiB\n",
+                     (unsigned long long)t.frames, (unsigned long long)middle_rss,
+                     (unsigned long long)middle_hwm);
       }
       if (run_index % 20 == 0 || t.frames >= total_frames) {
         const double s =
@@ -270,16 +361,21 @@ int main(int argc, char** argv) {
             << ",\n  \"errors\": " << t.errors << ",\n  \"objects_drawn\": " << t.drawn
             << ",\n  \"boxes_tested\": " << t.tested << ",\n  \"boxes_occluded\": " << t.occluded
             << ",\n  \"peak_rss_kib_after_warmup\": " << start_hwm
+            << ",\n  \"peak_rss_kib_middle\": " << middle_hwm
             << ",\n  \"peak_rss_kib_at_end\": " << end_hwm
             << ",\n  \"rss_kib_after_warmup\": " << start_rss
-            << ",\n  \"rss_kib_at_end\": " << end_rss << ",\n  \"seconds\": " << seconds
-            << ",\n  \"frames_by_method\": {";
+            << ",\n  \"rss_kib_middle\": " << middle_rss << ",\n  \"rss_kib_at_end\": " << end_rss
+            << ",\n  \"seconds\": " << seconds << ",\n  \"frames_by_method\": {";
     const char* sep = "";
     for (const auto& [k, v] : frames_by_method)
       summary << sep << "\"" << k << "\": " << v, sep = ", ";
     summary << "},\n  \"frames_by_reader\": {";
     sep = "";
     for (const auto& [k, v] : frames_by_reader)
+      summary << sep << "\"" << k << "\": " << v, sep = ", ";
+    summary << "},\n  \"frames_by_setting\": {";
+    sep = "";
+    for (const auto& [k, v] : frames_by_setting)
       summary << sep << "\"" << k << "\": " << v, sep = ", ";
     summary << "}\n}\n";
     std::printf("%s", summary.str().c_str());

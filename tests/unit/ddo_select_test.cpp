@@ -4,14 +4,18 @@
 // geometry in front of it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <set>
 
 #include "ddo_scenes.hpp"
 #include "logrid/cpu/software_rasterizer.hpp"
 #include "logrid/ddo/build.hpp"
+#include "logrid/ddo/occluder_pass.hpp"
 #include "logrid/ddo/selector.hpp"
+#include "logrid/grid.hpp"
 
 namespace logrid {
 namespace {
@@ -154,6 +158,77 @@ TEST(DdoSelectMap, OccludesOnlyWhenEveryPixelIsNearer) {
   map.insertQuad(quad, 0.1, 0.01, 0);
   EXPECT_TRUE(map.occludes({10, 10, 20, 30}, 0.31f));   // keys up to 0.1 + 0.195
   EXPECT_FALSE(map.occludes({10, 10, 40, 30}, 0.31f));  // up to 0.495 on the right
+}
+
+}  // namespace
+}  // namespace logrid
+
+namespace logrid {
+namespace {
+
+// ddo+log's occluder pass draws the occluders that pay (OccluderBudget): each drawn one
+// fills at least min_tiles grid tiles, the most filling first, never more triangles than
+// the cap; it announces each drawn occluder's area and outline.
+TEST(DdoOccluderPass, DrawsTheOccludersThatFillTilesMostFirstUnderTheCap) {
+  const TriangleScene s = streetScene(2);
+  ddo::BuildArgs args;
+  args.leaf_triangles = 24;
+  args.threads = 2;
+  const ddo::Octree octree = ddo::buildOctree(s.mesh(), args);
+  std::size_t drawn_calls = 0;
+  const ddo::OccluderPass::Drawer drawer = [&](const std::vector<ddo::Occluder>&, const Camera&) {
+    ++drawn_calls;
+  };
+  ddo::OccluderBudget every;
+  every.min_tiles = 0;
+  every.max_triangles = 1u << 20;
+  ddo::OccluderBudget paying;
+  paying.tile_size = 16;
+  ddo::OccluderBudget capped = paying;
+  capped.max_triangles = 4;  // two quads
+  ddo::OccluderPass all(octree, drawer, {}, every), pays(octree, drawer, {}, paying),
+      cap(octree, drawer, {}, capped);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> x(-9, 9), z(-12, 14), y(0.5, 5);
+  std::uint64_t candidates = 0, filling = 0, left_out = 0;
+  for (int view = 0; view < 24; ++view) {
+    const Camera camera = cameraAt({x(rng), y(rng), 14.0 + 4 * z(rng) / 14},
+                                   {x(rng), y(rng) * 0.5, z(rng)}, DepthConvention::Standard);
+    std::vector<DrawnArea> areas;
+    const std::uint64_t n_all = all.beginFrame(camera, {}, true, areas);
+    EXPECT_EQ(n_all, all.passStats().candidates);  // no cap, no minimum: everything
+    EXPECT_EQ(areas.size(), n_all);
+    EXPECT_EQ(all.drawnQuads().size(), n_all);
+    areas.clear();
+    const std::uint64_t n_pays = pays.beginFrame(camera, {}, true, areas);
+    EXPECT_EQ(areas.size(), n_pays);
+    ASSERT_EQ(pays.drawnQuads().size(), n_pays);
+    const CoverageRule rule = coverageRule(camera);
+    std::vector<std::uint32_t> fills;
+    for (const DrawnQuad& q : pays.drawnQuads()) {
+      OcclusionGrid grid({camera.width, camera.height, 16, GridVariant::OcclusionState});
+      grid.reset(clearKey(camera.depth));
+      fills.push_back(grid.recordCovered(q, rule));
+      EXPECT_GE(fills.back(), 1u) << "view " << view << ": an occluder filling no tile was drawn";
+    }
+    EXPECT_TRUE(std::is_sorted(fills.rbegin(), fills.rend())) << "most tiles first";
+    std::uint64_t total = 0;
+    for (std::uint32_t f : fills) total += f;
+    EXPECT_EQ(total, pays.passStats().tiles_filled);
+    areas.clear();
+    const std::uint64_t n_cap = cap.beginFrame(camera, {}, true, areas);
+    EXPECT_EQ(n_cap, std::min<std::uint64_t>(n_pays, 2));
+    for (std::size_t i = 0; i < n_cap; ++i) {
+      EXPECT_EQ(cap.drawnQuads()[i].far_key, pays.drawnQuads()[i].far_key);
+    }
+    candidates += n_all;
+    filling += n_pays;
+    left_out += n_all - n_pays;
+  }
+  EXPECT_GT(filling, 10u) << "no occluder filled a tile: the test is vacuous";
+  EXPECT_GT(left_out, 0u) << "every occluder filled a tile: the minimum was never tested";
+  std::printf("[ ddo pass ] %llu candidates, %llu fill a tile\n", (unsigned long long)candidates,
+              (unsigned long long)filling);
 }
 
 }  // namespace

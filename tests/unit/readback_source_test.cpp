@@ -48,7 +48,9 @@ TEST(ReadbackSourceTest, CullsWithoutMissesAndCopiesOncePerBatch) {
       EXPECT_GT(stats.reads, 0u);
       EXPECT_GT(copies, 0u);
       EXPECT_LE(copies, stats.batches) << "at most one copy per batch of reads";
-      if (lookahead > 1) EXPECT_LT(copies, stats.reads);
+      if (lookahead > 1) {
+        EXPECT_LT(copies, stats.reads);
+      }
     }
   }
 }

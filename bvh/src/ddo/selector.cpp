@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
@@ -109,7 +110,9 @@ struct Selector::Frame {
 
   double near_plane[4] = {0, 0, 1, 1};  // clip-space half-space in front of the near plane
 
-  Frame(const Camera& c, const ProjectionSettings& s) : camera(c), projector(c, s) {}
+  ProjectionSettings settings;
+
+  Frame(const Camera& c, const ProjectionSettings& s) : camera(c), projector(c, s), settings(s) {}
 
   bool inFrontOfNear(const double* p) const {
     const double* m = camera.view_projection.m;
@@ -133,12 +136,53 @@ struct Selector::Frame {
     key = key_sign * (depth_scale * clip[2] / clip[3] + depth_offset);
     return true;
   }
-  void toNdc(const double* win, double key, double* ndc) const {
-    ndc[0] = win[0] / camera.width * 2.0 - 1.0;
-    ndc[1] = win[1] / camera.height * 2.0 - 1.0;
-    ndc[2] = (key_sign * key - depth_offset) / depth_scale;
-  }
 };
+
+std::optional<Occluder> makeOccluder(const double window[4][2], const double plane[3],
+                                     std::uint32_t faces, const Camera& camera,
+                                     const ProjectionSettings& projection) {
+  Occluder o;
+  const bool zero_to_one = camera.depth.clip_range == ClipDepthRange::ZeroToOne;
+  const double key_sign = camera.depth.convention == DepthConvention::Reversed ? -1.0 : 1.0;
+  const double depth_scale = zero_to_one ? 1.0 : 0.5, depth_offset = zero_to_one ? 0.0 : 0.5;
+  const float clear_key = clearKey(camera.depth);
+  double xlo = HUGE_VAL, xhi = -HUGE_VAL, ylo = HUGE_VAL, yhi = -HUGE_VAL;
+  double klo = HUGE_VAL, khi = -HUGE_VAL;
+  for (int i = 0; i < 4; ++i) {
+    const double k = plane[0] + plane[1] * window[i][0] + plane[2] * window[i][1];
+    o.ndc[i][0] = window[i][0] / camera.width * 2.0 - 1.0;
+    o.ndc[i][1] = window[i][1] / camera.height * 2.0 - 1.0;
+    o.ndc[i][2] = (key_sign * k - depth_offset) / depth_scale;
+    o.window[i][0] = window[i][0], o.window[i][1] = window[i][1];
+    xlo = std::min(xlo, window[i][0]), xhi = std::max(xhi, window[i][0]);
+    ylo = std::min(ylo, window[i][1]), yhi = std::max(yhi, window[i][1]);
+    klo = std::min(klo, k), khi = std::max(khi, k);
+  }
+  // One pixel of slack around the outline for the rasteriser's snapping.
+  const auto clampX = [&](double v) {
+    return std::int32_t(std::clamp(v, 0.0, double(camera.width)));
+  };
+  const auto clampY = [&](double v) {
+    return std::int32_t(std::clamp(v, 0.0, double(camera.height)));
+  };
+  o.rect = {clampX(std::floor(xlo) - 1), clampY(std::floor(ylo) - 1), clampX(std::ceil(xhi) + 1),
+            clampY(std::ceil(yhi) + 1)};
+  if (o.rect.empty() || !(klo <= khi)) return std::nullopt;
+  // The keys GL stores for the quad: its corner keys, moved by the rounding of drawing
+  // it (projection.hpp: the float NDC corners, the viewport transform, interpolation,
+  // the conversion and one quantisation step of the depth format), so that a culler
+  // told "drawn, no farther than far_key" can rely on it.
+  const double margin = projection.quantisation_scale * quantisationStep(camera.depth.format) +
+                        projection.render_error_ulps * kUnitRoundoff * (1.0 + std::max(-klo, khi));
+  float lo = float(klo - margin);
+  if (double(lo) > klo - margin) lo = std::nextafter(lo, -HUGE_VALF);
+  float hi = float(khi + margin);
+  if (double(hi) < khi + margin) hi = std::nextafter(hi, HUGE_VALF);
+  o.near_key = lo;
+  o.far_key = std::min(hi, clear_key);
+  o.faces = faces;
+  return o;
+}
 
 Selector::Selector(const Octree& octree, const SelectorSettings& settings)
     : octree_(octree), settings_(settings) {
@@ -425,40 +469,9 @@ bool Selector::depthPlane(const FaceOutline& o, float clear_key, Face& face) {
 void Selector::finishOccluders(Frame& frame) {
   std::vector<Face>& faces = frame.faces;
   auto emit = [&](const double window[4][2], const double* plane, std::uint32_t count) {
-    Occluder o;
-    double xlo = HUGE_VAL, xhi = -HUGE_VAL, ylo = HUGE_VAL, yhi = -HUGE_VAL;
-    double klo = HUGE_VAL, khi = -HUGE_VAL;
-    for (int i = 0; i < 4; ++i) {
-      const double k = plane[0] + plane[1] * window[i][0] + plane[2] * window[i][1];
-      frame.toNdc(window[i], k, o.ndc[i]);
-      xlo = std::min(xlo, window[i][0]), xhi = std::max(xhi, window[i][0]);
-      ylo = std::min(ylo, window[i][1]), yhi = std::max(yhi, window[i][1]);
-      klo = std::min(klo, k), khi = std::max(khi, k);
+    if (auto o = makeOccluder(window, plane, count, frame.camera, frame.settings)) {
+      occluders_.push_back(*o);
     }
-    // One pixel of slack around the outline for the rasteriser's snapping.
-    const auto clampX = [&](double v) {
-      return std::int32_t(std::clamp(v, 0.0, double(frame.camera.width)));
-    };
-    const auto clampY = [&](double v) {
-      return std::int32_t(std::clamp(v, 0.0, double(frame.camera.height)));
-    };
-    o.rect = {clampX(std::floor(xlo) - 1), clampY(std::floor(ylo) - 1), clampX(std::ceil(xhi) + 1),
-              clampY(std::ceil(yhi) + 1)};
-    if (o.rect.empty()) return;
-    // The keys GL stores for the quad: its corner keys, moved by the rounding of drawing
-    // it (projection.hpp: the float NDC corners, the viewport transform, interpolation,
-    // the conversion and one quantisation step of the depth format), so that a culler
-    // told "drawn, no farther than far_key" can rely on it.
-    const double margin = quantisationStep(frame.camera.depth.format) +
-                          kRenderErrorUlps * kUnitRoundoff * (1.0 + std::max(-klo, khi));
-    float lo = float(klo - margin);
-    if (double(lo) > klo - margin) lo = std::nextafter(lo, -HUGE_VALF);
-    float hi = float(khi + margin);
-    if (double(hi) < khi + margin) hi = std::nextafter(hi, HUGE_VALF);
-    o.near_key = lo;
-    o.far_key = std::min(hi, frame.clear_key);
-    o.faces = count;
-    occluders_.push_back(o);
   };
   if (!settings_.merge) {
     for (const Face& f : faces) emit(f.window, f.plane_key, 1);

@@ -71,15 +71,15 @@ struct DepthSourceTraits {
 
 // What a source did, accumulated since construction (the culler takes differences).
 struct ReadCounters {
-  std::uint64_t reads = 0;    // rectangles read or counted (one per request)
-  std::uint64_t pixels = 0;   // pixels transferred or scanned
-  std::uint64_t bytes = 0;    // bytes that crossed from the renderer to the caller
-  std::uint64_t queries = 0;  // hardware occlusion queries issued
-  std::uint64_t batches = 0;  // submit() calls that asked for anything
-  std::uint64_t flushes = 0;  // times the source had to wait for the renderer
+  std::uint64_t reads = 0;          // rectangles read or counted (one per request)
+  std::uint64_t pixels = 0;         // pixels transferred or scanned
+  std::uint64_t bytes = 0;          // bytes that crossed from the renderer to the caller
+  std::uint64_t queries = 0;        // hardware occlusion queries issued
+  std::uint64_t batches = 0;        // submit() calls that asked for anything
+  std::uint64_t flushes = 0;        // times the source had to wait for the renderer
   std::uint64_t state_queries = 0;  // queries of the renderer's state (a GL source's
                                     // glGet* and glGetError, to keep the application's)
-  double seconds = 0;         // wall time spent inside the source
+  double seconds = 0;               // wall time spent inside the source
 };
 
 class DepthSource {

@@ -41,6 +41,7 @@
 #include <string>
 #include <vector>
 
+#include "logrid/coverage.hpp"
 #include "logrid/depth_source.hpp"
 #include "logrid/grid_settings.hpp"
 #include "logrid/stats.hpp"
@@ -126,6 +127,13 @@ class OcclusionGrid {
 
   // Something was drawn over `rect`: its tiles become outdated. Reads nothing.
   void markOutdated(const PixelRect& rect);
+  // A convex quad was drawn (coverage.hpp): every tile it covers entirely by `rule`
+  // gets quad.far_key as its far key (where that is nearer than the record's), which
+  // makes it full for occlusion-state tests and bounds it for depth tests, without a
+  // read. The tiles stay (or become) outdated: the bound is no exact record, and a test
+  // it cannot decide reads the tile as before. Tiles the quad covers partly are left
+  // to markOutdated(). Returns the tiles recorded.
+  std::uint32_t recordCovered(const DrawnQuad& quad, const CoverageRule& rule);
   // Every outdated tile, refreshed with one batch of whole-tile reads (submit and
   // collect). Used after drawing a known-visible set first (temporal coherence).
   void refreshOutdated(DepthSource& source, GridTestCounts& counts);

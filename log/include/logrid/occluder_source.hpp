@@ -6,7 +6,9 @@
 //     nothing is drawn and nothing read back;
 //   * OccluderUse::Drawn (ddo+log): the occluders are drawn into the application's depth
 //     buffer first (depth only), announced to the grid like anything else drawn out of
-//     order, and the grid reads them with the scene.
+//     order, and the grid reads them with the scene. The tiles an occluder quad covers
+//     entirely (drawnQuads(), coverage.hpp) are recorded full with its farthest key
+//     without a read; the tiles it covers partly are outdated like after any draw.
 // Conservative only if every occluder is valid for the viewpoint: wherever it stores a
 // depth, geometry of the scene at or in front of that depth covers the pixel (the DDO
 // selector's guarantee, ddo/selector.hpp).
@@ -16,6 +18,7 @@
 #include <vector>
 
 #include "logrid/camera.hpp"
+#include "logrid/coverage.hpp"
 #include "logrid/projection.hpp"
 #include "logrid/types.hpp"
 
@@ -36,6 +39,15 @@ class OccluderSource {
   // After beginFrame(): does every pixel of `rect` (non-empty, inside the viewport) hold
   // an occluder whose depth key is below `threshold`? Decided on the CPU, without a read.
   virtual bool occludes(const PixelRect& rect, float threshold) const = 0;
+
+  // After beginFrame() with `draw`: the convex quads among what it drew whose pixels the
+  // CPU knows (their outlines and key ranges), for the culler to record the tiles they
+  // cover entirely (OcclusionGrid::recordCovered). Each must also lie inside an area
+  // appended to `drawn`. None by default.
+  virtual const std::vector<DrawnQuad>& drawnQuads() const {
+    static const std::vector<DrawnQuad> none;
+    return none;
+  }
 };
 
 }  // namespace logrid

@@ -56,7 +56,7 @@ struct QueryCounters {
   std::uint64_t flushes = 0;  // polls and results that made the renderer start or finish
                               // work drawn since the last one (each splits llvmpipe's frame)
   std::uint64_t state_queries = 0;  // queries of the renderer's state (ReadCounters')
-  double seconds = 0;         // wall time inside the source
+  double seconds = 0;               // wall time inside the source
 };
 
 class OcclusionQueries {

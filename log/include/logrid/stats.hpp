@@ -31,12 +31,12 @@ struct FrameStats {
   std::uint64_t tiles_read = 0;         // tiles whose pixels a test or refresh read
 
   // Depth source (differences of its counters over the frame).
-  std::uint64_t reads = 0;        // pixel reads issued
-  std::uint64_t pixels_read = 0;  // pixels read from the depth buffer
-  std::uint64_t bytes_read = 0;   // bytes that crossed from the renderer
-  std::uint64_t batches = 0;      // batches of requests submitted to the source
-  std::uint64_t queries = 0;      // hardware occlusion queries issued (by a source or a schedule)
-  std::uint64_t flushes = 0;      // times a read or query made the renderer start or finish work
+  std::uint64_t reads = 0;          // pixel reads issued
+  std::uint64_t pixels_read = 0;    // pixels read from the depth buffer
+  std::uint64_t bytes_read = 0;     // bytes that crossed from the renderer
+  std::uint64_t batches = 0;        // batches of requests submitted to the source
+  std::uint64_t queries = 0;        // hardware occlusion queries issued (by a source or a schedule)
+  std::uint64_t flushes = 0;        // times a read or query made the renderer start or finish work
   std::uint64_t state_queries = 0;  // renderer-state queries of the sources (a GL source's
                                     // glGet* and glGetError, keeping the application's state)
 
@@ -54,7 +54,10 @@ struct FrameStats {
   std::uint64_t objects_drawn = 0;    // draw callbacks made
   std::uint64_t coherent_leaves = 0;  // nodes with objects drawn first from last frame's set
   std::uint64_t draw_batches = 0;     // non-empty batches handed out (Culler::nextBatch)
-  std::uint64_t occluders = 0;        // selected by the occluder pre-pass (ddo, ddo+log)
+  std::uint64_t occluders = 0;        // selected by the occluder pre-pass (ddo: faces in
+                                      // its map; ddo+log: quads drawn)
+  std::uint64_t occluder_tiles = 0;   // ddo+log: grid tiles recorded full from the drawn
+                                      // occluders' known coverage, without a read
   double seconds = 0;                 // wall time of the whole cullFrame(), draws included
 
   double tilesPerBox() const {

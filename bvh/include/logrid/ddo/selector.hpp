@@ -42,6 +42,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "logrid/camera.hpp"
@@ -60,12 +61,24 @@ struct SelectorSettings {
 // A selected occluder: a convex quad in normalized device coordinates (w = 1), its depth
 // already pushed back, ready to draw with the depth test and depth writes on.
 struct Occluder {
-  double ndc[4][3] = {};    // x, y, z of the corners, in order around the quad
-  PixelRect rect;           // every pixel it may cover (window coordinates)
-  float near_key = 0;       // smallest and largest depth key GL may store for it (its
-  float far_key = 0;        // corners' keys with the rounding of drawing them)
-  std::uint32_t faces = 1;  // octree faces it stands for
+  double ndc[4][3] = {};     // x, y, z of the corners, in order around the quad
+  double window[4][2] = {};  // the same corners in window coordinates (exact, before the
+                             // float rounding of ndc): its outline for coverage.hpp
+  PixelRect rect;            // every pixel it may cover (window coordinates)
+  float near_key = 0;        // smallest and largest depth key GL may store for it (its
+  float far_key = 0;         // corners' keys with the rounding of drawing them: the
+                             // projection settings' quantisation and render error)
+  std::uint32_t faces = 1;   // octree faces it stands for
 };
+
+// The occluder GL draws for a convex outline in window coordinates (pixels, lower-left
+// origin) whose depth keys are key = plane[0] + plane[1] x + plane[2] y, standing for
+// `faces` octree faces: its NDC corners, the pixels it may cover and the keys GL may
+// store for it, with the rounding of drawing it (the projection's quantisation step and
+// render error, projection.hpp). Nothing when it covers no pixel of the viewport.
+std::optional<Occluder> makeOccluder(const double window[4][2], const double plane[3],
+                                     std::uint32_t faces, const Camera& camera,
+                                     const ProjectionSettings& projection = {});
 
 struct SelectionStats {
   std::uint64_t nodes_visited = 0;
