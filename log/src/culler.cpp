@@ -13,6 +13,7 @@
 #include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
 #include "logrid/grid.hpp"
+#include "auto_policy.hpp"
 #include "methods/method_def.hpp"
 #include "query_frame.hpp"
 #include "query_prefilter.hpp"
@@ -58,15 +59,34 @@ std::string validateCullerDesc(const CullerDesc& desc) {
     const std::string problem = def.validate(desc, info);
     if (!problem.empty()) return "culler: method " + method + ": " + problem;
   }
+  const std::string costs = validateCullerCosts(desc.costs);
+  if (!costs.empty()) return "culler: " + costs;
   return {};
 }
 
-Culler::Culler(const CullerDesc& desc) : desc_(desc) {
+Culler::Culler(const CullerDesc& desc) : desc_(desc), estimate_(desc.costs) {
   const std::string problem = validateCullerDesc(desc);
   if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
   method_ = &detail::methodDef(desc_.method);
+  if (desc_.method == Method::Auto) {
+    // auto runs log-state or log-zfar, one grid tester each (exact: no approximation).
+    auto_ = std::make_unique<detail::AutoPolicy>();
+    method_ = &detail::methodDef(auto_->current().method);
+    const Method other =
+        auto_->current().method == Method::LogState ? Method::LogZfar : Method::LogState;
+    other_tester_ =
+        detail::makeGridTester(desc_, *detail::methodDef(other).info.grid, detail::GridRefresh::Lazy);
+  }
   tester_ = method_->make_tester(desc_, method_->info);
   if (method_->make_schedule) schedule_ = method_->make_schedule(desc_, method_->info);
+}
+
+void Culler::chooseSetting(const Hierarchy& hierarchy) {
+  setting_ = auto_->beginFrame(hierarchy);
+  if (setting_.method != method_->info.method) {
+    method_ = &detail::methodDef(setting_.method);
+    std::swap(tester_, other_tester_);
+  }
 }
 
 Culler::~Culler() = default;
@@ -162,7 +182,8 @@ class SourceAccess {
 }  // namespace
 
 void Culler::prepare(const Camera& camera, const CullSources& sources) {
-  const MethodInfo& info = method_->info;
+  // The method as the application named it (auto's needs are those of what it runs).
+  const MethodInfo& info = methodInfo(desc_.method);
   require(!info.needs.queries || sources.queries, info,
           "tests boxes with hardware occlusion queries",
           "an OcclusionQueries (e.g. zread::BoxQuerySource)");
@@ -185,6 +206,7 @@ void Culler::prepare(const Camera& camera, const CullSources& sources) {
   // read nothing worth batching.
   const bool counting_grid = desc_.approximation.visible_pixels > 0 && info.grid;
   lookahead_ = info.takes.lookahead && !counting_grid ? desc_.lookahead : 1;
+  if (auto_) lookahead_ = setting_.lookahead;
 }
 
 FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy, DepthSource& depth,
@@ -210,8 +232,9 @@ void Culler::beginFrame(const Camera& camera, const Hierarchy& hierarchy,
                 "Culler::beginFrame: the last frame was not ended; call nextBatch() until it "
                 "returns an empty batch, then endFrame()");
   }
-  const MethodInfo& info = method_->info;
   start_ = std::chrono::steady_clock::now();
+  if (auto_) chooseSetting(hierarchy);
+  const MethodInfo& info = method_->info;
   prepare(camera, sources);
   in_frame_ = true;
   const AbandonOnThrow guard([this] { abandonFrame(); });
@@ -238,7 +261,12 @@ void Culler::beginFrame(const Camera& camera, const Hierarchy& hierarchy,
   visible_drawn_.clear();
   drawn_first_.clear();
   unordered_.clear();
-  coherence_ = desc_.temporal_coherence && info.takes.temporal_coherence;
+  coherence_ = auto_ ? setting_.temporal_coherence
+                    : desc_.temporal_coherence && info.takes.temporal_coherence;
+  // auto keeps the visible nodes with objects every frame: the next may choose coherence.
+  record_visible_ = coherence_ || auto_;
+  if (!auto_) setting_ = {desc_.method, lookahead_, coherence_, false};
+  stats_.setting = setting_;
 
   for (const DrawnArea& area : drawn_before) noteDrawnWith(area, false);
   if (info.occluders != OccluderUse::None) {
@@ -319,7 +347,7 @@ FrameStats Culler::endFrame() {
     if (queries) queries->endQueryFrame();
   }
   // Next frame's coherent set: the nodes with objects this frame found visible.
-  if (coherence_) {
+  if (record_visible_) {
     coherent_.swap(visible_drawn_);
     coherent_hierarchy_ = hierarchy_;
     coherent_revision_ = hierarchy_->revision();
@@ -348,6 +376,8 @@ FrameStats Culler::endFrame() {
     stats_.read_seconds += q.seconds - queries_before_.seconds;
   }
   stats_.seconds = secondsSince(start_);
+  estimate_.update(stats_);
+  if (auto_) auto_->endFrame(stats_, estimate_.costs());
   abandonFrame();  // the frame's state is let go of
   return stats_;
 }
@@ -446,7 +476,14 @@ bool Culler::traverse() {
       test_list_.pop_back();
       ++stats_.nodes_visited;
       Visibility v = Visibility::Visible;
-      if (!forced(entry, v)) {
+      bool must_test = !forced(entry, v);
+      if (must_test && auto_ && !auto_->worthTesting(entry.node, estimate_.costs())) {
+        // Drawing it (or opening it) is expected to cost less than testing it: visible,
+        // untested (NOHC §4.1's reasonability test; always conservative).
+        ++stats_.boxes_untested;
+        must_test = false;
+      }
+      if (must_test) {
         if (lookahead_ > 1 && desc_.detect_colliding && !pending_.empty() &&
             collidesWithPending(entry.projection.rect)) {
           // §3.5: wait for the nearer boxes' answers (and draws) before asking about this
@@ -594,7 +631,7 @@ void Culler::finish(const Entry& entry, Visibility v) {
   if (observer_) observer_->onTested(entry.node, entry.projection, v);
   if (v != Visibility::Visible) return;
   if (hierarchy.objectCount(entry.node) > 0) {
-    if (desc_.temporal_coherence) visible_drawn_.push_back(entry.node);
+    if (record_visible_) visible_drawn_.push_back(entry.node);
     if (method_->info.traversal == Traversal::TwoList) {
       Entry drawn = entry;
       drawn.order = entry.projection.far_key + entry.projection.margin;
@@ -642,7 +679,11 @@ void Culler::drawEntry(const Entry& entry) {
     return;  // drawn before the traversal (temporal coherence)
   }
   const std::uint32_t n = hierarchy_->objectCount(entry.node);
-  for (std::uint32_t i = 0; i < n; ++i) batch_.push_back(hierarchy_->object(entry.node, i));
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const ObjectId id = hierarchy_->object(entry.node, i);
+    batch_.push_back(id);
+    stats_.triangles_drawn += hierarchy_->objectTriangles(id);
+  }
   stats_.objects_drawn += n;
   ++stats_.leaves_drawn;
   noteDrawnWith({entry.projection.rect, entry.projection.far_key + entry.projection.margin}, true);
@@ -660,7 +701,11 @@ void Culler::drawCoherent() {
     const BoxProjection p = projector_->project(hierarchy.bounds(node));
     if (p.cls == ProjectionClass::Outside) continue;
     const std::uint32_t n = hierarchy.objectCount(node);
-    for (std::uint32_t i = 0; i < n; ++i) batch_.push_back(hierarchy.object(node, i));
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const ObjectId id = hierarchy.object(node, i);
+      batch_.push_back(id);
+      stats_.triangles_drawn += hierarchy.objectTriangles(id);
+    }
     stats_.objects_drawn += n;
     ++stats_.leaves_drawn;
     ++stats_.coherent_leaves;

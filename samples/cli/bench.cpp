@@ -17,6 +17,7 @@
 #include "cli/experiment.hpp"
 #include "cli/option_checks.hpp"
 #include "cli/plot.hpp"
+#include "cli/config_option.hpp"
 #include "cli/readers.hpp"
 #include "cli/report.hpp"
 #include "cli/tradeoff.hpp"
@@ -531,6 +532,7 @@ void addBenchCommand(CLI::App& app) {
           "with --traversal: the K values to sweep, comma-separated; each " + lookaheadRange())
       ->check(lookaheadListCheck());
   addMotionBenchOptions(*bench, o->motion);
+  addConfigOption(*bench, o->walk, [o](const std::string& method) { o->methods += "," + method; });
   bench->final_callback([o] { throw CLI::RuntimeError(runBench(*o)); });
 }
 

@@ -48,6 +48,7 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
                 "this CPU does not run the " + o.cpu_isa + " kernel; use --cpu-isa auto or scalar");
   }
   c.culler.tile_size = o.tile;
+  if (!o.costs.empty()) c.culler.costs = loadCullerCosts(o.costs, o.reader);
   c.culler.approximation = o.approximation;
   c.culler.lookahead = c.method.lookahead ? *c.method.lookahead : parseLookahead(o.lookahead);
   c.culler.temporal_coherence = c.method.coherence || o.coherence;

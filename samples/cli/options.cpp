@@ -71,6 +71,9 @@ void addWalkthroughOptions(CLI::App& app, WalkOptions& o) {
 void addViewOptions(CLI::App& app, WalkOptions& o) {
   addNumber(app, "--tile", o.tile, closed(1u, kMaxViewportSide), "tile size in pixels");
   app.add_option("--reader", o.reader, "depth source: " + readerNames());
+  app.add_option("--costs", o.costs,
+                 "the cost model auto starts from: a file of `logrid calibrate --costs`, its "
+                 "costs for --reader's source (default: built-in llvmpipe figures)");
   addLookaheadOption(app, o.lookahead,
                      "boxes whose undecided tiles are read in one batch (1: the paper's order; "
                      "'all': every box the traversal reaches)");

@@ -23,6 +23,7 @@ struct WalkOptions {
   std::string size = "640x480";
   std::uint32_t tile = 32;
   std::string reader = "readpixels";
+  std::string costs;  // a costs file of `logrid calibrate --costs` (CullerDesc::costs)
   std::string cpu_resolution = "full";   // --reader cpu: full, half or quarter
   std::string cpu_buffer = "per-pixel";  // --reader cpu: per-pixel or masked
   std::string occluders = "mesh";        // --reader cpu: mesh or model

@@ -131,7 +131,13 @@ nlohmann::json frameJson(const FrameRecord& r) {
                       {"query_polls", s.query_polls},
                       {"query_boxes", s.query_boxes},
                       {"multi_queries", s.multi_queries},
-                      {"records_decided", s.records_decided}};
+                      {"records_decided", s.records_decided},
+                      {"boxes_untested", s.boxes_untested},
+                      {"setting",
+                       {{"method", toString(s.setting.method)},
+                        {"lookahead", s.setting.lookahead},
+                        {"coherence", s.setting.temporal_coherence},
+                        {"probe", s.setting.probe}}}};
   if (r.occluders >= 0) {
     j["occluders"] = r.occluders;
     j["occluder_tiles"] = s.occluder_tiles;

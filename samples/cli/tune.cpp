@@ -1,5 +1,6 @@
 // logrid tune: sweeps the tile size on a scene and path (procedural or a user's file),
-// every size on the same frames (interleaved), and recommends the fastest.
+// every size on the same frames (interleaved), and recommends the fastest; with --auto,
+// the whole configuration space in stages (tune_auto.hpp).
 #include <charconv>
 #include <cstdio>
 #include <fstream>
@@ -15,6 +16,7 @@
 #include "cli/plot.hpp"
 #include "cli/report.hpp"
 #include "cli/summary.hpp"
+#include "cli/tune_auto.hpp"
 #include "cli/values.hpp"
 #include "logrid/camera.hpp"
 #include "logrid/error.hpp"
@@ -28,6 +30,8 @@ struct TuneOptions {
   std::size_t repeat = 3;
   std::string json;
   std::string plot;  // PNG path stem
+  bool automatic = false;   // --auto: tune_auto.hpp
+  std::string write_config;  // --auto: the configuration file written
 };
 
 // The values --tiles takes.
@@ -48,6 +52,7 @@ std::vector<std::uint32_t> parseTiles(const std::string& text) {
 }
 
 int runTune(const TuneOptions& o) {
+  if (o.automatic) return runTuneAuto({o.walk, o.repeat, o.json, o.write_config});
   const std::vector<std::uint32_t> tiles = parseTiles(o.tiles);
   gl::Context context(contextDesc(o.walk));
   LoadedScene scene = loadScene(o.walk);
@@ -116,7 +121,8 @@ int runTune(const TuneOptions& o) {
 void addTuneCommand(CLI::App& app) {
   auto o = std::make_shared<TuneOptions>();
   o->walk.frames = 30;
-  CLI::App* tune = app.add_subcommand("tune", "sweep tile sizes on a scene and recommend one");
+  CLI::App* tune = app.add_subcommand(
+      "tune", "sweep tile sizes on a scene and recommend one, or with --auto the whole setting");
   addSceneOptions(*tune, o->walk);
   std::string gridded;
   for (const MethodInfo& m : methodTable()) {
@@ -136,6 +142,15 @@ void addTuneCommand(CLI::App& app) {
   tune->add_flag("--verify", o->walk.verify, "check the first repetition against the oracle");
   tune->add_option("--json", o->json, "write the sweep as JSON");
   tune->add_option("--plot", o->plot, "write STEM.png (and .dat/.gp) with gnuplot");
+  CLI::Option* automatic = tune->add_flag(
+      "--auto", o->automatic,
+      "sweep method, lookahead, coherence, tile size, depth reader and box granularity in "
+      "stages on the same frames, and say which parts the scene needs");
+  automatic->excludes("--method")->excludes("--tiles")->excludes("--plot");
+  tune->add_option("--write-config", o->write_config,
+                   "with --auto: write the fastest setting as a configuration file (walk, bench "
+                   "and view take it with --config)")
+      ->needs(automatic);
   tune->final_callback([o] { throw CLI::RuntimeError(runTune(*o)); });
 }
 

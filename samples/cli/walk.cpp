@@ -5,6 +5,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/config_option.hpp"
 #include "cli/loaded_scene.hpp"
 #include "cli/machine.hpp"
 #include "cli/progress.hpp"
@@ -102,6 +103,7 @@ void addWalkCommand(CLI::App& app) {
   walk->add_option("--json", options->json, "write a JSON summary with a per-frame array");
   walk->add_option("--images", options->images, "write PNG frames into this folder");
   walk->add_flag("--overlay", options->overlay, "with --images: tile grid and boxes pictures");
+  addConfigOption(*walk, *options);
   walk->final_callback([options] { throw CLI::RuntimeError(runWalk(*options)); });
 }
 

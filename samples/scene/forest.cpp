@@ -269,6 +269,9 @@ Scene makeForest(const GeneratorOptions& options) {
         ellipsoid(w, x, y + 0.62 * height, z, crown, 0.36 * height, jitter(rng, 70, 120, 46, 18));
       }
       w.endObject();
+      // A tree split into parts keeps one model, with its last part (a model may hold
+      // solids of several objects, scene.hpp); the other parts have none.
+      scene.occluder_models.resize(scene.objects.size() - 1);
       scene.occluder_models.push_back(treeModel(scene, first, conifer, kConiferTiers));
     }
   }

@@ -2,6 +2,7 @@
 #include <memory>
 
 #include "cli/commands.hpp"
+#include "cli/config_option.hpp"
 #include "cli/frame_runner.hpp"
 #include "cli/options.hpp"
 #include "cli/readers.hpp"
@@ -29,6 +30,7 @@ void addViewCommand(CLI::App& app) {
                    "'FRAME mouse-move X Y', ... (samples/viewer/script.hpp); ends after its last "
                    "event");
   view->add_option("--out", o->out_dir, "folder for screenshots and recorded paths (default .)");
+  addConfigOption(*view, o->walk);
   view->final_callback([o] { throw CLI::RuntimeError(viewer::runViewer(*o)); });
 }
 

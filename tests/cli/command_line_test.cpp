@@ -14,6 +14,7 @@
 #include "cli/commands.hpp"
 #include "cli/frame_runner.hpp"
 #include "gl_test_context.hpp"
+#include "logrid/error.hpp"
 
 namespace logrid::samples {
 namespace {
@@ -102,6 +103,73 @@ TEST(CommandLine, ABadTileListIsAUsageErrorNamingTheItem) {
   EXPECT_NE(err.find("--tiles: in '8,x', 'x' is not a number in range [1, 32768]"),
             std::string::npos)
       << err;
+}
+
+// tune --auto sweeps in stages, says what the scene needed, and writes a configuration
+// file that walk then runs as written (method, lookahead, coherence, tile, reader).
+TEST(CommandLine, TuneAutoWritesAConfigurationThatWalkRuns) {
+  LOGRID_REQUIRE_GL();
+  const fs::path config = scratch("auto_config.json");
+  const fs::path tune = scratch("auto_tune.json");
+  const fs::path walk = scratch("auto_walk.json");
+  for (const fs::path& p : {config, tune, walk}) fs::remove(p);
+  ASSERT_EQ(runLogrid({"tune", "--auto", "--scene", "forest", "--scale", "0.02", "--size", "64x48",
+                       "--frames", "2", "--repeat", "1", "--json", tune.string(),
+                       "--write-config", config.string()}),
+            0);
+  const nlohmann::json report = readJson(tune);
+  ASSERT_GE(report["stages"].size(), 2u);  // the methods, then at least the granularity
+  EXPECT_GE(report["stages"][0]["candidates"].size(), 10u);
+  ASSERT_EQ(report["needed"].size(), 3u);
+  const nlohmann::json file = readJson(config);
+  EXPECT_EQ(file["format"], "logrid-config");
+  EXPECT_TRUE(file["scene"].contains("leaf"));
+  const nlohmann::json& c = file["culler"];
+  ASSERT_EQ(runLogrid({"walk", "--scene", "forest", "--scale", "0.02", "--size", "64x48",
+                       "--frames", "2", "--config", config.string(), "--json", walk.string()}),
+            0);
+  const nlohmann::json ran = readJson(walk);
+  EXPECT_EQ(ran["tile"], c["tile_size"]);
+  EXPECT_EQ(ran["reader"], file["source"]);
+  EXPECT_EQ(ran["method"].get<std::string>().substr(0, c["method"].get<std::string>().size()),
+            c["method"]);
+  if (ran["method"] != "vfc" && ran["method"] != "auto") {
+    EXPECT_EQ(ran["lookahead"], c["lookahead"]);
+    EXPECT_EQ(ran["temporal_coherence"], c["temporal_coherence"]);
+  }
+}
+
+TEST(CommandLine, AConfigurationCannotBeGivenBesideTheOptionsItSets) {
+  const fs::path config = scratch("beside.json");
+  std::ofstream(config) << "{\"format\": \"logrid-config\", \"version\": 1, \"culler\": {}}";
+  for (const char* option : {"--method", "--tile", "--reader", "--lookahead"}) {
+    const std::string value = std::string(option) == "--method"   ? "vfc"
+                              : std::string(option) == "--reader" ? "pbo"
+                                                                  : "8";
+    EXPECT_EQ(runLogrid({"walk", "--scene", "forest", option, value, "--config", config.string()}),
+              -1)
+        << option;
+  }
+  EXPECT_EQ(runLogrid({"walk", "--scene", "forest", "--coherence", "--config", config.string()}),
+            -1);
+}
+
+TEST(CommandLine, ABadConfigurationIsRefusedNamingTheFileAndTheKey) {
+  const fs::path config = scratch("bad_config.json");
+  std::ofstream(config)
+      << "{\"format\": \"logrid-config\", \"version\": 1, \"culler\": {\"tile_size\": -4}}";
+  try {
+    runLogrid({"walk", "--scene", "forest", "--config", config.string()});
+    ADD_FAILURE() << "a bad configuration was run";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::BadInput);
+    const std::string what = e.what();
+    EXPECT_NE(what.find(config.string()), std::string::npos) << what;
+    EXPECT_NE(what.find("tile_size"), std::string::npos) << what;
+  }
+  std::ofstream(config) << "{\"format\": \"logrid-config\", \"version\": 1, \"culler\": {},"
+                           " \"scene\": {\"leaf\": -1}}";
+  EXPECT_THROW(runLogrid({"walk", "--scene", "forest", "--config", config.string()}), Error);
 }
 
 // Method names come from the method table; a setting suffix is taken only where the

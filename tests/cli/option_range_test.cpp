@@ -33,7 +33,10 @@ namespace logrid::samples {
 namespace {
 
 // Text options that hold no number: names, choices and paths.
-const std::set<std::string> kTextOptions = {"--scene",
+const std::set<std::string> kTextOptions = {"--costs",
+                                            "--config",
+                                            "--write-config",
+                                            "--scene",
                                             "--path",
                                             "--tree-parts",
                                             "--animate",

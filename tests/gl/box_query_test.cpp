@@ -2,7 +2,8 @@
 // shows samples wherever the geometry inside the box would, in every depth format and
 // convention, including the hardest case, geometry that is the box itself; the answers
 // do not depend on the GL state the application left, and that state is restored item by
-// item; the calibration of nohc's hardware parameters measures valid times.
+// item; the calibration of nohc's hardware parameters measures valid times and restores
+// the application's program unless the application deleted it.
 #include <epoxy/gl.h>
 #include <gtest/gtest.h>
 
@@ -16,6 +17,7 @@
 #include "logrid/projection.hpp"
 #include "logrid/zread/box_query_source.hpp"
 #include "logrid/zread/calibration.hpp"
+#include "logrid/zread/program.hpp"
 
 namespace logrid {
 namespace {
@@ -313,6 +315,38 @@ TEST(Calibration, MeasuresValidTimesAndKeepsThemPerRenderer) {
   desc.size = 2;
   EXPECT_THROW(zread::measureHardwareParameters(desc), Error);
   gl::checkGlErrors("Calibration");
+}
+
+// A program deleted while current stays current until another is used, and is then gone
+// (GL 4.5 §7.3): the calibration, which uses its own, must not rebind the deleted name
+// (GL_INVALID_VALUE). The soak met this as a MeshRenderer released after a run, then the
+// first nohc run of the process measuring the hardware parameters.
+TEST(Calibration, RestoresTheProgramOnlyIfItStillExists) {
+  LOGRID_REQUIRE_GL();
+  gl::checkGlErrors("before Calibration.RestoresTheProgramOnlyIfItStillExists");
+  zread::CalibrationDesc desc;
+  desc.size = 16;
+  desc.repeats = 1;
+  constexpr const char* kVertex = "#version 450 core\nvoid main() { gl_Position = vec4(0.0); }\n";
+  constexpr const char* kFragment = "#version 450 core\nvoid main() {}\n";
+  GLint current = 0;
+  GLuint deleted = 0;
+  {
+    zread::Program application("the application's", kVertex, kFragment);
+    application.use();
+    zread::measureHardwareParameters(desc);
+    glGetIntegerv(GL_CURRENT_PROGRAM, &current);
+    EXPECT_EQ(GLuint(current), application.handle()) << "a live program is restored";
+    deleted = application.handle();
+  }  // glDeleteProgram while current
+  glGetIntegerv(GL_CURRENT_PROGRAM, &current);
+  ASSERT_EQ(GLuint(current), deleted) << "the deleted program is still current (GL 4.5 §7.3)";
+  zread::measureHardwareParameters(desc);
+  EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR))
+      << "measureHardwareParameters rebound program " << deleted << ", deleted and gone";
+  glGetIntegerv(GL_CURRENT_PROGRAM, &current);
+  EXPECT_EQ(current, 0) << "a deleted program is restored as 0, as GlStateGuard does";
+  EXPECT_NO_THROW(gl::checkGlErrors("Calibration.RestoresTheProgramOnlyIfItStillExists"));
 }
 
 }  // namespace

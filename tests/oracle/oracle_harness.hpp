@@ -73,7 +73,7 @@ inline const char* toString(Offset o) {
 }
 
 struct SceneKey {
-  std::string name;  // forest or city
+  std::string name;  // forest, city, office or office-file
   double scale = kForestScale;
   Offset offset = Offset::None;
   double distance = 0;       // added to x, y and z (world units)
@@ -88,11 +88,13 @@ struct SceneKey {
   }
 };
 
-// The scene of a name at the tests' scale: forest, city or office-file.
+// The scene of a name at the tests' scale: forest, city, office or office-file.
 inline SceneKey sceneKey(const std::string& name, std::uint32_t movers = 0, bool ddo = false) {
   SceneKey k;
   k.name = name;
-  k.scale = name == "city" ? kCityScale : name == "office-file" ? kOfficeScale : kForestScale;
+  k.scale = name == "city"                                ? kCityScale
+            : name == "office" || name == "office-file" ? kOfficeScale
+                                                        : kForestScale;
   k.movers = movers;
   k.ddo = ddo;
   return k;
@@ -152,6 +154,7 @@ inline LoadedScene& loadScene(const SceneKey& key) {
   std::unique_ptr<LoadedScene>& slot = cache[key.id()];
   if (!slot) {
     samples::Scene scene = key.name == "city"          ? samples::makeCity({key.scale, 1})
+                           : key.name == "office"      ? samples::makeOffice({key.scale, 1})
                            : key.name == "office-file" ? officeFromFile(key.scale)
                                                        : samples::makeForest({key.scale, 1});
     offsetScene(scene, key.offset, key.distance);

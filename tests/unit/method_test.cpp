@@ -16,7 +16,7 @@ namespace {
 
 TEST(MethodTable, EveryMethodOnceInEnumOrderWithAUniqueName) {
   const std::vector<MethodInfo>& table = methodTable();
-  ASSERT_EQ(table.size(), std::size_t(Method::DdoLog) + 1);
+  ASSERT_EQ(table.size(), std::size_t(Method::Auto) + 1);
   std::set<std::string> names;
   for (std::size_t i = 0; i < table.size(); ++i) {
     const MethodInfo& m = table[i];

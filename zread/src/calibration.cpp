@@ -51,7 +51,11 @@ class SavedState {
   ~SavedState() {
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(draw_fb_));
     glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(read_fb_));
-    glUseProgram(GLuint(program_));
+    // A program the application deleted while current was freed when the measurement
+    // used its own (GL 4.5 §7.3): rebinding its name would be GL_INVALID_VALUE, so it is
+    // restored as 0, as GlStateGuard restores it. Deleting a bound framebuffer or vertex
+    // array unbinds it, so those saved names still exist.
+    glUseProgram(program_ != 0 && glIsProgram(GLuint(program_)) ? GLuint(program_) : 0);
     glBindVertexArray(GLuint(vao_));
     glViewport(viewport_[0], viewport_[1], viewport_[2], viewport_[3]);
     glDepthFunc(GLenum(depth_func_));

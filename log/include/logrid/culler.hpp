@@ -79,6 +79,7 @@
 #include <vector>
 
 #include "logrid/camera.hpp"
+#include "logrid/costs.hpp"
 #include "logrid/depth_source.hpp"
 #include "logrid/grid_settings.hpp"
 #include "logrid/hierarchy.hpp"
@@ -130,6 +131,11 @@ struct CullerDesc {
   // The hardware-query methods' settings (query_schedule.hpp); nohc needs measured
   // hardware parameters (zread::calibrateQueries).
   QueryScheduleDesc queries = {};
+
+  // The cost model's starting point (costs.hpp): measured on this machine for the depth
+  // source used (loadCullerCosts on a file of `logrid calibrate --costs`), or the
+  // defaults. Every culler refines it online (Culler::costEstimate); `auto` chooses with it.
+  CullerCosts costs = {};
 };
 
 // Returns an empty string if the descriptor is usable, else a message naming the field.
@@ -161,6 +167,7 @@ class OcclusionGrid;  // grid.hpp: the grid's internals, for overlays (Culler::g
 
 namespace detail {
 struct MethodDef;
+class AutoPolicy;
 class BoxTester;
 class Schedule;
 class GridPrefilter;
@@ -261,6 +268,9 @@ class Culler {
   // remember of each node.
   void forgetCoherence();
 
+  // The online cost estimate (costs.hpp), from CullerDesc::costs and every frame ended.
+  const CostEstimate& costEstimate() const { return estimate_; }
+
  private:
   struct Entry {
     float order;  // test-list: nearest key - margin; draw-list: farthest key + margin
@@ -303,9 +313,16 @@ class Culler {
   // Throws unless called during a frame.
   void requireFrame(const char* who) const;
 
+  // For `auto`: this frame's setting chosen, with the method (log-state or log-zfar)
+  // and tester it runs.
+  void chooseSetting(const Hierarchy& hierarchy);
+
   CullerDesc desc_;
-  const detail::MethodDef* method_;
+  const detail::MethodDef* method_;  // what the frame runs (auto: the method it chose)
   std::unique_ptr<detail::BoxTester> tester_;
+  std::unique_ptr<detail::AutoPolicy> auto_;            // `auto` only
+  std::unique_ptr<detail::BoxTester> other_tester_;     // auto: the other grid variant's
+  CostEstimate estimate_;
   std::unique_ptr<Projector> projector_;
   CullObserver* observer_ = nullptr;
 
@@ -318,6 +335,8 @@ class Culler {
   ReadCounters depth_before_;
   QueryCounters queries_before_;
   bool coherence_ = false;
+  bool record_visible_ = false;  // the visible nodes with objects are kept for the next frame
+  FrameSetting setting_;         // this frame's
   FrameStats stats_;
   GridTestCounts grid_counts_;
   std::vector<ObjectId> batch_;  // handed out by the last nextBatch()

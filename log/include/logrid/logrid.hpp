@@ -56,5 +56,9 @@
 // the callback form (cullFrame).
 #include "logrid/culler.hpp"
 #include "logrid/method.hpp"
+// Settings from files: a configuration `logrid tune --auto` measured, the cost model
+// `logrid calibrate` measured (what `auto` chooses with).
+#include "logrid/config.hpp"
+#include "logrid/costs.hpp"
 // What a frame did.
 #include "logrid/stats.hpp"

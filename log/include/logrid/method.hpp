@@ -33,6 +33,8 @@ enum class Method : std::uint8_t {
   LogHwq,    // the lazy grid's records decide what they can; the rest is queried
   Ddo,       // boxes tested against the CPU map of directional discretized occluders
   DdoLog,    // those occluders drawn into the depth buffer first, then log-state
+  Auto,      // chooses log-state or log-zfar, K and coherence per frame, and per node
+             // whether a test pays, from measured costs (costs.hpp, docs/AUTO.md)
 };
 
 // How a method walks the hierarchy (culler.hpp).

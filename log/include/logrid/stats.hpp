@@ -4,7 +4,17 @@
 
 #include <cstdint>
 
+#include "logrid/method.hpp"
+
 namespace logrid {
+
+// The setting a frame was culled with (FrameStats::setting). For `auto`, its choice.
+struct FrameSetting {
+  Method method = Method::LogState;  // auto: the grid method it ran (log-state, log-zfar)
+  std::uint32_t lookahead = 1;       // K the traversal batched with
+  bool temporal_coherence = false;
+  bool probe = false;  // auto: a frame that tried a neighbouring setting (docs/AUTO.md)
+};
 
 // What the grid's tests examined and read (added to, never reset, by the grid's test(),
 // decide() and plan()); FrameStats::tiles_tested and tiles_read are a frame's.
@@ -27,6 +37,8 @@ struct FrameStats {
                                         // not vouch for, done by depth instead
   std::uint64_t colliding_waits = 0;    // boxes kept out of a batch because their rectangle
                                         // overlaps one in it (CullerDesc::detect_colliding)
+  std::uint64_t boxes_untested = 0;     // auto: drawn (or opened) without a test, which
+                                        // was not expected to pay (docs/AUTO.md)
   std::uint64_t tiles_tested = 0;       // tiles (HZB: pyramid cells) examined by tests
   std::uint64_t tiles_read = 0;         // tiles whose pixels a test or refresh read
 
@@ -58,7 +70,12 @@ struct FrameStats {
                                       // its map; ddo+log: quads drawn)
   std::uint64_t occluder_tiles = 0;   // ddo+log: grid tiles recorded full from the drawn
                                       // occluders' known coverage, without a read
+  std::uint64_t triangles_drawn = 0;  // of the objects drawn (Hierarchy::objectTriangles;
+                                      // 0 where the hierarchy does not know them)
   double seconds = 0;                 // wall time of the whole cullFrame(), draws included
+
+  // The exact setting the frame ran with: the method's, or the one `auto` chose.
+  FrameSetting setting;
 
   double tilesPerBox() const {
     return boxes_tested ? double(tiles_tested) / double(boxes_tested) : 0.0;

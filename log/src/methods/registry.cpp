@@ -20,6 +20,7 @@ const MethodDef& nohcMethod();
 const MethodDef& logHwqMethod();
 const MethodDef& ddoMethod();
 const MethodDef& ddoLogMethod();
+const MethodDef& autoMethod();
 
 namespace {
 
@@ -28,7 +29,7 @@ const std::vector<const MethodDef*>& definitions() {
     std::vector<const MethodDef*> t = {
         &logStateMethod(), &logZfarMethod(), &bogMethod(),    &hzbMethod(),  &pqMethod(),
         &vfcMethod(),      &hwqMethod(),     &chcMethod(),    &statMethod(), &nohcMethod(),
-        &logHwqMethod(),   &ddoMethod(),     &ddoLogMethod(),
+        &logHwqMethod(),   &ddoMethod(),     &ddoLogMethod(), &autoMethod(),
     };
     for (std::size_t i = 0; i < t.size(); ++i) {
       assert(std::size_t(t[i]->info.method) == i && "registry: a method out of enum order");

@@ -1,0 +1,178 @@
+#include "auto_policy.hpp"
+
+#include <algorithm>
+#include <iterator>
+
+namespace logrid::detail {
+namespace {
+
+// Objects whose hierarchy does not know their triangles count as this many (as nohc's).
+constexpr double kAssumedTriangles = 1000;
+
+// How fast the outlook follows the frames (weight of the newest frame).
+constexpr double kOutlookRate = 0.3;
+
+double modelledSeconds(const CullerCosts& c, const FrameStats& s) {
+  return double(s.flushes) * c.flush_s + double(s.pixels_read) * c.pixel_s +
+         double(s.boxes_tested + s.boxes_untested) * c.box_test_s +
+         double(s.triangles_drawn) * c.triangle_s + double(s.objects_drawn) * c.draw_s +
+         double(s.queries) * c.query_s;
+}
+
+std::size_t lookaheadIndex(std::uint32_t k) {
+  const auto& ks = AutoPolicy::kLookaheads;
+  const auto it = std::find(std::begin(ks), std::end(ks), k);
+  return it == std::end(ks) ? 0 : std::size_t(it - std::begin(ks));
+}
+
+}  // namespace
+
+double expectedTestSeconds(const CullerCosts& costs, const TestOutlook& o) {
+  return costs.box_test_s + o.flushes_per_test * costs.flush_s + o.pixels_per_test * costs.pixel_s;
+}
+
+double drawSeconds(const CullerCosts& costs, const NodeLoad& load) {
+  return load.triangles * costs.triangle_s + load.objects * costs.draw_s;
+}
+
+bool testPays(const CullerCosts& costs, const TestOutlook& outlook, const NodeLoad& load) {
+  const double p = std::max(kMinOccludedFraction, std::min(1.0, outlook.occluded_fraction));
+  return p * drawSeconds(costs, load) >= expectedTestSeconds(costs, outlook);
+}
+
+AutoPolicy::AutoPolicy() {
+  // Near the fastest exact settings of the benchmarks (docs/TRAVERSAL.md: the forest's
+  // log-zfar at K = 16 is within 1 % of its best); the probes move from there.
+  current_.method = Method::LogZfar;
+  current_.lookahead = 16;
+  current_.temporal_coherence = false;
+  frame_ = current_;
+  // Before any frame: a test is taken to flush once per batch of K boxes, read a tile
+  // and find a box hidden one time in four.
+  outlook_.flushes_per_test = 1.0 / current_.lookahead;
+  outlook_.pixels_per_test = 1024;
+  outlook_.occluded_fraction = 0.25;
+}
+
+FrameSetting AutoPolicy::neighbour(std::uint32_t which) const {
+  FrameSetting n = current_;
+  const std::size_t k = lookaheadIndex(current_.lookahead);
+  const std::size_t last = std::size(kLookaheads) - 1;
+  switch (which % 4) {
+    case 0: n.lookahead = kLookaheads[std::min(k + 1, last)]; break;
+    case 1: n.lookahead = kLookaheads[k > 0 ? k - 1 : 0]; break;
+    case 2: n.temporal_coherence = !n.temporal_coherence; break;
+    default:
+      n.method = current_.method == Method::LogState ? Method::LogZfar : Method::LogState;
+      break;
+  }
+  return n;
+}
+
+FrameSetting AutoPolicy::beginFrame(const Hierarchy& hierarchy) {
+  loadSubtrees(hierarchy);
+  frame_ = current_;
+  frame_.probe = false;
+  if (have_base_ && frame_index_ % kProbePeriod == kProbePeriod - 1) {
+    // The next neighbour that differs from the current setting (K at the ladder's end
+    // has one neighbour fewer).
+    for (std::uint32_t tries = 0; tries < 4; ++tries) {
+      const FrameSetting n = neighbour(next_neighbour_++);
+      if (n.lookahead != current_.lookahead || n.method != current_.method ||
+          n.temporal_coherence != current_.temporal_coherence) {
+        frame_ = n;
+        frame_.probe = true;
+        break;
+      }
+    }
+  }
+  ++frame_index_;
+  return frame_;
+}
+
+void AutoPolicy::endFrame(const FrameStats& stats, const CullerCosts& costs) {
+  if (stats.boxes_tested > 0) {
+    const double n = double(stats.boxes_tested);
+    const TestOutlook now{double(stats.flushes) / n, double(stats.pixels_read) / n,
+                          double(stats.boxes_occluded) / n};
+    const double w = outlook_seen_ ? kOutlookRate : 1.0;
+    outlook_.flushes_per_test += w * (now.flushes_per_test - outlook_.flushes_per_test);
+    outlook_.pixels_per_test += w * (now.pixels_per_test - outlook_.pixels_per_test);
+    outlook_.occluded_fraction += w * (now.occluded_fraction - outlook_.occluded_fraction);
+    outlook_seen_ = true;
+  }
+  if (stats.triangles_drawn > 0 && stats.seconds > 0) {
+    const double rest = stats.seconds - double(stats.flushes) * costs.flush_s -
+                        double(stats.pixels_read) * costs.pixel_s -
+                        double(stats.boxes_tested + stats.boxes_untested) * costs.box_test_s -
+                        double(stats.queries) * costs.query_s;
+    const double now = std::max(0.0, rest) / double(stats.triangles_drawn);
+    observed_triangle_s_ =
+        observed_triangle_s_ > 0 ? observed_triangle_s_ + kOutlookRate * (now - observed_triangle_s_)
+                                 : now;
+  }
+  const double seconds = modelledSeconds(costs, stats);
+  if (!frame_.probe) {
+    base_seconds_ = seconds;
+    have_base_ = true;
+    return;
+  }
+  if (seconds < (1.0 - kSwitchMargin) * base_seconds_) {
+    current_ = frame_;
+    current_.probe = false;
+    next_neighbour_ = 0;
+    base_seconds_ = seconds;
+  }
+}
+
+NodeLoad AutoPolicy::load(NodeId node) const {
+  const auto it = loads_.find(node);
+  return it == loads_.end() ? NodeLoad{} : it->second;
+}
+
+bool AutoPolicy::worthTesting(NodeId node, const CullerCosts& costs) const {
+  const auto it = loads_.find(node);
+  if (it == loads_.end()) return true;  // unknown: test, as every exact method would
+  CullerCosts c = costs;
+  c.triangle_s = std::max(c.triangle_s, observed_triangle_s_);
+  return testPays(c, outlook_, it->second);
+}
+
+void AutoPolicy::loadSubtrees(const Hierarchy& h) {
+  if (loads_hierarchy_ == &h && loads_revision_ == h.revision() && !loads_.empty()) return;
+  loads_.clear();
+  loads_hierarchy_ = &h;
+  loads_revision_ = h.revision();
+  if (h.root() == kNoNode) return;
+  // Post-order: a node's load is its objects' plus its children's.
+  struct Item {
+    NodeId node;
+    bool done;
+  };
+  std::vector<Item> stack{{h.root(), false}};
+  while (!stack.empty()) {
+    const Item it = stack.back();
+    stack.pop_back();
+    const std::uint32_t children = h.childCount(it.node);
+    if (!it.done) {
+      stack.push_back({it.node, true});
+      for (std::uint32_t i = 0; i < children; ++i) stack.push_back({h.child(it.node, i), false});
+      continue;
+    }
+    NodeLoad load;
+    const std::uint32_t objects = h.objectCount(it.node);
+    load.objects = objects;
+    for (std::uint32_t i = 0; i < objects; ++i) {
+      const std::uint32_t t = h.objectTriangles(h.object(it.node, i));
+      load.triangles += t ? double(t) : kAssumedTriangles;
+    }
+    for (std::uint32_t i = 0; i < children; ++i) {
+      const NodeLoad& c = loads_[h.child(it.node, i)];
+      load.objects += c.objects;
+      load.triangles += c.triangles;
+    }
+    loads_[it.node] = load;
+  }
+}
+
+}  // namespace logrid::detail

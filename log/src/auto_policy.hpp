@@ -1,0 +1,97 @@
+// The choices of the `auto` method (docs/AUTO.md), apart from the culler's traversal so
+// that they can be tested against scripted costs. Internal to logrid::core.
+//
+// Per node: the reasonability test of near-optimal hierarchical culling (Guthe, Balázs,
+// Klein 2006, §4.1) applied to grid tests: a test pays only if the drawing it is expected
+// to save, P(occluded) x the seconds to draw the node's subtree, exceeds what the test is
+// expected to cost. A node whose test does not pay is treated as visible without a test
+// (drawn, or opened and its children considered): always conservative.
+//
+// Per frame: the exact setting (grid method, lookahead K, temporal coherence) is kept
+// while it models cheapest; every kProbePeriod-th frame tries one neighbouring setting
+// (K x4 or /4, coherence flipped, the other grid variant), and the neighbour is adopted
+// when its frame models at least kSwitchMargin cheaper than the frame before it (the
+// hysteresis that keeps settings from flickering).
+#pragma once
+
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "logrid/costs.hpp"
+#include "logrid/hierarchy.hpp"
+#include "logrid/method.hpp"
+#include "logrid/stats.hpp"
+
+namespace logrid::detail {
+
+// What the culler has seen its tests do over the recent frames.
+struct TestOutlook {
+  double flushes_per_test = 1;   // renderer waits per box tested
+  double pixels_per_test = 0;    // depth pixels read per box tested
+  double occluded_fraction = 0;  // share of the tests that answered occluded
+};
+
+// What drawing a node's subtree untested would draw.
+struct NodeLoad {
+  double triangles = 0;
+  double objects = 0;
+};
+
+// The least occlusion probability a test is granted, so that large subtrees stay tested
+// where nothing was hidden lately and testing comes back where it pays again.
+inline constexpr double kMinOccludedFraction = 0.02;
+
+double expectedTestSeconds(const CullerCosts& costs, const TestOutlook& outlook);
+double drawSeconds(const CullerCosts& costs, const NodeLoad& load);
+// The reasonability test: true when testing the node is expected to cost less than the
+// drawing it may save.
+bool testPays(const CullerCosts& costs, const TestOutlook& outlook, const NodeLoad& load);
+
+class AutoPolicy {
+ public:
+  static constexpr std::uint32_t kProbePeriod = 8;
+  static constexpr double kSwitchMargin = 0.10;
+  // The lookaheads auto chooses among.
+  static constexpr std::uint32_t kLookaheads[] = {1, 4, 16, 64, 256};
+
+  AutoPolicy();
+
+  // The setting of the next frame (a probe every kProbePeriod frames).
+  FrameSetting beginFrame(const Hierarchy& hierarchy);
+  // Is testing `node` expected to pay (its subtree's load from the hierarchy of the
+  // last beginFrame)?
+  bool worthTesting(NodeId node, const CullerCosts& costs) const;
+  // What the frame did, with the costs as now estimated.
+  void endFrame(const FrameStats& stats, const CullerCosts& costs);
+
+  const TestOutlook& outlook() const { return outlook_; }
+  // Seconds per drawn triangle as the frames show it: what is left of a frame's time
+  // after its flushes, pixels and tests, over the triangles it drew (0 before a frame
+  // that drew any). The per-node test takes the larger of this and the model's
+  // triangle_s: a prior such as NOHC's pixel-sized triangle misses the fragments of a
+  // scene's triangles, and drawing is what a test saves.
+  double observedTriangleSeconds() const { return observed_triangle_s_; }
+  const FrameSetting& current() const { return current_; }
+  NodeLoad load(NodeId node) const;
+
+ private:
+  FrameSetting neighbour(std::uint32_t which) const;
+  void loadSubtrees(const Hierarchy& hierarchy);
+
+  FrameSetting current_;
+  FrameSetting frame_;  // this frame's (a probe or current_)
+  std::uint64_t frame_index_ = 0;
+  std::uint32_t next_neighbour_ = 0;
+  bool have_base_ = false;
+  double base_seconds_ = 0;  // the last non-probe frame, modelled
+  TestOutlook outlook_;
+  bool outlook_seen_ = false;
+  double observed_triangle_s_ = 0;
+  // Subtree loads, for which hierarchy.
+  const Hierarchy* loads_hierarchy_ = nullptr;
+  std::uint64_t loads_revision_ = 0;
+  std::unordered_map<NodeId, NodeLoad> loads_;
+};
+
+}  // namespace logrid::detail

@@ -1,0 +1,145 @@
+// The configuration file (config.hpp): reader and writer.
+#include "logrid/config.hpp"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "json_reader.hpp"
+#include "logrid/error.hpp"
+
+namespace logrid {
+namespace {
+
+using detail::Json;
+
+constexpr detail::JsonFileKind kConfigFile{"configuration file",
+                                           "write one with `logrid tune --auto --write-config FILE`"};
+
+class ConfigReader {
+ public:
+  explicit ConfigReader(const std::string& origin) : origin_(origin) {}
+
+  [[noreturn]] void bad(const std::string& what) const {
+    throw Error(ErrorCode::BadInput, origin_ + ": " + what);
+  }
+
+  const Json& object(const Json& parent, const char* key, const char* where) const {
+    const Json* v = parent.find(key);
+    if (!v || v->kind != Json::Kind::Object) {
+      bad(std::string(where) + "\"" + key + "\" is missing or not an object");
+    }
+    return *v;
+  }
+
+  void flag(const Json& parent, const char* key, bool& out) const {
+    const Json* v = parent.find(key);
+    if (!v) return;
+    if (v->kind != Json::Kind::Bool) bad(std::string("\"") + key + "\" is not true or false");
+    out = v->boolean;
+  }
+
+  void count(const Json& parent, const char* key, std::uint32_t& out) const {
+    const Json* v = parent.find(key);
+    if (!v) return;
+    constexpr double kMax = std::numeric_limits<std::uint32_t>::max();
+    if (v->kind != Json::Kind::Number || !(v->number >= 0 && v->number <= kMax) ||
+        std::floor(v->number) != v->number) {
+      bad(std::string("\"") + key + "\" is not a whole number in [0, 4294967295]");
+    }
+    out = std::uint32_t(v->number);
+  }
+
+  void fraction(const Json& parent, const char* key, float& out) const {
+    const Json* v = parent.find(key);
+    if (!v) return;
+    if (v->kind != Json::Kind::Number || !(v->number >= 0 && v->number <= 1)) {
+      bad(std::string("\"") + key + "\" is not a number in [0, 1]");
+    }
+    out = float(v->number);
+  }
+
+  void lookahead(const Json& parent, std::uint32_t& out) const {
+    const Json* v = parent.find("lookahead");
+    if (v && v->kind == Json::Kind::String) {
+      if (v->text != "all") bad("\"lookahead\" is \"" + v->text + "\"; use a count or \"all\"");
+      out = kUnlimitedLookahead;
+      return;
+    }
+    count(parent, "lookahead", out);
+  }
+
+  void method(const Json& parent, Method& out) const {
+    const Json* v = parent.find("method");
+    if (!v) return;
+    if (v->kind != Json::Kind::String) bad("\"method\" is not a method's name");
+    const std::optional<Method> m = parseMethod(v->text);
+    if (!m) bad("method \"" + v->text + "\" is unknown; use " + methodNames());
+    out = *m;
+  }
+
+ private:
+  const std::string& origin_;
+};
+
+}  // namespace
+
+CullerConfig parseCullerConfig(const std::string& text, const std::string& origin) {
+  const std::unique_ptr<Json> doc = detail::parseJson(text, origin, kConfigFile);
+  const ConfigReader r(origin);
+  if (doc->kind != Json::Kind::Object) r.bad("a configuration file is one JSON object");
+  const Json* format = doc->find("format");
+  if (!format || format->kind != Json::Kind::String || format->text != "logrid-config") {
+    r.bad("\"format\" is not \"logrid-config\"; " + std::string(kConfigFile.remedy));
+  }
+  const Json* version = doc->find("version");
+  if (!version || version->kind != Json::Kind::Number || version->number != 1) {
+    r.bad("\"version\" is not 1, the only version this logrid reads");
+  }
+  CullerConfig config;
+  if (const Json* source = doc->find("source")) {
+    if (source->kind != Json::Kind::String) r.bad("\"source\" is not a depth source's name");
+    config.source = source->text;
+  }
+  const Json& c = r.object(*doc, "culler", "");
+  CullerDesc& d = config.culler;
+  r.method(c, d.method);
+  r.count(c, "tile_size", d.tile_size);
+  r.lookahead(c, d.lookahead);
+  r.flag(c, "temporal_coherence", d.temporal_coherence);
+  r.flag(c, "detect_colliding", d.detect_colliding);
+  if (c.find("approximation")) {
+    const Json& a = r.object(c, "approximation", "culler: ");
+    r.count(a, "visible_pixels", d.approximation.visible_pixels);
+    r.fraction(a, "full_free_fraction", d.approximation.full_free_fraction);
+    r.count(a, "row_stride", d.approximation.row_stride);
+  }
+  const std::string problem = validateCullerDesc(d);
+  if (!problem.empty()) r.bad(problem);
+  return config;
+}
+
+CullerConfig loadCullerConfig(const std::string& path) {
+  return parseCullerConfig(detail::readTextFile(path, kConfigFile), path);
+}
+
+std::string formatCullerConfig(const CullerConfig& config) {
+  const CullerDesc& d = config.culler;
+  std::ostringstream out;
+  out << "{\n  \"format\": \"logrid-config\",\n  \"version\": 1,\n  \"source\": \""
+      << detail::jsonEscape(config.source) << "\",\n  \"culler\": {\n    \"method\": \""
+      << toString(d.method) << "\",\n    \"tile_size\": " << d.tile_size << ",\n    \"lookahead\": ";
+  if (d.lookahead == kUnlimitedLookahead) {
+    out << "\"all\"";
+  } else {
+    out << d.lookahead;
+  }
+  out << ",\n    \"temporal_coherence\": " << (d.temporal_coherence ? "true" : "false")
+      << ",\n    \"detect_colliding\": " << (d.detect_colliding ? "true" : "false")
+      << ",\n    \"approximation\": {\"visible_pixels\": " << d.approximation.visible_pixels
+      << ", \"full_free_fraction\": " << d.approximation.full_free_fraction
+      << ", \"row_stride\": " << d.approximation.row_stride << "}\n  }\n}\n";
+  return out.str();
+}
+
+}  // namespace logrid

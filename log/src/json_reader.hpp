@@ -1,0 +1,48 @@
+// A small JSON reader for the core's own files (the costs file, costs.hpp; the culler
+// configuration, config.hpp), so that the core needs no JSON library; and the helpers
+// their writers share. Internal to logrid::core.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace logrid::detail {
+
+// A JSON value. Arrays are parsed (so that a file may hold them) but not kept: none of
+// the core's files reads one.
+struct Json {
+  enum class Kind { Null, Bool, Number, String, Array, Object } kind = Kind::Null;
+  bool boolean = false;
+  double number = 0;
+  std::string text;
+  std::vector<std::pair<std::string, std::unique_ptr<Json>>> members;
+
+  // The member named `key` of an object; nullptr if there is none.
+  const Json* find(const std::string& key) const;
+};
+
+// What a file is, for messages: its name ("costs file", as in "not a costs file" and
+// "costs file PATH cannot be read") and how to make a good one ("write one with
+// `logrid calibrate --costs FILE`").
+struct JsonFileKind {
+  const char* what;
+  const char* remedy;
+};
+
+// Parses one JSON value. Throws logrid::Error (ErrorCode::BadInput) for text that is not
+// JSON, naming `origin`, the line, what was wrong, and the kind's remedy. Nesting deeper
+// than 16 is refused.
+std::unique_ptr<Json> parseJson(const std::string& text, const std::string& origin,
+                                const JsonFileKind& kind);
+
+// A file's whole text; throws logrid::Error (ErrorCode::Environment) naming the path and
+// the kind's remedy if it cannot be read.
+std::string readTextFile(const std::string& path, const JsonFileKind& kind);
+
+// `text` as a JSON string's contents: quotes and backslashes escaped, control
+// characters as spaces.
+std::string jsonEscape(const std::string& text);
+
+}  // namespace logrid::detail

@@ -1,0 +1,310 @@
+// logrid tune --auto. The space is swept in stages, each stage's candidates on the same
+// frames, interleaved (interleaved.hpp), each starting from the best of the one before:
+//   1. method: frustum culling alone (vfc), log-state and log-zfar at lookahead 1 and 16,
+//      each with and without temporal coherence, and auto;
+//   2. lookahead around the best grid setting's (K / 4 and K x 4);
+//   3. tile size (8, 16, 32, 64);
+//   4. depth reader (readpixels, pbo, reduce);
+//   5. box granularity (leaf sizes; the forest's tree parts), one scene each, runs
+//      alternating per repetition.
+// A stage is skipped where it cannot matter (no grid: no tile size; no depth read: no
+// reader). What the scene needed is read off the stages: occlusion tests pay only if a
+// grid setting beats vfc by the margin, batching only if K > 1 beats K = 1, and so on.
+#include "cli/tune_auto.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+
+#include "cli/common.hpp"
+#include "cli/config_option.hpp"
+#include "cli/interleaved.hpp"
+#include "cli/loaded_scene.hpp"
+#include "cli/machine.hpp"
+#include "cli/report.hpp"
+#include "cli/summary.hpp"
+#include "logrid/config.hpp"
+#include "logrid/error.hpp"
+
+namespace logrid::samples {
+namespace {
+
+// A setting is only said to pay when it is this much faster than going without it:
+// below it, the difference is within the repetitions' noise on a loaded machine.
+constexpr double kPaysMargin = 0.03;
+
+struct Candidate {
+  WalkOptions options;  // method (a choice with :K and :tc), tile, reader, granularity
+  double ms = 0;
+  std::int64_t missed = -1;
+};
+
+struct Stage {
+  std::string name;
+  std::vector<Candidate> candidates;
+  std::size_t best = 0;
+};
+
+std::string describe(const WalkOptions& o) {
+  std::string out = o.method + " tile " + std::to_string(o.tile) + " " + o.reader;
+  if (o.leaf) out += " leaf " + std::to_string(o.leaf);
+  if (o.tree_parts != "whole") out += " " + o.tree_parts;
+  return out;
+}
+
+const MethodInfo& infoOf(const WalkOptions& o) {
+  const auto choice = parseMethodChoice(o.method);
+  return methodInfo(*choice->method);
+}
+
+// The candidates on one loaded scene, interleaved.
+void runOnScene(LoadedScene& scene, std::vector<Candidate>& candidates, std::size_t repeat,
+                const std::string& label) {
+  std::vector<RunConfig> configs;
+  for (const Candidate& c : candidates) configs.push_back(runConfig(c.options, scene.prepared));
+  const std::vector<ConfigResult> results =
+      runInterleaved(scene.prepared, *scene.renderer, configs, repeat, label);
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    candidates[i].ms = results[i].avg_ms();
+    candidates[i].missed = runSummary(results[i].records, results[i].config, false)
+                               .value("missed_visible_objects", std::int64_t{-1});
+  }
+}
+
+void pickBest(Stage& s) {
+  s.best = 0;
+  for (std::size_t i = 1; i < s.candidates.size(); ++i) {
+    if (s.candidates[i].ms < s.candidates[s.best].ms) s.best = i;
+  }
+}
+
+void print(const Stage& s) {
+  std::printf("%s\n", s.name.c_str());
+  for (std::size_t i = 0; i < s.candidates.size(); ++i) {
+    const Candidate& c = s.candidates[i];
+    std::printf("  %-44s %9.2f ms %8s%s\n", describe(c.options).c_str(), c.ms,
+                c.missed >= 0 ? (std::to_string(c.missed) + " missed").c_str() : "",
+                i == s.best ? "   <- best" : "");
+  }
+}
+
+// The fastest of the candidates whose method choice satisfies `keep`; nullptr if none.
+const Candidate* fastest(const Stage& s, const std::function<bool(const MethodChoice&)>& keep) {
+  const Candidate* best = nullptr;
+  for (const Candidate& c : s.candidates) {
+    const auto choice = parseMethodChoice(c.options.method);
+    if (choice && keep(*choice) && (!best || c.ms < best->ms)) best = &c;
+  }
+  return best;
+}
+
+// "needed" when `with` is faster than `without` by the margin.
+nlohmann::json verdict(const char* what, const Candidate* with, const Candidate* without) {
+  nlohmann::json v{{"part", what}};
+  if (!with || !without) {
+    v["needed"] = nullptr;
+    return v;
+  }
+  v["needed"] = with->ms < (1 - kPaysMargin) * without->ms;
+  v["with"] = describe(with->options);
+  v["with_ms"] = with->ms;
+  v["without"] = describe(without->options);
+  v["without_ms"] = without->ms;
+  return v;
+}
+
+WalkOptions withMethod(const WalkOptions& base, const std::string& method) {
+  WalkOptions o = base;
+  o.method = method;
+  return o;
+}
+
+std::string choiceName(Method m, std::uint32_t k, bool tc) {
+  MethodChoice c(m);
+  c.lookahead = k;
+  c.coherence = tc;
+  return c.name();
+}
+
+Stage methodStage(const WalkOptions& base) {
+  Stage s{"1. method, lookahead, coherence", {}, 0};
+  s.candidates.push_back({withMethod(base, "vfc")});
+  for (Method m : {Method::LogState, Method::LogZfar}) {
+    for (std::uint32_t k : {1u, 16u}) {
+      for (bool tc : {false, true}) s.candidates.push_back({withMethod(base, choiceName(m, k, tc))});
+    }
+  }
+  s.candidates.push_back({withMethod(base, "auto")});
+  return s;
+}
+
+}  // namespace
+
+int runTuneAuto(const TuneAutoOptions& o) {
+  gl::Context context(contextDesc(o.walk));
+  LoadedScene scene = loadScene(o.walk);
+  const std::string label = "tune --auto " + scene.prepared.name;
+  std::vector<Stage> stages;
+
+  // 1. Method, lookahead, coherence.
+  stages.push_back(methodStage(o.walk));
+  runOnScene(scene, stages.back().candidates, o.repeat, label + " methods");
+  pickBest(stages.back());
+  WalkOptions best = stages.back().candidates[stages.back().best].options;
+
+  // 2. Lookahead around the best grid setting's.
+  if (const auto choice = parseMethodChoice(best.method); choice->lookahead) {
+    Stage s{"2. lookahead", {{best}}, 0};
+    for (std::uint32_t k : {*choice->lookahead / 4, *choice->lookahead * 4}) {
+      if (k < 1) continue;
+      s.candidates.push_back({withMethod(best, choiceName(*choice->method, k, choice->coherence))});
+    }
+    runOnScene(scene, s.candidates, o.repeat, label + " lookahead");
+    pickBest(s);
+    best = s.candidates[s.best].options;
+    stages.push_back(std::move(s));
+  }
+
+  // 3. Tile size, for methods with a grid.
+  if (infoOf(best).grid) {
+    Stage s{"3. tile size", {{best}}, 0};
+    for (std::uint32_t tile : {8u, 16u, 32u, 64u}) {
+      if (tile == best.tile) continue;
+      WalkOptions t = best;
+      t.tile = tile;
+      s.candidates.push_back({t});
+    }
+    runOnScene(scene, s.candidates, o.repeat, label + " tiles");
+    pickBest(s);
+    best = s.candidates[s.best].options;
+    stages.push_back(std::move(s));
+  }
+
+  // 4. Depth reader, for methods that read depth.
+  if (infoOf(best).needs.depth) {
+    Stage s{"4. depth reader", {{best}}, 0};
+    for (const char* reader : {"readpixels", "pbo", "reduce"}) {
+      if (reader == best.reader) continue;
+      WalkOptions r = best;
+      r.reader = reader;
+      s.candidates.push_back({r});
+    }
+    runOnScene(scene, s.candidates, o.repeat, label + " readers");
+    pickBest(s);
+    best = s.candidates[s.best].options;
+    stages.push_back(std::move(s));
+  }
+
+  // 5. Box granularity: a scene per choice, the runs alternating per repetition.
+  {
+    Stage s{"5. box granularity", {{best}}, 0};
+    for (std::uint32_t leaf : {1u, 4u}) {
+      if (leaf == best.leaf) continue;
+      WalkOptions g = best;
+      g.leaf = leaf;
+      s.candidates.push_back({g});
+    }
+    if (o.walk.scene == "forest" && best.tree_parts == "whole") {
+      WalkOptions g = best;
+      g.tree_parts = "trunk-crown";
+      s.candidates.push_back({g});
+    }
+    std::vector<LoadedScene> scenes;
+    for (std::size_t i = 1; i < s.candidates.size(); ++i) {
+      scenes.push_back(loadScene(s.candidates[i].options));
+    }
+    std::vector<std::vector<double>> ms(s.candidates.size());
+    for (std::size_t r = 0; r < o.repeat; ++r) {
+      for (std::size_t i = 0; i < s.candidates.size(); ++i) {
+        std::vector<Candidate> one{s.candidates[i]};
+        runOnScene(i == 0 ? scene : scenes[i - 1], one, 1, label + " granularity");
+        ms[i].push_back(one[0].ms);
+        if (r == 0) s.candidates[i].missed = one[0].missed;
+      }
+    }
+    for (std::size_t i = 0; i < s.candidates.size(); ++i) {
+      std::sort(ms[i].begin(), ms[i].end());
+      s.candidates[i].ms = ms[i][ms[i].size() / 2];  // median of the repetitions
+    }
+    pickBest(s);
+    best = s.candidates[s.best].options;
+    stages.push_back(std::move(s));
+  }
+
+  bool missed = false;
+  nlohmann::json report = scene.describe();
+  report["command"] = commandLine();
+  report["machine"] = machineInfo(context);
+  report["stages"] = nlohmann::json::array();
+  for (const Stage& s : stages) {
+    print(s);
+    nlohmann::json js{{"stage", s.name}, {"candidates", nlohmann::json::array()}};
+    for (const Candidate& c : s.candidates) {
+      js["candidates"].push_back({{"setting", describe(c.options)}, {"ms", c.ms}, {"missed", c.missed}});
+      missed |= c.missed > 0;
+    }
+    report["stages"].push_back(std::move(js));
+  }
+
+  // What the scene needed, from stage 1 (same frames, same tile and reader).
+  const Stage& first = stages.front();
+  const auto grid = [](const MethodChoice& c) { return c.method && methodInfo(*c.method).grid; };
+  const Candidate* vfc = fastest(first, [](const MethodChoice& c) { return c.method == Method::Vfc; });
+  const Candidate* any_grid = fastest(first, grid);
+  const Candidate* batched = fastest(first, [&](const MethodChoice& c) {
+    return grid(c) && c.method != Method::Auto && c.lookahead.value_or(1) > 1;
+  });
+  const Candidate* unbatched = fastest(first, [&](const MethodChoice& c) {
+    return grid(c) && c.method != Method::Auto && c.lookahead.value_or(1) == 1;
+  });
+  const Candidate* coherent = fastest(first, [&](const MethodChoice& c) {
+    return grid(c) && c.method != Method::Auto && c.coherence;
+  });
+  const Candidate* incoherent = fastest(first, [&](const MethodChoice& c) {
+    return grid(c) && c.method != Method::Auto && !c.coherence;
+  });
+  report["needed"] = {verdict("occlusion tests (against frustum culling alone)", any_grid, vfc),
+                      verdict("batched reads (lookahead > 1)", batched, unbatched),
+                      verdict("temporal coherence", coherent, incoherent)};
+  std::printf("what %s needed (a part pays when it is %.0f%% faster than going without):\n",
+              scene.prepared.name.c_str(), 100 * kPaysMargin);
+  for (const nlohmann::json& v : report["needed"]) {
+    if (v["needed"].is_null()) continue;
+    std::printf("  %-48s %s (%.2f vs %.2f ms)\n", v["part"].get<std::string>().c_str(),
+                v["needed"].get<bool>() ? "needed" : "not needed", v["with_ms"].get<double>(),
+                v["without_ms"].get<double>());
+  }
+  std::printf("configuration: %s\n", describe(best).c_str());
+  report["configuration"] = describe(best);
+
+  if (!o.config.empty()) {
+    CullerConfig config;
+    const RunConfig run = runConfig(best, scene.prepared);
+    config.culler = run.culler;
+    config.culler.method = *run.method.method;
+    config.source = best.reader;
+    nlohmann::json file = nlohmann::json::parse(formatCullerConfig(config));
+    file["scene"] = nlohmann::json::parse(sceneSection(best));
+    file["report"] = {{"scene", scene.prepared.name}, {"size", o.walk.size},
+                      {"frames", o.walk.frames}, {"ms_per_frame", stages.back().candidates[stages.back().best].ms},
+                      {"needed", report["needed"]}, {"command", commandLine()}};
+    std::ofstream out(o.config);
+    out << file.dump(2) << "\n";
+    if (!out) {
+      throw Error(ErrorCode::Environment, "tune: cannot write the configuration " + o.config);
+    }
+    // What was written must read back as written (the library's own reader).
+    (void)loadCullerConfig(o.config);
+    std::printf("wrote %s (walk, bench and view take it with --config)\n", o.config.c_str());
+  }
+  if (!o.json.empty()) writeJson(o.json, report);
+  if (missed) {
+    std::fprintf(stderr, "tune: a conservative run missed visible objects: a bug\n");
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace logrid::samples

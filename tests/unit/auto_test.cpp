@@ -1,0 +1,373 @@
+// The `auto` method against scripted costs: the per-node reasonability test (a test that
+// cannot pay is skipped, one that can is run), the per-frame choice (a cheaper neighbour
+// is adopted, a dearer one is not, and the setting does not flicker), the online cost
+// estimate, the costs file (round trip and bad files), and auto's frames in the box world
+// against the software oracle: nothing visible is ever culled.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iterator>
+#include <random>
+#include <vector>
+
+#include "auto_policy.hpp"
+#include "box_world.hpp"
+#include "logrid/costs.hpp"
+#include "logrid/culler.hpp"
+#include "logrid/error.hpp"
+
+namespace logrid {
+namespace {
+
+using detail::AutoPolicy;
+using detail::NodeLoad;
+using detail::TestOutlook;
+using detail::testPays;
+
+// A renderer where a flush costs 100 µs and a triangle 20 ns.
+CullerCosts scripted() {
+  CullerCosts c;
+  c.flush_s = 100e-6;
+  c.pixel_s = 2e-9;
+  c.box_test_s = 0.5e-6;
+  c.triangle_s = 20e-9;
+  c.draw_s = 2e-6;
+  c.query_s = 20e-6;
+  return c;
+}
+
+TEST(AutoNodeDecision, AFlushForASmallObjectDoesNotPay) {
+  // One flush per test, p = 0.5: the test costs ~102.5 µs; a 500-triangle object draws
+  // in 12 µs: saving at most 6 µs. Drawn untested.
+  const TestOutlook flushing{1.0, 1024, 0.5};
+  EXPECT_FALSE(testPays(scripted(), flushing, NodeLoad{500, 1}));
+  // A 100k-triangle subtree draws in ~2 ms: half of it saved pays for the flush.
+  EXPECT_TRUE(testPays(scripted(), flushing, NodeLoad{100000, 50}));
+}
+
+TEST(AutoNodeDecision, BatchedReadsMakeSmallTestsPay) {
+  // The same object with one flush per 64 tests: ~4.1 µs a test against 6 µs saved.
+  const TestOutlook batched{1.0 / 64, 1024, 0.5};
+  EXPECT_TRUE(testPays(scripted(), batched, NodeLoad{500, 1}));
+}
+
+TEST(AutoNodeDecision, TestingSwitchesOffWhereNothingIsHiddenButNotForLargeSubtrees) {
+  // Nothing was found occluded lately: p is held at kMinOccludedFraction, so a small
+  // leaf is drawn untested while the root of a large scene is still tested, which is
+  // how testing comes back where occlusion appears.
+  const TestOutlook nothing_hidden{1.0 / 16, 1024, 0.0};
+  EXPECT_FALSE(testPays(scripted(), nothing_hidden, NodeLoad{2000, 1}));
+  EXPECT_TRUE(testPays(scripted(), nothing_hidden, NodeLoad{1.5e6, 5000}));
+  // The boundary: p x draw == test cost pays (>=), one triangle fewer does not.
+  const CullerCosts c = scripted();
+  const double test = detail::expectedTestSeconds(c, nothing_hidden);
+  const double objects = 1;
+  const double triangles = (test / detail::kMinOccludedFraction - objects * c.draw_s) / c.triangle_s;
+  EXPECT_TRUE(testPays(c, nothing_hidden, NodeLoad{std::ceil(triangles), objects}));
+  EXPECT_FALSE(testPays(c, nothing_hidden, NodeLoad{std::floor(triangles) - 1, objects}));
+}
+
+// ---- The per-frame choice ----
+
+// A hierarchy of one leaf: enough for AutoPolicy::beginFrame.
+class OneLeaf : public Hierarchy {
+ public:
+  NodeId root() const override { return 0; }
+  Aabb bounds(NodeId) const override { return {{0, 0, 0}, {1, 1, 1}}; }
+  std::uint32_t childCount(NodeId) const override { return 0; }
+  NodeId child(NodeId, std::uint32_t) const override { return kNoNode; }
+  std::uint32_t objectCount(NodeId) const override { return 1; }
+  ObjectId object(NodeId, std::uint32_t) const override { return 0; }
+  std::uint32_t objectTriangles(ObjectId) const override { return 300; }
+};
+
+// What a frame at `s` does in a scripted scene: flushes fall with K (one per K of 1024
+// boxes tested), triangles drawn grow with K (late knowledge), coherence halves the
+// flushes; log-zfar flushes 1.5 times as often.
+FrameStats scriptedFrame(const FrameSetting& s, double triangles_per_k) {
+  FrameStats f;
+  f.setting = s;
+  f.boxes_tested = 1024;
+  f.boxes_occluded = 256;
+  double flushes = std::ceil(1024.0 / s.lookahead);
+  if (s.temporal_coherence) flushes = std::ceil(flushes / 2);
+  if (s.method == Method::LogZfar) flushes *= 1.5;
+  f.flushes = std::uint64_t(flushes);
+  f.pixels_read = f.flushes * 2048;
+  f.objects_drawn = 400;
+  f.triangles_drawn = std::uint64_t(100000 + triangles_per_k * s.lookahead);
+  f.seconds = 0.02;
+  return f;
+}
+
+double scriptedSeconds(const FrameSetting& s, double triangles_per_k, const CullerCosts& c) {
+  const FrameStats f = scriptedFrame(s, triangles_per_k);
+  return double(f.flushes) * c.flush_s + double(f.pixels_read) * c.pixel_s +
+         double(f.boxes_tested) * c.box_test_s + double(f.triangles_drawn) * c.triangle_s +
+         double(f.objects_drawn) * c.draw_s;
+}
+
+// No neighbour of `s` (K one step up or down, coherence or the grid variant flipped)
+// models kSwitchMargin cheaper: where the hysteresis lets the choice rest.
+void expectLocalOptimum(const FrameSetting& s, double triangles_per_k, const CullerCosts& c) {
+  std::vector<FrameSetting> neighbours;
+  const auto& ks = AutoPolicy::kLookaheads;
+  for (std::size_t i = 0; i < std::size(ks); ++i) {
+    if (ks[i] != s.lookahead) continue;
+    if (i + 1 < std::size(ks)) neighbours.push_back(s), neighbours.back().lookahead = ks[i + 1];
+    if (i > 0) neighbours.push_back(s), neighbours.back().lookahead = ks[i - 1];
+  }
+  neighbours.push_back(s);
+  neighbours.back().temporal_coherence = !s.temporal_coherence;
+  neighbours.push_back(s);
+  neighbours.back().method = s.method == Method::LogState ? Method::LogZfar : Method::LogState;
+  const double here = scriptedSeconds(s, triangles_per_k, c);
+  for (const FrameSetting& n : neighbours) {
+    EXPECT_GE(scriptedSeconds(n, triangles_per_k, c), (1 - AutoPolicy::kSwitchMargin) * here)
+        << "a cheaper neighbour was left: K " << n.lookahead << ", coherence "
+        << n.temporal_coherence << ", " << toString(n.method);
+  }
+}
+
+TEST(AutoFrameChoice, AdoptsACheaperNeighbourAndSettles) {
+  CullerCosts c = scripted();
+  c.flush_s = 1e-3;
+  OneLeaf h;
+  AutoPolicy policy;
+  // Flushes dear (1 ms), late knowledge cheap: K climbs to the ladder's top, with
+  // coherence and the variant that flushes less, and stays.
+  std::uint32_t changes = 0;
+  FrameSetting last = policy.current();
+  for (int frame = 0; frame < 400; ++frame) {
+    const FrameSetting s = policy.beginFrame(h);
+    policy.endFrame(scriptedFrame(s, 1.0), c);
+    if (policy.current().lookahead != last.lookahead ||
+        policy.current().temporal_coherence != last.temporal_coherence ||
+        policy.current().method != last.method) {
+      ++changes;
+      last = policy.current();
+    }
+  }
+  EXPECT_EQ(policy.current().lookahead, 256u);
+  EXPECT_TRUE(policy.current().temporal_coherence);
+  EXPECT_EQ(policy.current().method, Method::LogState);
+  expectLocalOptimum(policy.current(), 1.0, c);
+  // Each change is a step toward the cheapest setting: no flicker back and forth.
+  EXPECT_LE(changes, 5u);
+}
+
+TEST(AutoFrameChoice, LessBatchingWhereLateKnowledgeDrawsTooMuch) {
+  const CullerCosts c = scripted();
+  OneLeaf h;
+  AutoPolicy policy;
+  // Each unit of K draws 2000 triangles more (40 µs): K = 256 would draw 512 k
+  // triangles more than K = 1 (10 ms) to save a few flushes.
+  for (int frame = 0; frame < 400; ++frame) {
+    const FrameSetting s = policy.beginFrame(h);
+    policy.endFrame(scriptedFrame(s, 2000.0), c);
+  }
+  EXPECT_LT(policy.current().lookahead, 256u);
+  expectLocalOptimum(policy.current(), 2000.0, c);
+}
+
+TEST(AutoFrameChoice, ProbesAreOneFrameInAPeriod) {
+  const CullerCosts c = scripted();
+  OneLeaf h;
+  AutoPolicy policy;
+  int probes = 0;
+  for (int frame = 0; frame < 80; ++frame) {
+    const FrameSetting s = policy.beginFrame(h);
+    probes += s.probe;
+    policy.endFrame(scriptedFrame(s, 2000.0), c);
+  }
+  EXPECT_EQ(probes, 80 / int(AutoPolicy::kProbePeriod));
+}
+
+// ---- The online estimate ----
+
+TEST(CostEstimate, ConvergesToTheCostsThatMadeTheFrames) {
+  const CullerCosts truth = scripted();
+  CullerCosts prior = truth;
+  prior.flush_s *= 3;
+  prior.triangle_s /= 2;
+  CostEstimate estimate(prior);
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> flushes(1, 100), tests(100, 900), objects(100, 1200);
+  std::uniform_int_distribution<int> triangles(50000, 400000), pixels(10000, 800000);
+  for (int i = 0; i < 300; ++i) {
+    FrameStats f;
+    f.flushes = std::uint64_t(flushes(rng));
+    f.pixels_read = std::uint64_t(pixels(rng));
+    f.boxes_tested = std::uint64_t(tests(rng));
+    f.triangles_drawn = std::uint64_t(triangles(rng));
+    f.objects_drawn = std::uint64_t(objects(rng));
+    f.seconds = double(f.flushes) * truth.flush_s + double(f.pixels_read) * truth.pixel_s +
+                double(f.boxes_tested) * truth.box_test_s +
+                double(f.triangles_drawn) * truth.triangle_s +
+                double(f.objects_drawn) * truth.draw_s;
+    estimate.update(f);
+  }
+  EXPECT_EQ(estimate.frames(), 300u);
+  EXPECT_NEAR(estimate.costs().flush_s / truth.flush_s, 1.0, 0.15);
+  EXPECT_NEAR(estimate.costs().triangle_s / truth.triangle_s, 1.0, 0.15);
+  // Queries never happened: their cost stays the prior's.
+  EXPECT_DOUBLE_EQ(estimate.costs().query_s, prior.query_s);
+}
+
+TEST(CostEstimate, IgnoresFramesWithoutATime) {
+  CostEstimate estimate(scripted());
+  FrameStats f;
+  f.flushes = 10;
+  f.seconds = std::nan("");
+  estimate.update(f);
+  EXPECT_EQ(estimate.frames(), 0u);
+  EXPECT_DOUBLE_EQ(estimate.costs().flush_s, scripted().flush_s);
+}
+
+// ---- The costs file ----
+
+TEST(CostsFile, RoundTrip) {
+  CullerCostsFile file;
+  file.machine = "llvmpipe \"test\"";
+  file.sources["readpixels"] = scripted();
+  CullerCosts pbo = scripted();
+  pbo.flush_s = 3.5e-5;
+  file.sources["pbo"] = pbo;
+  const CullerCostsFile back = parseCullerCosts(formatCullerCosts(file), "round trip");
+  EXPECT_EQ(back.machine, file.machine);
+  ASSERT_EQ(back.sources.size(), 2u);
+  EXPECT_NEAR(back.sources.at("pbo").flush_s, 3.5e-5, 1e-12);
+  EXPECT_NEAR(back.sources.at("readpixels").triangle_s, 20e-9, 1e-15);
+}
+
+void expectBad(const std::string& text, const std::string& says) {
+  try {
+    parseCullerCosts(text, "c.json");
+    ADD_FAILURE() << "accepted: " << text;
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::BadInput);
+    const std::string what = e.what();
+    EXPECT_NE(what.find("c.json"), std::string::npos) << what;
+    EXPECT_NE(what.find(says), std::string::npos) << what;
+  }
+}
+
+TEST(CostsFile, BadFilesAreRefusedWithTheReason) {
+  const std::string good_set =
+      "{\"flush_s\": 1e-4, \"pixel_s\": 2e-9, \"box_test_s\": 5e-7, \"triangle_s\": 2e-8, "
+      "\"draw_s\": 2e-6, \"query_s\": 2e-5}";
+  const auto file = [](const std::string& sources) {
+    return "{\"format\": \"logrid-costs\", \"version\": 1, \"sources\": " + sources + "}";
+  };
+  parseCullerCosts(file("{\"readpixels\": " + good_set + "}"), "c.json");  // the base is good
+  expectBad("", "not a costs file");
+  expectBad("{\"format\": \"logrid-costs\", ", "not a costs file");
+  expectBad("[1, 2]", "one JSON object");
+  expectBad("{\"format\": \"other\", \"version\": 1}", "\"format\"");
+  expectBad("{\"format\": \"logrid-costs\", \"version\": 2, \"sources\": {}}", "\"version\"");
+  expectBad(file("{}"), "no depth source");
+  expectBad(file("{\"readpixels\": {\"flush_s\": 1e-4}}"), "has no \"pixel_s\"");
+  std::string negative = good_set;
+  negative.replace(negative.find("1e-4"), 4, "-1e-4");
+  expectBad(file("{\"readpixels\": " + negative + "}"), "flush_s = -0.0001");
+  std::string text = good_set;
+  text.replace(text.find("2e-9"), 4, "\"fast\"");
+  expectBad(file("{\"pbo\": " + text + "}"), "\"pixel_s\" is not a number");
+}
+
+TEST(CostsFile, AnUnreadableFileOrAMissingSourceSaysWhat) {
+  try {
+    loadCullerCosts("/nonexistent/costs.json", "readpixels");
+    ADD_FAILURE() << "a missing file was read";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::Environment);
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/costs.json"), std::string::npos);
+  }
+  CullerCostsFile file;
+  file.sources["pbo"] = scripted();
+  const std::string path = testing::TempDir() + "logrid_costs_test.json";
+  {
+    FILE* f = std::fopen(path.c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    const std::string text = formatCullerCosts(file);
+    std::fwrite(text.data(), 1, text.size(), f);
+    std::fclose(f);
+  }
+  EXPECT_NEAR(loadCullerCosts(path, "pbo").flush_s, 100e-6, 1e-12);
+  try {
+    loadCullerCosts(path, "readpixels");
+    ADD_FAILURE() << "a source the file lacks was given";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("the file has pbo"), std::string::npos) << e.what();
+  }
+  std::remove(path.c_str());
+}
+
+TEST(CostsFile, TheCullerRefusesInvalidCosts) {
+  CullerDesc d;
+  d.method = Method::Auto;
+  d.costs.triangle_s = 0;
+  EXPECT_NE(validateCullerDesc(d).find("triangle_s"), std::string::npos);
+  EXPECT_THROW(Culler{d}, Error);
+}
+
+// ---- auto in the box world ----
+
+// Every frame, both conventions, each source kind: auto draws every visible box, and
+// its choices show in FrameStats::setting.
+TEST(AutoCuller, NoVisibleBoxIsCulledWhateverItChooses) {
+  const test::BoxWorld world = test::makeBoxWorld(3);
+  for (DepthConvention conv : {DepthConvention::Standard, DepthConvention::Reversed}) {
+    for (test::SourceKind kind : {test::SourceKind::Software, test::SourceKind::Batched}) {
+      for (double box_test_s : {1e-7, 1e-2}) {  // tests cheap, tests dear
+        SCOPED_TRACE(std::string(toString(conv)) + " " + test::toString(kind) + " test " +
+                     std::to_string(box_test_s));
+        CullerDesc d;
+        d.method = Method::Auto;
+        d.tile_size = 8;
+        d.costs.box_test_s = box_test_s;
+        Culler culler(d);
+        std::uint64_t tested = 0, untested = 0, occluded = 0;
+        std::set<Method> methods;
+        for (int frame = 0; frame < 24; ++frame) {
+          const Camera cam = test::boxCamera(160, 120, conv, -0.4 + 0.035 * frame);
+          cpu::SoftwareDepthBuffer depth(cam.width, cam.height, conv);
+          const test::CulledFrame f = test::cullBoxes(culler, world, cam, depth, kind);
+          for (ObjectId id : test::visibleBoxes(world.boxes, cam)) {
+            EXPECT_TRUE(f.drawn.count(id)) << "frame " << frame << ": visible box " << id
+                                           << " culled with K = " << f.stats.setting.lookahead;
+          }
+          tested += f.stats.boxes_tested;
+          untested += f.stats.boxes_untested;
+          occluded += f.stats.boxes_occluded;
+          methods.insert(f.stats.setting.method);
+          EXPECT_TRUE(f.stats.setting.method == Method::LogState ||
+                      f.stats.setting.method == Method::LogZfar);
+        }
+        if (box_test_s < 1e-6) {
+          // Tests nearly free: auto tests and culls.
+          EXPECT_GT(occluded, 0u);
+        } else {
+          // 10 ms a test against boxes of an assumed 1000 triangles each: testing
+          // switches itself off but for the largest subtrees (the online estimate may
+          // find the software rasteriser's drawing dear enough for the root's test).
+          EXPECT_GT(untested, 10 * tested);
+        }
+        EXPECT_EQ(culler.costEstimate().frames(), 24u);
+      }
+    }
+  }
+}
+
+TEST(AutoCuller, TakesNoApproximateKnob) {
+  CullerDesc d;
+  d.method = Method::Auto;
+  d.approximation.visible_pixels = 4;
+  EXPECT_NE(validateCullerDesc(d), "");
+  d.approximation = {};
+  d.approximation.row_stride = 2;
+  EXPECT_NE(validateCullerDesc(d), "");
+}
+
+}  // namespace
+}  // namespace logrid

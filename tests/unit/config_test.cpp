@@ -1,0 +1,141 @@
+// The configuration file (logrid/config.hpp): what formatCullerConfig writes reads back
+// as written, and every kind of bad file is refused with a message naming the file and
+// the key.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+
+#include "logrid/config.hpp"
+#include "logrid/error.hpp"
+
+namespace logrid {
+namespace {
+
+CullerConfig unusual() {
+  CullerConfig c;
+  c.source = "pbo";
+  c.culler.method = Method::LogZfar;
+  c.culler.tile_size = 16;
+  c.culler.lookahead = 64;
+  c.culler.temporal_coherence = true;
+  c.culler.detect_colliding = true;
+  c.culler.approximation.visible_pixels = 0;
+  c.culler.approximation.full_free_fraction = 0;
+  c.culler.approximation.row_stride = 2;
+  return c;
+}
+
+void expectSame(const CullerConfig& a, const CullerConfig& b) {
+  EXPECT_EQ(a.source, b.source);
+  EXPECT_EQ(a.culler.method, b.culler.method);
+  EXPECT_EQ(a.culler.tile_size, b.culler.tile_size);
+  EXPECT_EQ(a.culler.lookahead, b.culler.lookahead);
+  EXPECT_EQ(a.culler.temporal_coherence, b.culler.temporal_coherence);
+  EXPECT_EQ(a.culler.detect_colliding, b.culler.detect_colliding);
+  EXPECT_EQ(a.culler.approximation.visible_pixels, b.culler.approximation.visible_pixels);
+  EXPECT_EQ(a.culler.approximation.full_free_fraction, b.culler.approximation.full_free_fraction);
+  EXPECT_EQ(a.culler.approximation.row_stride, b.culler.approximation.row_stride);
+}
+
+TEST(ConfigFile, WhatIsWrittenReadsBackAsWritten) {
+  const CullerConfig c = unusual();
+  expectSame(parseCullerConfig(formatCullerConfig(c)), c);
+  CullerConfig all = c;
+  all.culler.lookahead = kUnlimitedLookahead;
+  all.culler.method = Method::LogState;
+  all.culler.approximation.full_free_fraction = 0.25f;
+  all.source = "a \"quoted\" name";
+  expectSame(parseCullerConfig(formatCullerConfig(all)), all);
+}
+
+TEST(ConfigFile, AbsentKeysAreTheDescriptorsDefaultsAndUnknownKeysAreIgnored) {
+  const CullerConfig c = parseCullerConfig(
+      "{\"format\": \"logrid-config\", \"version\": 1, \"culler\": {\"method\": \"auto\"},"
+      " \"scene\": {\"leaf\": 4}, \"report\": [1, {\"x\": null}]}");
+  const CullerDesc defaults;
+  EXPECT_EQ(c.culler.method, Method::Auto);
+  EXPECT_EQ(c.culler.tile_size, defaults.tile_size);
+  EXPECT_EQ(c.culler.lookahead, defaults.lookahead);
+  EXPECT_EQ(c.culler.temporal_coherence, defaults.temporal_coherence);
+  EXPECT_EQ(c.source, "");
+}
+
+void expectBad(const std::string& culler, const std::string& says) {
+  const std::string text =
+      "{\"format\": \"logrid-config\", \"version\": 1, \"culler\": " + culler + "}";
+  try {
+    parseCullerConfig(text, "c.json");
+    ADD_FAILURE() << "accepted: " << text;
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::BadInput);
+    const std::string what = e.what();
+    EXPECT_NE(what.find("c.json"), std::string::npos) << what;
+    EXPECT_NE(what.find(says), std::string::npos) << what;
+  }
+}
+
+TEST(ConfigFile, BadValuesAreRefusedNamingTheKey) {
+  expectBad("{\"method\": \"fastest\"}", "method \"fastest\" is unknown");
+  expectBad("{\"method\": 3}", "\"method\"");
+  expectBad("{\"tile_size\": 0}", "tile");
+  expectBad("{\"tile_size\": 16.5}", "\"tile_size\" is not a whole number");
+  expectBad("{\"tile_size\": -16}", "\"tile_size\" is not a whole number");
+  expectBad("{\"tile_size\": 1e300}", "\"tile_size\" is not a whole number");
+  expectBad("{\"tile_size\": \"16\"}", "\"tile_size\" is not a whole number");
+  expectBad("{\"lookahead\": 0}", "lookahead");
+  expectBad("{\"lookahead\": \"many\"}", "\"lookahead\" is \"many\"");
+  expectBad("{\"temporal_coherence\": 1}", "\"temporal_coherence\" is not true or false");
+  expectBad("{\"approximation\": {\"full_free_fraction\": 2}}", "\"full_free_fraction\"");
+  expectBad("{\"approximation\": {\"row_stride\": 0}}", "row stride 0");
+  expectBad("{\"approximation\": 1}", "\"approximation\" is missing or not an object");
+  expectBad("[]", "\"culler\" is missing or not an object");
+}
+
+TEST(ConfigFile, BadFilesAreRefusedWithTheReason) {
+  const auto bad = [](const std::string& text, const std::string& says) {
+    try {
+      parseCullerConfig(text, "c.json");
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::BadInput);
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+  };
+  bad("", "not a configuration file");
+  bad("{\"format\": \"logrid-config\",", "not a configuration file");
+  bad("[]", "one JSON object");
+  bad("{\"format\": \"logrid-costs\", \"version\": 1, \"culler\": {}}", "\"format\"");
+  bad("{\"format\": \"logrid-config\", \"version\": 2, \"culler\": {}}", "\"version\"");
+  bad("{\"format\": \"logrid-config\", \"version\": 1}", "\"culler\"");
+  bad("{\"format\": \"logrid-config\", \"version\": 1, \"source\": 1, \"culler\": {}}",
+      "\"source\"");
+  std::string deep;
+  for (int i = 0; i < 40; ++i) deep += "[";
+  bad(deep, "nested too deeply");
+}
+
+TEST(ConfigFile, AnUnreadableFileSaysWhichAndHowToMakeOne) {
+  try {
+    loadCullerConfig("/nonexistent/config.json");
+    ADD_FAILURE() << "a missing file was read";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::Environment);
+    const std::string what = e.what();
+    EXPECT_NE(what.find("/nonexistent/config.json"), std::string::npos) << what;
+    EXPECT_NE(what.find("tune --auto"), std::string::npos) << what;
+  }
+  const std::string path = testing::TempDir() + "logrid_config_test.json";
+  {
+    FILE* f = std::fopen(path.c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    const std::string text = formatCullerConfig(unusual());
+    std::fwrite(text.data(), 1, text.size(), f);
+    std::fclose(f);
+  }
+  expectSame(loadCullerConfig(path), unusual());
+  std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace logrid
