@@ -2,6 +2,7 @@
 // in front of it, one hidden behind it, one behind the camera, and a triangle whose
 // declared box lies far behind its geometry (so its fragments are nearer than any
 // interpolation of its box allows: an artifact), in both depth conventions.
+#include <epoxy/gl.h>
 #include <gtest/gtest.h>
 
 #include <string>
@@ -9,6 +10,7 @@
 #include "gl_test_context.hpp"
 #include "logrid/cpu/software_rasterizer.hpp"
 #include "logrid/error.hpp"
+#include "logrid/gl/context.hpp"
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
 #include "logrid/gl/object_id_oracle.hpp"
@@ -103,6 +105,40 @@ TEST_P(ObjectIdOracleTest, FindsTheVisibleObjectsAndTheArtifacts) {
   });
   EXPECT_EQ(exact.visible, (std::vector<ObjectId>{kWall, kFront, kArtifact}));
   EXPECT_TRUE(exact.artifacts.empty());
+}
+
+// A depth source under GlStatePolicy::ApplicationManaged leaves its draws' state set (a
+// multisample resolve: the scissor test on around its last rectangle, colour writes off).
+// The oracle's clear and ID draws must not depend on it: before Framebuffer::bind() set
+// both, the IDs of an earlier pass survived the clear and the draws were scissored.
+TEST_P(ObjectIdOracleTest, IgnoresTheScissorAndColourMasksASourceLeft) {
+  LOGRID_REQUIRE_GL();
+  const KnownFrame f = knownFrame();
+  const Camera cam = knownCamera(GetParam());
+  gl::MeshRenderer renderer(f.mesh);
+  gl::Framebuffer fb({cam.width, cam.height, cam.depth, true});
+  auto leaveSourceState = [] {
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(0, 0, 1, 1);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  };
+  auto drawAll = [&] {
+    renderer.begin(gl::Pass::ObjectIds, cam);
+    for (ObjectId id = 0; id < kObjects; ++id) renderer.draw(id);
+    renderer.end();
+  };
+  const gl::OracleFrame full = gl::objectIdOracle(fb, cam, f.boxes, drawAll);
+  EXPECT_EQ(full.visible, (std::vector<ObjectId>{kWall, kFront}));
+  leaveSourceState();
+  const gl::OracleFrame empty = gl::objectIdOracle(fb, cam, f.boxes, [] {});
+  EXPECT_TRUE(empty.visible.empty()) << "the last pass's IDs survived the clear";
+  leaveSourceState();
+  const gl::OracleFrame again = gl::objectIdOracle(fb, cam, f.boxes, drawAll);
+  EXPECT_EQ(again.visible, full.visible) << "the ID draws were scissored";
+  EXPECT_EQ(again.artifacts, full.artifacts);
+  glDisable(GL_SCISSOR_TEST);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  gl::checkGlErrors("IgnoresTheScissorAndColourMasksASourceLeft");
 }
 
 TEST_P(ObjectIdOracleTest, RefusesAFramebufferThatCannotHoldTheFrame) {

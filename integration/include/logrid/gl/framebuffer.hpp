@@ -55,7 +55,9 @@ class Framebuffer {
   // Samples per pixel the driver allocated (0: single-sampled).
   std::uint32_t samples() const { return samples_; }
 
-  // Binds for drawing: framebuffer, viewport, draw buffers and the depth state.
+  // Binds for drawing: framebuffer, viewport, scissor test off, colour writes on, draw
+  // buffers and the depth state (what logrid's sources may leave set under
+  // GlStatePolicy::ApplicationManaged among them).
   void bind() const;
   // Clears colour to `rgba`, depth to the convention's clear value, IDs to `kNoObject`.
   void clear(const float rgba[4]) const;
