@@ -436,6 +436,11 @@ FrameRecord FrameRunner::render(const CameraPose& pose, std::size_t frame, bool 
                         {&reader_->source(), queries_.get(), occluders_.get()});
     try {
       for (DrawBatch batch = culler_->nextBatch(); !batch.empty(); batch = culler_->nextBatch()) {
+        // Under GlStatePolicy::ApplicationManaged the source's passes leave their state (a
+        // multisample resolve: its framebuffer, program and vertex array, whose missing
+        // element buffer crashed the driver): the application sets what it draws with.
+        framebuffer_->bind();
+        renderer_.begin(gl::Pass::Shaded, camera);
         for (ObjectId id : batch) draw(id);
       }
     } catch (...) {

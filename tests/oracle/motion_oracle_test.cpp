@@ -260,6 +260,23 @@ TEST(ManagedReaderWithMovers, NoVisibleObjectIsMissed) {
   }
 }
 
+// The same reader with methods that read depth during the frame: each read's resolve
+// leaves its framebuffer, program and vertex array bound, and the runner drew the next
+// batch with them until it set its own before each batch (the driver crashed on the
+// resolve's vertex array, which has no element buffer). The widened soak run found it.
+TEST(ManagedReaderMultisampled, EveryBatchIsDrawnWithTheApplicationsState) {
+  LOGRID_REQUIRE_GL();
+  for (Method m : {Method::LogState, Method::Bog}) {
+    OracleCase c;
+    c.scene = sceneKey("forest");
+    c.method = choice(m);
+    c.reader = "readpixels-managed";
+    c.adjust = [](RunConfig& config) { config.view.samples = 4; };
+    c.name = std::string("forest ") + toString(m) + " readpixels-managed 4 samples";
+    checkCase(c);
+  }
+}
+
 // The motion of the walks above (the same scenes, frames and times) has movers leaving
 // the scene bounds, passing through each other, and stopping and starting again.
 TEST(MotionScenario, WalksContainEveryKindOfMotion) {
