@@ -13,19 +13,6 @@ namespace {
 
 constexpr char kMagic[8] = {'l', 'o', 'g', 'r', 'd', 'D', 'D', 'O'};
 
-std::uint64_t payloadChecksum(const unsigned char* data, std::size_t bytes) {
-  std::uint64_t h = 0xCBF29CE484222325ull;  // FNV-1a over 8-byte words, then bytes
-  std::size_t i = 0;
-  for (; i + 8 <= bytes; i += 8) {
-    std::uint64_t w;
-    std::memcpy(&w, data + i, 8);
-    h = (h ^ w) * 0x100000001B3ull;
-    h ^= h >> 31;
-  }
-  for (; i < bytes; ++i) h = (h ^ data[i]) * 0x100000001B3ull;
-  return h;
-}
-
 class Writer {
  public:
   template <typename T>
@@ -75,6 +62,19 @@ class Reader {
 std::size_t maskBytesPerFace(std::uint32_t regions) { return regions / 8; }
 
 }  // namespace
+
+std::uint64_t payloadChecksum(const unsigned char* data, std::size_t bytes) {
+  std::uint64_t h = 0xCBF29CE484222325ull;  // FNV-1a over 8-byte words, then bytes
+  std::size_t i = 0;
+  for (; i + 8 <= bytes; i += 8) {
+    std::uint64_t w;
+    std::memcpy(&w, data + i, 8);
+    h = (h ^ w) * 0x100000001B3ull;
+    h ^= h >> 31;
+  }
+  for (; i < bytes; ++i) h = (h ^ data[i]) * 0x100000001B3ull;
+  return h;
+}
 
 void saveOctree(const Octree& octree, const FileExpectation& scene, const std::string& path) {
   Writer w;
