@@ -1,6 +1,7 @@
 // The conservative box projection (Projector::project): boxes per second for a
 // 1280 x 960 camera, per depth convention, over 4096 random boxes in front of the eye
-// (each projected to a pixel rectangle, a depth-key range and its margin).
+// (each projected to a pixel rectangle, a depth-key range and its margin): one box a
+// call, batches of a node's children, and the frustum-only test.
 #include <benchmark/benchmark.h>
 
 #include <random>
@@ -11,35 +12,91 @@
 namespace logrid {
 namespace {
 
+// 4096 random boxes in front of a 1280 x 960 camera, per depth convention; some lie
+// outside the view frustum (about one in three).
+struct ProjectionSetup {
+  Camera camera;
+  std::vector<Aabb> boxes;
+
+  explicit ProjectionSetup(bool reversed) {
+    camera.width = 1280;
+    camera.height = 960;
+    camera.depth = reversed ? DepthSetup{DepthConvention::Reversed, ClipDepthRange::ZeroToOne,
+                                         DepthFormat::D32F}
+                            : DepthSetup{};
+    camera.view_projection = multiply(perspective(1.0, 1280.0 / 960.0, 0.1, 1000.0, camera.depth),
+                                      lookAt({0, 2, 0}, {0, 2, -1}, {0, 1, 0}));
+    camera.render_origin = {0, 2, 0};
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> x(-60, 60), z(-200, -1), size(0.2f, 4.0f);
+    boxes.resize(4096);
+    for (Aabb& b : boxes) {
+      const Vec3 lo{x(rng), x(rng) * 0.2f, z(rng)};
+      b = {lo, {lo.x + size(rng), lo.y + size(rng), lo.z + size(rng)}};
+    }
+  }
+  const char* label(bool reversed) const { return reversed ? "reversed 32f" : "standard 32f"; }
+};
+
+// One box a call.
 void BM_Project(benchmark::State& state) {
   const bool reversed = state.range(0) != 0;
-  Camera camera;
-  camera.width = 1280;
-  camera.height = 960;
-  camera.depth =
-      reversed ? DepthSetup{DepthConvention::Reversed, ClipDepthRange::ZeroToOne, DepthFormat::D32F}
-               : DepthSetup{};
-  camera.view_projection = multiply(perspective(1.0, 1280.0 / 960.0, 0.1, 1000.0, camera.depth),
-                                    lookAt({0, 2, 0}, {0, 2, -1}, {0, 1, 0}));
-  camera.render_origin = {0, 2, 0};
-  const Projector projector(camera);
-
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<float> x(-60, 60), z(-200, -1), size(0.2f, 4.0f);
-  std::vector<Aabb> boxes(4096);
-  for (Aabb& b : boxes) {
-    const Vec3 lo{x(rng), x(rng) * 0.2f, z(rng)};
-    b = {lo, {lo.x + size(rng), lo.y + size(rng), lo.z + size(rng)}};
-  }
+  const ProjectionSetup setup(reversed);
+  const Projector projector(setup.camera);
   std::size_t i = 0;
   for (auto _ : state) {
-    BoxProjection p = projector.project(boxes[i++ & 4095]);
+    BoxProjection p = projector.project(setup.boxes[i++ & 4095]);
     benchmark::DoNotOptimize(p);
   }
   state.SetItemsProcessed(state.iterations());
-  state.SetLabel(reversed ? "reversed 32f" : "standard 32f");
+  state.SetLabel(setup.label(reversed));
 }
 BENCHMARK(BM_Project)->ArgName("reversed")->Arg(0)->Arg(1);
+
+// A batch of `batch` boxes a call (a node's children: 2, 4 or 8 in bvh/'s hierarchies),
+// items are boxes.
+void BM_ProjectBatch(benchmark::State& state) {
+  const bool reversed = state.range(0) != 0;
+  const auto batch = static_cast<std::size_t>(state.range(1));
+  const ProjectionSetup setup(reversed);
+  const Projector projector(setup.camera);
+  std::vector<BoxProjection> out(batch);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    projector.project(setup.boxes.data() + i, batch, out.data());
+    benchmark::DoNotOptimize(out.data());
+    i = (i + batch) & 4095;
+  }
+  state.SetItemsProcessed(state.iterations() * std::int64_t(batch));
+  state.SetLabel(setup.label(reversed));
+}
+BENCHMARK(BM_ProjectBatch)->ArgNames({"reversed", "batch"})->ArgsProduct({{0, 1}, {4, 8}});
+
+// Frustum only (Projector::outsideFrustum), a batch of 8 boxes a call; items are boxes.
+void BM_Frustum(benchmark::State& state) {
+  const bool reversed = state.range(0) != 0;
+  const ProjectionSetup setup(reversed);
+  const Projector projector(setup.camera);
+  for (const Aabb& b : setup.boxes) {
+    if (projector.outsideFrustum(b) && projector.project(b).cls != ProjectionClass::Outside) {
+      state.SkipWithError("outsideFrustum() culls a box that project() keeps");
+      return;
+    }
+  }
+  std::uint8_t outside[8];
+  std::size_t i = 0, culled = 0, tested = 0;
+  for (auto _ : state) {
+    projector.outsideFrustum(setup.boxes.data() + i, 8, outside);
+    benchmark::DoNotOptimize(outside);
+    for (std::uint8_t o : outside) culled += o;
+    tested += 8;
+    i = (i + 8) & 4095;
+  }
+  state.SetItemsProcessed(state.iterations() * 8);
+  state.counters["outside"] = tested ? double(culled) / double(tested) : 0.0;
+  state.SetLabel(setup.label(reversed));
+}
+BENCHMARK(BM_Frustum)->ArgName("reversed")->Arg(0)->Arg(1);
 
 }  // namespace
 }  // namespace logrid

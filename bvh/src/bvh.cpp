@@ -1,4 +1,4 @@
-#include "logrid/bvh.hpp"
+#include "logrid/bvh/bvh.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -9,6 +9,7 @@
 #include <sstream>
 #include <thread>
 
+#include "boxes.hpp"
 #include "logrid/error.hpp"
 
 namespace logrid::bvh {
@@ -33,15 +34,10 @@ std::string validateBuildArgs(const BuildArgs& args) {
 
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
-
-Aabb emptyBox() { return {{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}}; }
-
-void grow(Aabb& a, const Aabb& b) {
-  a.min.x = std::min(a.min.x, b.min.x), a.min.y = std::min(a.min.y, b.min.y);
-  a.min.z = std::min(a.min.z, b.min.z), a.max.x = std::max(a.max.x, b.max.x);
-  a.max.y = std::max(a.max.y, b.max.y), a.max.z = std::max(a.max.z, b.max.z);
-}
+using detail::checkBox;
+using detail::emptyBox;
+using detail::grow;
+using detail::kInf;
 
 void grow(Aabb& a, const float* p) {
   a.min.x = std::min(a.min.x, p[0]), a.min.y = std::min(a.min.y, p[1]);
@@ -174,18 +170,6 @@ void computeBoxes(std::vector<FlatHierarchy::Node>& nodes, LeafBox leafBox) {
 }
 
 void throwBad(const std::string& what) { throw Error(ErrorCode::BadInput, what); }
-
-// Throws naming `who` and object `id` unless `b` is finite with min <= max.
-void checkBox(const char* who, std::size_t id, const Aabb& b) {
-  const bool finite = std::isfinite(b.min.x) && std::isfinite(b.min.y) && std::isfinite(b.min.z) &&
-                      std::isfinite(b.max.x) && std::isfinite(b.max.y) && std::isfinite(b.max.z);
-  if (finite && b.min.x <= b.max.x && b.min.y <= b.max.y && b.min.z <= b.max.z) return;
-  std::ostringstream out;
-  out << who << ": object " << id << " has an invalid box (min " << b.min.x << " " << b.min.y << " "
-      << b.min.z << ", max " << b.max.x << " " << b.max.y << " " << b.max.z
-      << "); boxes must be finite with min <= max";
-  throwBad(out.str());
-}
 
 }  // namespace
 

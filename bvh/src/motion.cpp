@@ -1,4 +1,4 @@
-#include "logrid/motion.hpp"
+#include "logrid/bvh/motion.hpp"
 
 #include <cassert>
 #include <chrono>
@@ -7,7 +7,7 @@
 
 #include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
-#include "logrid/ternary_tree.hpp"
+#include "logrid/bvh/ternary_tree.hpp"
 
 namespace logrid::bvh {
 namespace {

@@ -1,4 +1,4 @@
-#include "logrid/ternary_tree.hpp"
+#include "logrid/bvh/ternary_tree.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -8,15 +8,16 @@
 #include <limits>
 #include <sstream>
 
+#include "boxes.hpp"
 #include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
 
 namespace logrid::bvh {
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
-
-Aabb emptyBox() { return {{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}}; }
+using detail::checkBox;
+using detail::emptyBox;
+using detail::grow;
 
 float lo(const Aabb& b, int axis) { return axis == 0 ? b.min.x : axis == 1 ? b.min.y : b.min.z; }
 float hi(const Aabb& b, int axis) { return axis == 0 ? b.max.x : axis == 1 ? b.max.y : b.max.z; }
@@ -25,12 +26,6 @@ void setLo(Aabb& b, int axis, float v) {
 }
 void setHi(Aabb& b, int axis, float v) {
   (axis == 0 ? b.max.x : axis == 1 ? b.max.y : b.max.z) = v;
-}
-
-void grow(Aabb& a, const Aabb& b) {
-  a.min.x = std::min(a.min.x, b.min.x), a.min.y = std::min(a.min.y, b.min.y);
-  a.min.z = std::min(a.min.z, b.min.z), a.max.x = std::max(a.max.x, b.max.x);
-  a.max.y = std::max(a.max.y, b.max.y), a.max.z = std::max(a.max.z, b.max.z);
 }
 
 // inner lies within outer (closed boxes).
@@ -42,17 +37,6 @@ bool contains(const Aabb& outer, const Aabb& inner) {
 bool sameBox(const Aabb& a, const Aabb& b) {
   return a.min.x == b.min.x && a.min.y == b.min.y && a.min.z == b.min.z && a.max.x == b.max.x &&
          a.max.y == b.max.y && a.max.z == b.max.z;
-}
-
-void checkBox(const char* who, std::size_t id, const Aabb& b) {
-  const bool finite = std::isfinite(b.min.x) && std::isfinite(b.min.y) && std::isfinite(b.min.z) &&
-                      std::isfinite(b.max.x) && std::isfinite(b.max.y) && std::isfinite(b.max.z);
-  if (finite && b.min.x <= b.max.x && b.min.y <= b.max.y && b.min.z <= b.max.z) return;
-  std::ostringstream out;
-  out << who << ": object " << id << " has an invalid box (min " << b.min.x << " " << b.min.y << " "
-      << b.min.z << ", max " << b.max.x << " " << b.max.y << " " << b.max.z
-      << "); boxes must be finite with min <= max";
-  throw Error(ErrorCode::BadInput, out.str());
 }
 
 std::uint64_t nextTreeRevision() {

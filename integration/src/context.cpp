@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -111,15 +112,7 @@ std::vector<Device> listDevices() {
   return out;
 }
 
-}  // namespace
-
-struct Context::Impl {
-  EGLDisplay display = EGL_NO_DISPLAY;
-  EGLContext context = EGL_NO_CONTEXT;
-  ContextInfo info;
-};
-
-Context::Context(const ContextDesc& desc) : impl_(std::make_unique<Impl>()) {
+void checkDesc(const ContextDesc& desc) {
   if (desc.platform != Platform::Auto && desc.platform != Platform::Surfaceless &&
       desc.platform != Platform::Device) {
     std::ostringstream out;
@@ -132,7 +125,15 @@ Context::Context(const ContextDesc& desc) : impl_(std::make_unique<Impl>()) {
         << " is invalid; use -1 (the first GPU) or an index from 0";
     fail(ErrorCode::InvalidArgument, out.str());
   }
-  requireLibEgl();
+}
+
+// The EGL platform and device the context is made on.
+struct PlatformChoice {
+  Platform platform = Platform::Surfaceless;
+  std::optional<Device> device;  // Platform::Device only
+};
+
+PlatformChoice choosePlatform(const ContextDesc& desc) {
   const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
   if (!client) {
     fail(ErrorCode::Environment,
@@ -146,9 +147,8 @@ Context::Context(const ContextDesc& desc) : impl_(std::make_unique<Impl>()) {
                           hasExtension(client, "EGL_EXT_device_query");
   std::vector<Device> devices = has_device ? listDevices() : std::vector<Device>{};
 
-  Platform platform = desc.platform;
-  const Device* chosen = nullptr;
-  if (platform != Platform::Surfaceless) {
+  PlatformChoice choice{desc.platform, std::nullopt};
+  if (choice.platform != Platform::Surfaceless) {
     if (desc.device_index >= 0) {
       if (std::size_t(desc.device_index) >= devices.size()) {
         std::ostringstream out;
@@ -157,18 +157,20 @@ Context::Context(const ContextDesc& desc) : impl_(std::make_unique<Impl>()) {
                "surfaceless platform";
         fail(ErrorCode::InvalidArgument, out.str());
       }
-      chosen = &devices[std::size_t(desc.device_index)];
+      choice.device = devices[std::size_t(desc.device_index)];
     } else {
       for (const Device& d : devices) {
         if (!d.software) {
-          chosen = &d;
+          choice.device = d;
           break;
         }
       }
     }
   }
-  if (platform == Platform::Auto) platform = chosen ? Platform::Device : Platform::Surfaceless;
-  if (platform == Platform::Device && !chosen) {
+  if (choice.platform == Platform::Auto) {
+    choice.platform = choice.device ? Platform::Device : Platform::Surfaceless;
+  }
+  if (choice.platform == Platform::Device && !choice.device) {
     fail(ErrorCode::Environment,
          has_device ? "EGL: platform 'device' requested but no hardware EGL device was found "
                       "(only Mesa's software device). Install the GPU driver (e.g. the NVIDIA "
@@ -177,22 +179,26 @@ Context::Context(const ContextDesc& desc) : impl_(std::make_unique<Impl>()) {
                       "available. Install a driver that provides it (NVIDIA, or Mesa >= 20) or "
                       "use platform 'surfaceless'.");
   }
-  if (platform == Platform::Surfaceless && !has_surfaceless) {
+  if (choice.platform == Platform::Surfaceless && !has_surfaceless) {
     fail(ErrorCode::Environment,
          "EGL: EGL_MESA_platform_surfaceless is not available. Install Mesa's EGL "
          "('apt-get install libegl-mesa0 libgl1-mesa-dri') or use platform 'device' on a GPU.");
   }
+  if (choice.platform != Platform::Device) choice.device.reset();
+  return choice;
+}
 
-  Impl& s = *impl_;
-  s.display =
-      platform == Platform::Device
-          ? eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, chosen->handle, nullptr)
+// An initialised display of the chosen platform, bound to desktop OpenGL.
+EGLDisplay openDisplay(const PlatformChoice& choice) {
+  const EGLDisplay display =
+      choice.platform == Platform::Device
+          ? eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, choice.device->handle, nullptr)
           : eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
   EGLint major = 0, minor = 0;
-  if (s.display == EGL_NO_DISPLAY || !eglInitialize(s.display, &major, &minor)) {
+  if (display == EGL_NO_DISPLAY || !eglInitialize(display, &major, &minor)) {
     fail(ErrorCode::Environment,
-         std::string("EGL: could not open a display on platform '") + toString(platform) + "' (" +
-             eglErrorName(eglGetError()) +
+         std::string("EGL: could not open a display on platform '") + toString(choice.platform) +
+             "' (" + eglErrorName(eglGetError()) +
              "). Check that the driver is installed (Mesa: libegl-mesa0 libgl1-mesa-dri) and "
              "that /dev/dri is accessible when using a GPU; EGL_LOG_LEVEL=debug shows details.");
   }
@@ -202,14 +208,18 @@ Context::Context(const ContextDesc& desc) : impl_(std::make_unique<Impl>()) {
          "failed: " +
              eglErrorName(eglGetError()) + ")");
   }
+  return display;
+}
 
-  const char* display_ext = eglQueryString(s.display, EGL_EXTENSIONS);
+// An OpenGL 4.5 core context (with a debug context when asked).
+EGLContext createContext(EGLDisplay display, bool debug) {
+  const char* display_ext = eglQueryString(display, EGL_EXTENSIONS);
   EGLConfig config = EGL_NO_CONFIG_KHR;
   if (!hasExtension(display_ext, "EGL_KHR_no_config_context")) {
     const EGLint attribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE,
                               EGL_OPENGL_BIT, EGL_NONE};
     EGLint n = 0;
-    if (!eglChooseConfig(s.display, attribs, &config, 1, &n) || n < 1) {
+    if (!eglChooseConfig(display, attribs, &config, 1, &n) || n < 1) {
       fail(ErrorCode::Unsupported, "EGL: no config supports desktop OpenGL on this display");
     }
   }
@@ -220,34 +230,58 @@ Context::Context(const ContextDesc& desc) : impl_(std::make_unique<Impl>()) {
                                     EGL_CONTEXT_OPENGL_PROFILE_MASK,
                                     EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
                                     EGL_CONTEXT_OPENGL_DEBUG,
-                                    desc.debug ? EGL_TRUE : EGL_FALSE,
+                                    debug ? EGL_TRUE : EGL_FALSE,
                                     EGL_NONE};
-  s.context = eglCreateContext(s.display, config, EGL_NO_CONTEXT, context_attribs);
-  if (s.context == EGL_NO_CONTEXT) {
+  const EGLContext context = eglCreateContext(display, config, EGL_NO_CONTEXT, context_attribs);
+  if (context == EGL_NO_CONTEXT) {
     fail(ErrorCode::Unsupported,
          std::string("EGL: could not create an OpenGL 4.5 core context (") +
              eglErrorName(eglGetError()) +
              "). logrid needs OpenGL 4.5: Mesa >= 20 (llvmpipe works without a GPU) or a "
              "current vendor driver. Do not set GALLIUM_DRIVER=softpipe.");
   }
-  makeCurrent();
+  return context;
+}
 
-  s.info.platform = platform;
-  s.info.device = chosen ? chosen->extensions : "default display";
+// What the current context reports; throws below OpenGL 4.5.
+ContextInfo readInfo(const PlatformChoice& choice) {
+  ContextInfo info;
+  info.platform = choice.platform;
+  info.device = choice.device ? choice.device->extensions : "default display";
   auto str = [](GLenum e) {
     const auto* v = reinterpret_cast<const char*>(glGetString(e));
     return std::string(v ? v : "");
   };
-  s.info.vendor = str(GL_VENDOR);
-  s.info.renderer = str(GL_RENDERER);
-  s.info.version = str(GL_VERSION);
-  s.info.software = s.info.renderer.find("llvmpipe") != std::string::npos ||
-                    s.info.renderer.find("softpipe") != std::string::npos ||
-                    s.info.renderer.find("swrast") != std::string::npos;
+  info.vendor = str(GL_VENDOR);
+  info.renderer = str(GL_RENDERER);
+  info.version = str(GL_VERSION);
+  info.software = info.renderer.find("llvmpipe") != std::string::npos ||
+                  info.renderer.find("softpipe") != std::string::npos ||
+                  info.renderer.find("swrast") != std::string::npos;
   if (epoxy_gl_version() < 45) {
-    fail(ErrorCode::Unsupported, "GL: the context reports version " + s.info.version +
+    fail(ErrorCode::Unsupported, "GL: the context reports version " + info.version +
                                      "; logrid needs OpenGL 4.5 core. Update Mesa or the driver.");
   }
+  return info;
+}
+
+}  // namespace
+
+struct Context::Impl {
+  EGLDisplay display = EGL_NO_DISPLAY;
+  EGLContext context = EGL_NO_CONTEXT;
+  ContextInfo info;
+};
+
+Context::Context(const ContextDesc& desc) : impl_(std::make_unique<Impl>()) {
+  checkDesc(desc);
+  requireLibEgl();
+  const PlatformChoice choice = choosePlatform(desc);
+  Impl& s = *impl_;
+  s.display = openDisplay(choice);
+  s.context = createContext(s.display, desc.debug);
+  makeCurrent();
+  s.info = readInfo(choice);
   s.info.debug = installDebugOutput();
   check("Context");
 }

@@ -118,16 +118,18 @@ const OcclusionGrid* Culler::grid() const { return tester_->grid(); }
 
 namespace {
 
-// Min-heaps on Entry::order.
-template <typename E>
-bool laterFirst(const E& a, const E& b) {
-  return a.order > b.order;
-}
+// Min-heaps on Entry::order: a function object, so that the heap operations inline it.
+struct LaterFirst {
+  template <typename E>
+  bool operator()(const E& a, const E& b) const {
+    return a.order > b.order;
+  }
+};
 
 constexpr float kNothingDrawn = -std::numeric_limits<float>::infinity();
 
 // Areas drawn out of order that occlusion-state tests check one by one (a few hundred
-// occluders or coherent leaves); further ones count for every box.
+// occluders or coherent nodes); further ones count for every box.
 constexpr std::size_t kMaxUnorderedAreas = 256;
 
 bool overlaps(const PixelRect& a, const PixelRect& b) {
@@ -278,12 +280,12 @@ void Culler::beginFrame(const Camera& camera, const Hierarchy& hierarchy,
   batch_areas_.clear();
   culled_undrawn_.clear();
   after_draw_.clear();
-  visible_leaves_.clear();
+  visible_drawn_.clear();
   drawn_first_.clear();
   unordered_.clear();
   coherence_ = auto_ ? setting_.temporal_coherence
                     : desc_.temporal_coherence && info.takes.temporal_coherence;
-  // auto keeps the visible leaves every frame: the next may choose coherence.
+  // auto keeps the visible nodes with objects every frame: the next may choose coherence.
   record_visible_ = coherence_ || auto_;
   if (!auto_) setting_ = {desc_.method, lookahead_, coherence_, false};
   setting_.approximation = budget_ ? budget_->current() : desc_.approximation;
@@ -333,7 +335,7 @@ void Culler::beginFrame(const Camera& camera, const Hierarchy& hierarchy,
   } else {
     phase_ = coherence_ ? Phase::Coherent : Phase::Traverse;
     const NodeId root = hierarchy.root();
-    if (root != kNoNode) pushTest(root);
+    if (root != kNoNode) pushTest(root, projector_->project(hierarchy.bounds(root)));
   }
 }
 
@@ -367,9 +369,9 @@ FrameStats Culler::endFrame() {
     if (depth) depth->endFrame();
     if (queries) queries->endQueryFrame();
   }
-  // Next frame's coherent set: the leaves this frame found visible.
+  // Next frame's coherent set: the nodes with objects this frame found visible.
   if (record_visible_) {
-    coherent_.swap(visible_leaves_);
+    coherent_.swap(visible_drawn_);
     coherent_hierarchy_ = hierarchy_;
     coherent_revision_ = hierarchy_->revision();
   }
@@ -423,7 +425,7 @@ void Culler::advance() {
         phase_ = Phase::CoherentRefresh;
         break;
       case Phase::CoherentRefresh:
-        // Refreshes the tiles the coherent leaves made outdated: after they are drawn.
+        // Refreshes the tiles the coherent nodes made outdated: after they are drawn.
         if (!drawn_first_.empty()) {
           if (!batch_.empty()) return;
           tester_->refreshOutdated(grid_counts_);
@@ -485,7 +487,7 @@ bool Culler::traverse() {
           test_list_.empty() ? std::numeric_limits<float>::infinity() : test_list_.front().order;
       if (!pending_.empty()) gate = std::min(gate, pending_.front().order);
       if (draw_list_.front().order < gate) {
-        std::pop_heap(draw_list_.begin(), draw_list_.end(), laterFirst<Entry>);
+        std::pop_heap(draw_list_.begin(), draw_list_.end(), LaterFirst{});
         const Entry entry = draw_list_.back();
         draw_list_.pop_back();
         drawEntry(entry);
@@ -493,7 +495,7 @@ bool Culler::traverse() {
       }
     }
     if (!test_list_.empty() && pending_.size() < lookahead_) {
-      std::pop_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
+      std::pop_heap(test_list_.begin(), test_list_.end(), LaterFirst{});
       const Entry entry = test_list_.back();
       test_list_.pop_back();
       ++stats_.nodes_visited;
@@ -513,7 +515,7 @@ bool Culler::traverse() {
           --stats_.nodes_visited;
           ++stats_.colliding_waits;
           test_list_.push_back(entry);
-          std::push_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
+          std::push_heap(test_list_.begin(), test_list_.end(), LaterFirst{});
           resolve_due_ = true;
           continue;
         }
@@ -525,23 +527,23 @@ bool Culler::traverse() {
         bool by_state = false;
         const float threshold = thresholdFor(entry, by_state);
         countFallback(by_state);
-        const bool leaf = hierarchy.objectCount(entry.node) > 0;
+        const bool holds_objects = hierarchy.objectCount(entry.node) > 0;
         std::optional<Visibility> planned =
-            tester_->plan(entry.projection.rect, threshold, grid_counts_, leaf);
+            tester_->plan(entry.projection.rect, threshold, grid_counts_, holds_objects);
         if (!planned) {
-          if (leaf) {
+          if (holds_objects) {
             pending_.push_back(entry);
             pending_.back().by_state = by_state;
             continue;
           }
-          // An inner node the records cannot decide is opened rather than waited for:
+          // A node without objects the records cannot decide is opened rather than waited for:
           // its children are tested instead (what a visible answer would do anyway), so
           // a descent through the hierarchy costs no batch per level.
           ++stats_.nodes_opened;
           planned = Visibility::Visible;
-        } else if (*planned == Visibility::Visible && leaf && !pending_.empty()) {
-          // Visible by the records, but leaves in front of it are still undecided and
-          // what they hold back from drawing may hide it: test it again after them.
+        } else if (*planned == Visibility::Visible && holds_objects && !pending_.empty()) {
+          // Visible by the records, but nodes with objects in front of it are still
+          // undecided, and what they hold back from drawing may hide it: tested again after.
           deferred_.push_back(entry);
           continue;
         }
@@ -559,15 +561,29 @@ bool Culler::traverse() {
   }
 }
 
-void Culler::pushTest(NodeId node) {
-  Entry entry{0, node, projector_->project(hierarchy_->bounds(node))};
+void Culler::pushChildren(NodeId node) {
+  // One call for the children's ids and boxes, one for their projections.
+  const std::uint32_t count = hierarchy_->childCount(node);
+  if (count == 0) return;
+  if (child_ids_.size() < count) {
+    child_ids_.resize(count);
+    child_boxes_.resize(count);
+    child_projections_.resize(count);
+  }
+  hierarchy_->children(node, child_ids_.data(), child_boxes_.data());
+  projector_->project(child_boxes_.data(), count, child_projections_.data());
+  for (std::uint32_t c = 0; c < count; ++c) pushTest(child_ids_[c], child_projections_[c]);
+}
+
+void Culler::pushTest(NodeId node, const BoxProjection& projection) {
+  Entry entry{0, node, projection};
   if (entry.projection.cls == ProjectionClass::Outside) {
     ++stats_.boxes_view_culled;  // children never visited
     return;
   }
   entry.order = entry.projection.near_key - entry.projection.margin;
   test_list_.push_back(entry);
-  std::push_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
+  std::push_heap(test_list_.begin(), test_list_.end(), LaterFirst{});
 }
 bool Culler::forced(const Entry& entry, Visibility& result) {
   switch (entry.projection.cls) {
@@ -639,18 +655,17 @@ void Culler::finish(const Entry& entry, Visibility v) {
   if (observer_) observer_->onTested(entry.node, entry.projection, v);
   if (v != Visibility::Visible) return;
   if (hierarchy.objectCount(entry.node) > 0) {
-    if (record_visible_) visible_leaves_.push_back(entry.node);
+    if (record_visible_) visible_drawn_.push_back(entry.node);
     if (method_->info.traversal == Traversal::TwoList) {
       Entry drawn = entry;
       drawn.order = entry.projection.far_key + entry.projection.margin;
       draw_list_.push_back(drawn);
-      std::push_heap(draw_list_.begin(), draw_list_.end(), laterFirst<Entry>);
+      std::push_heap(draw_list_.begin(), draw_list_.end(), LaterFirst{});
     } else {
       drawEntry(entry);
     }
   }
-  const std::uint32_t children = hierarchy.childCount(entry.node);
-  for (std::uint32_t c = 0; c < children; ++c) pushTest(hierarchy.child(entry.node, c));
+  pushChildren(entry.node);
 }
 
 void Culler::resolvePending() {
@@ -662,12 +677,12 @@ void Culler::resolvePending() {
   std::vector<Entry> batch;
   batch.swap(pending_);
   for (std::size_t i = 0; i < batch.size(); ++i) {
-    Visibility v = tester_->resolve(i, grid_counts_);
+    Visibility v = tester_->resolve(i);
     if (v == Visibility::Occluded && batch[i].by_state && !orderVouches(batch[i])) {
       // Planned as "any drawn pixel hides it", but something was drawn behind it since
       // (announced out of order): no longer sound. Tested again, by depth.
       test_list_.push_back(batch[i]);
-      std::push_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
+      std::push_heap(test_list_.begin(), test_list_.end(), LaterFirst{});
       continue;
     }
     decided(batch[i], v);
@@ -677,7 +692,7 @@ void Culler::resolvePending() {
   batch.swap(pending_);  // keep the capacity
   for (const Entry& e : deferred_) {
     test_list_.push_back(e);
-    std::push_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
+    std::push_heap(test_list_.begin(), test_list_.end(), LaterFirst{});
   }
   deferred_.clear();
 }
@@ -792,7 +807,7 @@ void Culler::noteDepthCleared(float window_depth) {
   // What was found hidden while it waited to be drawn is placed after it: tested again.
   for (const Entry& e : culled_undrawn_) {
     test_list_.push_back(e);
-    std::push_heap(test_list_.begin(), test_list_.end(), laterFirst<Entry>);
+    std::push_heap(test_list_.begin(), test_list_.end(), LaterFirst{});
   }
   culled_undrawn_.clear();
   if (query_frame_) query_frame_->reconsiderCulled(*schedule_);

@@ -88,6 +88,15 @@ PixelRect OcclusionGrid::tileRect(std::uint32_t tx, std::uint32_t ty) const {
   return r;
 }
 
+PixelRect OcclusionGrid::viewport() const {
+  return {0, 0, std::int32_t(desc_.width), std::int32_t(desc_.height)};
+}
+
+bool OcclusionGrid::insideViewport(const PixelRect& rect) const {
+  return !rect.empty() && rect.x0 >= 0 && rect.y0 >= 0 && rect.x1 <= std::int32_t(desc_.width) &&
+         rect.y1 <= std::int32_t(desc_.height);
+}
+
 TileRecord OcclusionGrid::tile(std::uint32_t tx, std::uint32_t ty) const {
   assert(tx < tiles_x_ && ty < tiles_y_ && "OcclusionGrid::tile: tile out of range");
   const std::size_t i = std::size_t(ty) * tiles_x_ + tx;
@@ -110,34 +119,6 @@ void OcclusionGrid::fill(float key) {
 
 namespace {
 
-// The tiles a pixel rectangle touches, and the ones it covers completely.
-struct TileSpan {
-  std::uint32_t x0, x1, y0, y1;     // touched, inclusive
-  std::int64_t ix0, ix1, iy0, iy1;  // internal, inclusive; empty when ix0 > ix1 or iy0 > iy1
-
-  bool internal(std::uint32_t tx, std::uint32_t ty) const {
-    return tx >= ix0 && tx <= ix1 && ty >= iy0 && ty <= iy1;
-  }
-};
-
-TileSpan tileSpan(const PixelRect& r, std::uint64_t ts, std::uint32_t width, std::uint32_t height) {
-  TileSpan s;
-  s.x0 = static_cast<std::uint32_t>(std::uint64_t(r.x0) / ts);
-  s.x1 = static_cast<std::uint32_t>(std::uint64_t(r.x1 - 1) / ts);
-  s.y0 = static_cast<std::uint32_t>(std::uint64_t(r.y0) / ts);
-  s.y1 = static_cast<std::uint32_t>(std::uint64_t(r.y1 - 1) / ts);
-  // A tile is internal when its extent, clipped to the viewport, lies inside r.
-  s.ix0 = std::uint64_t(r.x0) == s.x0 * ts ? s.x0 : std::int64_t{s.x0} + 1;
-  s.iy0 = std::uint64_t(r.y0) == s.y0 * ts ? s.y0 : std::int64_t{s.y0} + 1;
-  s.ix1 = std::uint64_t(r.x1) >= std::min<std::uint64_t>((s.x1 + 1) * ts, width)
-              ? std::int64_t{s.x1}
-              : std::int64_t{s.x1} - 1;
-  s.iy1 = std::uint64_t(r.y1) >= std::min<std::uint64_t>((s.y1 + 1) * ts, height)
-              ? std::int64_t{s.y1}
-              : std::int64_t{s.y1} - 1;
-  return s;
-}
-
 PixelRect intersect(const PixelRect& a, const PixelRect& b) {
   return {std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1), std::min(a.y1, b.y1)};
 }
@@ -159,16 +140,77 @@ AreaDepth mergeSummaries(const AreaRequest* requests, const AreaAnswer* answers,
   return merged;
 }
 
+// The pixels counted, and the pixels sampled, by the requests [first, end) of one read.
+void sumCounts(const AreaRequest* requests, const AreaAnswer* answers, std::size_t first,
+               std::size_t end, std::uint32_t& count, std::uint32_t& sampled) {
+  count = 0;
+  sampled = 0;
+  for (std::size_t r = first; r < end; ++r) {
+    count += answers[r].count;
+    sampled += std::uint32_t(requests[r].rect.area());
+  }
+}
+
 // A tile index with its internal/border class packed into the top bit.
 constexpr std::uint32_t kInternalBit = 0x80000000u;
 
+// The order of §3's steps: a rectangle's internal tiles, then its border tiles.
+constexpr bool kInternalFirst[] = {true, false};
+
 }  // namespace
+
+// The tiles a pixel rectangle touches, and the ones it covers completely.
+struct OcclusionGrid::TileSpan {
+  std::uint32_t x0, x1, y0, y1;     // touched, inclusive
+  std::int64_t ix0, ix1, iy0, iy1;  // internal, inclusive; empty when ix0 > ix1 or iy0 > iy1
+
+  bool internal(std::uint32_t tx, std::uint32_t ty) const {
+    return tx >= ix0 && tx <= ix1 && ty >= iy0 && ty <= iy1;
+  }
+};
+
+OcclusionGrid::TileSpan OcclusionGrid::tileSpan(const PixelRect& r) const {
+  const std::uint64_t ts = desc_.tile_size;
+  TileSpan s;
+  s.x0 = static_cast<std::uint32_t>(std::uint64_t(r.x0) / ts);
+  s.x1 = static_cast<std::uint32_t>(std::uint64_t(r.x1 - 1) / ts);
+  s.y0 = static_cast<std::uint32_t>(std::uint64_t(r.y0) / ts);
+  s.y1 = static_cast<std::uint32_t>(std::uint64_t(r.y1 - 1) / ts);
+  // A tile is internal when its extent, clipped to the viewport, lies inside r.
+  s.ix0 = std::uint64_t(r.x0) == s.x0 * ts ? s.x0 : std::int64_t{s.x0} + 1;
+  s.iy0 = std::uint64_t(r.y0) == s.y0 * ts ? s.y0 : std::int64_t{s.y0} + 1;
+  s.ix1 = std::uint64_t(r.x1) >= std::min<std::uint64_t>((s.x1 + 1) * ts, desc_.width)
+              ? std::int64_t{s.x1}
+              : std::int64_t{s.x1} - 1;
+  s.iy1 = std::uint64_t(r.y1) >= std::min<std::uint64_t>((s.y1 + 1) * ts, desc_.height)
+              ? std::int64_t{s.y1}
+              : std::int64_t{s.y1} - 1;
+  return s;
+}
+
+template <typename Visit>
+bool OcclusionGrid::forEachTile(const TileSpan& s, Visit&& visit) const {
+  for (std::uint32_t ty = s.y0; ty <= s.y1; ++ty) {
+    for (std::uint32_t tx = s.x0; tx <= s.x1; ++tx) {
+      if (visit(std::size_t(ty) * tiles_x_ + tx, s.internal(tx, ty))) return true;
+    }
+  }
+  return false;
+}
+
+template <typename Visit>
+bool OcclusionGrid::forEachTileOf(const TileSpan& s, bool internal, Visit&& visit) const {
+  return forEachTile(s, [&](std::size_t i, bool tile_internal) {
+    return tile_internal == internal && visit(i);
+  });
+}
+
 
 void OcclusionGrid::markOutdated(const PixelRect& rect) {
   const PixelRect r =
-      intersect(rect, {0, 0, std::int32_t(desc_.width), std::int32_t(desc_.height)});
+      intersect(rect, viewport());
   if (r.empty()) return;
-  const TileSpan s = tileSpan(r, desc_.tile_size, desc_.width, desc_.height);
+  const TileSpan s = tileSpan(r);
   ++draw_stamp_;
   for (std::uint32_t ty = s.y0; ty <= s.y1; ++ty) {
     const std::size_t row = std::size_t(ty) * tiles_x_;
@@ -190,21 +232,18 @@ std::uint32_t OcclusionGrid::recordCovered(const DrawnQuad& quad, const Coverage
   const PixelRect box{clampTo(std::floor(xlo), desc_.width), clampTo(std::floor(ylo), desc_.height),
                       clampTo(std::ceil(xhi), desc_.width), clampTo(std::ceil(yhi), desc_.height)};
   if (box.empty()) return 0;
-  const TileSpan s = tileSpan(box, desc_.tile_size, desc_.width, desc_.height);
   std::uint32_t recorded = 0;
   bool drawn = false;
-  for (std::uint32_t ty = s.y0; ty <= s.y1; ++ty) {
-    for (std::uint32_t tx = s.x0; tx <= s.x1; ++tx) {
-      if (!coversRect(quad, tileRect(tx, ty), rule)) continue;
-      const std::size_t i = std::size_t(ty) * tiles_x_ + tx;
-      if (!drawn) ++draw_stamp_, drawn = true;
-      // Keys only shrink within a frame: the nearer of two bounds holds.
-      far_[i] = std::min(far_[i], quad.far_key);
-      outdated_[i] = 1;
-      stamp_[i] = draw_stamp_;
-      ++recorded;
-    }
-  }
+  forEachTile(tileSpan(box), [&](std::size_t i, bool) {
+    if (!coversRect(quad, tileRectOf(i), rule)) return false;
+    if (!drawn) ++draw_stamp_, drawn = true;
+    // Keys only shrink within a frame: the nearer of two bounds holds.
+    far_[i] = std::min(far_[i], quad.far_key);
+    outdated_[i] = 1;
+    stamp_[i] = draw_stamp_;
+    ++recorded;
+    return false;
+  });
   return recorded;
 }
 
@@ -272,54 +311,56 @@ void OcclusionGrid::appendRead(const PixelRect& area, AreaAsk ask, float thresho
 
 Visibility OcclusionGrid::test(const PixelRect& rect, float threshold, DepthSource& source,
                                GridTestCounts& counts) {
-  assert(!rect.empty() && rect.x0 >= 0 && rect.y0 >= 0 && rect.x1 <= std::int32_t(desc_.width) &&
-         rect.y1 <= std::int32_t(desc_.height) &&
+  assert(insideViewport(rect) &&
          "OcclusionGrid::test: rect must be non-empty and inside the viewport");
   exact_records_ = source.traits().reads_depth;
   if (approx_.visible_pixels > 0) return testCounting(rect, threshold, source, counts);
-  const TileSpan s = tileSpan(rect, desc_.tile_size, desc_.width, desc_.height);
-
-  // Steps 1 and 2 (§3): records of up-to-date tiles, internal ones first.
-  for (int internal_pass = 1; internal_pass >= 0; --internal_pass) {
-    for (std::uint32_t ty = s.y0; ty <= s.y1; ++ty) {
-      for (std::uint32_t tx = s.x0; tx <= s.x1; ++tx) {
-        const bool internal = s.internal(tx, ty);
-        if (internal != bool(internal_pass)) continue;
-        const std::size_t i = std::size_t(ty) * tiles_x_ + tx;
-        if (outdated_[i]) continue;
-        const Decision d = decideFromRecord(i, internal, threshold);
-        if (d == Decision::Undecided) continue;
-        ++counts.tiles_tested;
-        if (d == Decision::Visible) return Visibility::Visible;
-      }
-    }
-  }
-
+  const TileSpan s = tileSpan(rect);
+  if (recordsShow(s, threshold, counts)) return Visibility::Visible;
   // Steps 3 and 4: the tiles the records could not decide: internal ones refreshed
   // over the whole tile, border ones read over their intersection with the rectangle.
-  for (int internal_pass = 1; internal_pass >= 0; --internal_pass) {
+  for (const bool internal : kInternalFirst) {
     pending_.clear();
-    for (std::uint32_t ty = s.y0; ty <= s.y1; ++ty) {
-      for (std::uint32_t tx = s.x0; tx <= s.x1; ++tx) {
-        const bool internal = s.internal(tx, ty);
-        if (internal != bool(internal_pass)) continue;
-        const std::size_t i = std::size_t(ty) * tiles_x_ + tx;
-        if (!outdated_[i] && decideFromRecord(i, internal, threshold) != Decision::Undecided) {
-          continue;  // decided in steps 1 and 2
-        }
-        if (far_[i] < threshold) {
-          ++counts.tiles_tested;  // outdated, but its stale zfar is still in front
-          continue;
-        }
-        pending_.push_back(static_cast<std::uint32_t>(i));
-      }
-    }
+    forEachUndecided(s, internal, threshold, counts, [&](std::size_t i) {
+      pending_.push_back(static_cast<std::uint32_t>(i));
+      return false;
+    });
     if (!pending_.empty() &&
-        readPending(rect, threshold, internal_pass != 0, source, counts) == Visibility::Visible) {
+        readPending(rect, threshold, internal, source, counts) == Visibility::Visible) {
       return Visibility::Visible;
     }
   }
   return Visibility::Occluded;
+}
+
+bool OcclusionGrid::recordsShow(const TileSpan& s, float threshold, GridTestCounts& counts) const {
+  // Steps 1 and 2 (§3): records of up-to-date tiles, internal ones first.
+  for (const bool internal : kInternalFirst) {
+    const bool shown = forEachTileOf(s, internal, [&](std::size_t i) {
+      if (outdated_[i]) return false;
+      const Decision d = decideFromRecord(i, internal, threshold);
+      if (d == Decision::Undecided) return false;
+      ++counts.tiles_tested;
+      return d == Decision::Visible;
+    });
+    if (shown) return true;
+  }
+  return false;
+}
+
+template <typename Take>
+bool OcclusionGrid::forEachUndecided(const TileSpan& s, bool internal, float threshold,
+                                     GridTestCounts& counts, Take&& take) const {
+  return forEachTileOf(s, internal, [&](std::size_t i) {
+    if (!outdated_[i] && decideFromRecord(i, internal, threshold) != Decision::Undecided) {
+      return false;  // decided in steps 1 and 2
+    }
+    if (far_[i] < threshold) {
+      ++counts.tiles_tested;  // outdated, but its stale zfar is still in front
+      return false;
+    }
+    return take(i);
+  });
 }
 
 PixelRect OcclusionGrid::tileRectOf(std::size_t index) const {
@@ -384,11 +425,10 @@ OcclusionGrid::CountResult OcclusionGrid::countTiles(const std::uint32_t* tiles,
   CountResult result;
   std::size_t r = 0;
   for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t first = r;
+    while (r < requests_.size() && owners_[r] == k) ++r;
     std::uint32_t count = 0, sampled = 0;
-    for (; r < requests_.size() && owners_[r] == k; ++r) {
-      count += answers_[r].count;
-      sampled += std::uint32_t(requests_[r].rect.area());
-    }
+    sumCounts(requests_.data(), answers_.data(), first, r, count, sampled);
     if (!clip) applyCount(tiles[k], count, sampled, threshold);
     result.shows |= countShows(count, sampled, threshold);
     result.pixels += std::uint64_t(count) * approx_.row_stride;
@@ -398,17 +438,15 @@ OcclusionGrid::CountResult OcclusionGrid::countTiles(const std::uint32_t* tiles,
 
 void OcclusionGrid::refreshNow(const PixelRect& rect, DepthSource& source) {
   const PixelRect r =
-      intersect(rect, {0, 0, std::int32_t(desc_.width), std::int32_t(desc_.height)});
+      intersect(rect, viewport());
   if (r.empty()) return;
-  const TileSpan s = tileSpan(r, desc_.tile_size, desc_.width, desc_.height);
+  const TileSpan s = tileSpan(r);
   pending_.clear();
-  for (std::uint32_t ty = s.y0; ty <= s.y1; ++ty) {
-    for (std::uint32_t tx = s.x0; tx <= s.x1; ++tx) {
-      const std::size_t i = std::size_t(ty) * tiles_x_ + tx;
-      if (far_[i] < clear_key_) continue;  // full tiles stay full (LOG §5, BOG)
-      pending_.push_back(static_cast<std::uint32_t>(i));
-    }
-  }
+  forEachTile(s, [&](std::size_t i, bool) {
+    // Full tiles stay full (LOG §5, BOG).
+    if (!(far_[i] < clear_key_)) pending_.push_back(static_cast<std::uint32_t>(i));
+    return false;
+  });
   if (pending_.empty()) return;
   if (source.traits().reads_depth) {
     summarizeTiles(pending_.data(), pending_.size(), clear_key_, source);
@@ -420,26 +458,24 @@ void OcclusionGrid::refreshNow(const PixelRect& rect, DepthSource& source) {
 
 Visibility OcclusionGrid::testCounting(const PixelRect& rect, float threshold, DepthSource& source,
                                        GridTestCounts& counts) {
-  const TileSpan s = tileSpan(rect, desc_.tile_size, desc_.width, desc_.height);
+  const TileSpan s = tileSpan(rect);
   const std::uint64_t allowed = approx_.visible_pixels;
   std::uint64_t seen = 0;
   pending_.clear();
-  for (std::uint32_t ty = s.y0; ty <= s.y1; ++ty) {
-    for (std::uint32_t tx = s.x0; tx <= s.x1; ++tx) {
-      const std::size_t i = std::size_t(ty) * tiles_x_ + tx;
-      if (far_[i] < threshold) {
-        ++counts.tiles_tested;  // nothing of this tile shows
-        continue;
-      }
-      if (!outdated_[i] && near_[i] >= threshold) {
-        ++counts.tiles_tested;  // every pixel under the box shows
-        seen += std::uint64_t(intersect(tileRectOf(i), rect).area());
-        if (seen > allowed) return Visibility::Visible;
-        continue;
-      }
-      pending_.push_back(static_cast<std::uint32_t>(i));
+  const bool shown = forEachTile(s, [&](std::size_t i, bool) {
+    if (far_[i] < threshold) {
+      ++counts.tiles_tested;  // nothing of this tile shows
+      return false;
     }
-  }
+    if (!outdated_[i] && near_[i] >= threshold) {
+      ++counts.tiles_tested;  // every pixel under the box shows
+      seen += std::uint64_t(intersect(tileRectOf(i), rect).area());
+      return seen > allowed;
+    }
+    pending_.push_back(static_cast<std::uint32_t>(i));
+    return false;
+  });
+  if (shown) return Visibility::Visible;
   const std::size_t step = source.traits().asynchronous ? pending_.size() : 1;
   for (std::size_t first = 0; first < pending_.size(); first += step) {
     const std::size_t n = std::min(step, pending_.size() - first);
@@ -458,42 +494,18 @@ Visibility OcclusionGrid::testCounting(const PixelRect& rect, float threshold, D
 std::optional<Visibility> OcclusionGrid::decideFromRecords(const PixelRect& rect, float threshold,
                                                            GridTestCounts& counts,
                                                            std::vector<std::uint32_t>* undecided) {
-  const TileSpan s = tileSpan(rect, desc_.tile_size, desc_.width, desc_.height);
-  // Steps 1 and 2, as in test().
-  for (int internal_pass = 1; internal_pass >= 0; --internal_pass) {
-    for (std::uint32_t ty = s.y0; ty <= s.y1; ++ty) {
-      for (std::uint32_t tx = s.x0; tx <= s.x1; ++tx) {
-        const bool internal = s.internal(tx, ty);
-        if (internal != bool(internal_pass)) continue;
-        const std::size_t i = std::size_t(ty) * tiles_x_ + tx;
-        if (outdated_[i]) continue;
-        const Decision d = decideFromRecord(i, internal, threshold);
-        if (d == Decision::Undecided) continue;
-        ++counts.tiles_tested;
-        if (d == Decision::Visible) return Visibility::Visible;
-      }
-    }
-  }
+  const TileSpan s = tileSpan(rect);
+  if (recordsShow(s, threshold, counts)) return Visibility::Visible;
   // What steps 3 and 4 would read.
   bool open = false;
-  for (int internal_pass = 1; internal_pass >= 0; --internal_pass) {
-    for (std::uint32_t ty = s.y0; ty <= s.y1; ++ty) {
-      for (std::uint32_t tx = s.x0; tx <= s.x1; ++tx) {
-        const bool internal = s.internal(tx, ty);
-        if (internal != bool(internal_pass)) continue;
-        const std::size_t i = std::size_t(ty) * tiles_x_ + tx;
-        if (!outdated_[i] && decideFromRecord(i, internal, threshold) != Decision::Undecided) {
-          continue;
-        }
-        if (far_[i] < threshold) {
-          ++counts.tiles_tested;
-          continue;
-        }
-        if (!undecided) return std::nullopt;
-        undecided->push_back(std::uint32_t(i) | (internal ? kInternalBit : 0u));
-        open = true;
-      }
-    }
+  for (const bool internal : kInternalFirst) {
+    const bool stopped = forEachUndecided(s, internal, threshold, counts, [&](std::size_t i) {
+      if (!undecided) return true;
+      undecided->push_back(std::uint32_t(i) | (internal ? kInternalBit : 0u));
+      open = true;
+      return false;
+    });
+    if (stopped) return std::nullopt;
   }
   if (open) return std::nullopt;
   return Visibility::Occluded;
@@ -501,8 +513,7 @@ std::optional<Visibility> OcclusionGrid::decideFromRecords(const PixelRect& rect
 
 std::optional<Visibility> OcclusionGrid::decide(const PixelRect& rect, float threshold,
                                                 GridTestCounts& counts) {
-  assert(!rect.empty() && rect.x0 >= 0 && rect.y0 >= 0 && rect.x1 <= std::int32_t(desc_.width) &&
-         rect.y1 <= std::int32_t(desc_.height) &&
+  assert(insideViewport(rect) &&
          "OcclusionGrid::decide: rect must be non-empty and inside the viewport");
   return decideFromRecords(rect, threshold, counts, nullptr);
 }
@@ -514,8 +525,7 @@ std::optional<Visibility> OcclusionGrid::decide(const PixelRect& rect, float thr
 std::optional<Visibility> OcclusionGrid::plan(const PixelRect& rect, float threshold,
                                               const DepthSourceTraits& source, GridBatch* to,
                                               GridTestCounts& counts) {
-  assert(!rect.empty() && rect.x0 >= 0 && rect.y0 >= 0 && rect.x1 <= std::int32_t(desc_.width) &&
-         rect.y1 <= std::int32_t(desc_.height) &&
+  assert(insideViewport(rect) &&
          "OcclusionGrid::plan: rect must be non-empty and inside the viewport");
   assert(approx_.visible_pixels == 0 && "OcclusionGrid::plan: counting tests are not batched");
   assert((!to || !to->submitted_) && "OcclusionGrid::plan: the batch was already submitted");
@@ -591,10 +601,7 @@ void OcclusionGrid::apply(GridBatch& batch) {
           sampled);
     } else {
       std::uint32_t count = 0, sampled = 0;
-      for (std::size_t r = first; r < end; ++r) {
-        count += batch.answers_[r].count;
-        sampled += std::uint32_t(batch.requests_[r].rect.area());
-      }
+      sumCounts(batch.requests_.data(), batch.answers_.data(), first, end, count, sampled);
       applyCount(read.tile, count, sampled, read.threshold);
     }
     // Drawn over after the read was issued: the far bound holds, the rest does not.
@@ -602,9 +609,7 @@ void OcclusionGrid::apply(GridBatch& batch) {
   }
 }
 
-Visibility OcclusionGrid::resolve(const GridBatch& batch, std::size_t index,
-                                  GridTestCounts& counts) const {
-  (void)counts;
+Visibility OcclusionGrid::resolve(const GridBatch& batch, std::size_t index) const {
   if (!batch.submitted_ || batch.epoch_ != epoch_) return Visibility::Visible;
   const GridBatch::Test& test = batch.tests_[index];
   for (std::uint32_t k = 0; k < test.reads; ++k) {
@@ -614,10 +619,8 @@ Visibility OcclusionGrid::resolve(const GridBatch& batch, std::size_t index,
       shows = !(far_[read.tile] < test.threshold);  // the record apply() refreshed; NaN shows
     } else {
       std::uint32_t count = 0, sampled = 0;
-      for (std::size_t r = read.first; r < std::size_t(read.first) + read.count; ++r) {
-        count += batch.answers_[r].count;
-        sampled += std::uint32_t(batch.requests_[r].rect.area());
-      }
+      sumCounts(batch.requests_.data(), batch.answers_.data(), read.first,
+                std::size_t(read.first) + read.count, count, sampled);
       shows = countShows(count, sampled, test.threshold);
     }
     if (shows) return Visibility::Visible;
@@ -635,9 +638,9 @@ void OcclusionGrid::refreshOutdated(const PixelRect* rects, std::size_t count, D
   bool any = false;
   for (std::size_t k = 0; k < count; ++k) {
     const PixelRect r =
-        intersect(rects[k], {0, 0, std::int32_t(desc_.width), std::int32_t(desc_.height)});
+        intersect(rects[k], viewport());
     if (r.empty()) continue;
-    const TileSpan s = tileSpan(r, desc_.tile_size, desc_.width, desc_.height);
+    const TileSpan s = tileSpan(r);
     for (std::uint32_t ty = s.y0; ty <= s.y1; ++ty) {
       const std::size_t row = std::size_t(ty) * tiles_x_;
       for (std::uint32_t tx = s.x0; tx <= s.x1; ++tx)

@@ -16,7 +16,7 @@ std::optional<Visibility> BoxTester::plan(const PixelRect&, float, GridTestCount
   return Visibility::Visible;
 }
 
-Visibility BoxTester::resolve(std::size_t, GridTestCounts&) { return Visibility::Visible; }
+Visibility BoxTester::resolve(std::size_t) { return Visibility::Visible; }
 
 namespace {
 
@@ -60,9 +60,7 @@ class GridTester final : public BoxTester {
   }
   void submitBatch() override { grid_->submit(batch_, *source_); }
   void applyBatch() override { grid_->apply(batch_); }
-  Visibility resolve(std::size_t index, GridTestCounts& counts) override {
-    return grid_->resolve(batch_, index, counts);
-  }
+  Visibility resolve(std::size_t index) override { return grid_->resolve(batch_, index); }
   void clearBatch() override { batch_.clear(); }
   void noteDrawn(const PixelRect& rect) override {
     if (refresh_ == GridRefresh::Lazy) grid_->markOutdated(rect);
@@ -160,7 +158,7 @@ class RectCountTester final : public BoxTester {
     answers_.assign(requests_.size(), AreaAnswer{});
     source_->submit(requests_.data(), requests_.size(), answers_.data());
   }
-  Visibility resolve(std::size_t index, GridTestCounts&) override {
+  Visibility resolve(std::size_t index) override {
     return shows(answers_[index].count);
   }
   void clearBatch() override {

@@ -42,7 +42,7 @@ class BoxTester {
                                          GridTestCounts& counts, bool read);
   virtual void submitBatch() {}
   virtual void applyBatch() {}
-  virtual Visibility resolve(std::size_t index, GridTestCounts& counts);
+  virtual Visibility resolve(std::size_t index);
   virtual void clearBatch() {}
 
   // Something is drawn over `rect` (clipped to the viewport): bookkeeping at once.

@@ -21,7 +21,7 @@
 #include "logrid/gl/mesh_renderer.hpp"
 #include "logrid/gl/object_id_oracle.hpp"
 #include "logrid/gl/occluder_renderer.hpp"
-#include "logrid/motion.hpp"
+#include "logrid/bvh/motion.hpp"
 #include "scene/prepare.hpp"
 #include "scene/view.hpp"
 

@@ -5,9 +5,9 @@
 #include "cli/option_checks.hpp"
 #include "cli/readers.hpp"
 #include "cli/values.hpp"
-#include "logrid/bvh.hpp"
+#include "logrid/bvh/bvh.hpp"
 #include "logrid/camera.hpp"
-#include "logrid/motion.hpp"
+#include "logrid/bvh/motion.hpp"
 #include "scene/generators.hpp"
 #include "scene/movers.hpp"
 

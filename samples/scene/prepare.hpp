@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "logrid/bvh.hpp"
+#include "logrid/bvh/bvh.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
 #include "scene/scene.hpp"
 

@@ -24,20 +24,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The file's checksum as file.cpp computes it (FNV-1a over 8-byte words, then bytes).
-std::uint64_t payloadChecksum(const unsigned char* data, std::size_t bytes) {
-  std::uint64_t h = 0xCBF29CE484222325ull;
-  std::size_t i = 0;
-  for (; i + 8 <= bytes; i += 8) {
-    std::uint64_t w;
-    std::memcpy(&w, data + i, 8);
-    h = (h ^ w) * 0x100000001B3ull;
-    h ^= h >> 31;
-  }
-  for (; i < bytes; ++i) h = (h ^ data[i]) * 0x100000001B3ull;
-  return h;
-}
-
 constexpr std::size_t kHeader = 8 + 4;  // magic, version; then checksum, triangles, objects
 
 void write(const std::string& path, const std::vector<unsigned char>& bytes) {
@@ -86,7 +72,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::memcpy(&expect.objects, bytes.data() + kHeader + 16, 8);
   }
   if ((mode & 1) && bytes.size() >= 8) {
-    const std::uint64_t sum = payloadChecksum(bytes.data(), bytes.size() - 8);
+    const std::uint64_t sum = logrid::ddo::payloadChecksum(bytes.data(), bytes.size() - 8);
     std::memcpy(bytes.data() + bytes.size() - 8, &sum, 8);
   }
   const std::string path = (scratch.dir / "input.ddo").string();

@@ -390,7 +390,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         grid.apply(batch);
         for (std::size_t i = 0; i < batched.size(); ++i) {
           logrid::GridTestCounts counts;
-          if (grid.resolve(batch, i, counts) == logrid::Visibility::Occluded) {
+          if (grid.resolve(batch, i) == logrid::Visibility::Occluded) {
             checkOccluded(grid, planned, w, batched[i].rect, batched[i].threshold, "batch");
           }
         }

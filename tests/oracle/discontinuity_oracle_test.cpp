@@ -26,7 +26,7 @@
 #include <algorithm>
 #include <functional>
 
-#include "logrid/bvh.hpp"
+#include "logrid/bvh/bvh.hpp"
 #include "oracle_harness.hpp"
 
 namespace logrid::oracle {

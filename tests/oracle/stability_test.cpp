@@ -14,7 +14,7 @@
 #include <random>
 #include <set>
 
-#include "logrid/bvh.hpp"
+#include "logrid/bvh/bvh.hpp"
 #include "logrid/cpu/occlusion_buffer.hpp"
 #include "logrid/cpu/software_rasterizer.hpp"
 #include "logrid/error.hpp"

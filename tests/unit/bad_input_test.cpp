@@ -13,7 +13,7 @@
 
 #include "expect_error.hpp"
 #include "logrid/grid.hpp"
-#include "logrid/bvh.hpp"
+#include "logrid/bvh/bvh.hpp"
 #include "logrid/cpu/software_depth.hpp"
 #include "logrid/culler.hpp"
 #include "logrid/error.hpp"

@@ -4,7 +4,7 @@
 
 #include <random>
 
-#include "logrid/bvh.hpp"
+#include "logrid/bvh/bvh.hpp"
 #include "logrid/error.hpp"
 
 namespace logrid {

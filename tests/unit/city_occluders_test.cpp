@@ -15,7 +15,7 @@
 #include <set>
 #include <vector>
 
-#include "logrid/bvh.hpp"
+#include "logrid/bvh/bvh.hpp"
 #include "logrid/cpu/occluder_mesh.hpp"
 #include "scene/generators.hpp"
 #include "scene/occluders.hpp"

@@ -7,7 +7,7 @@
 #include <set>
 
 #include "box_world.hpp"
-#include "logrid/bvh.hpp"
+#include "logrid/bvh/bvh.hpp"
 #include "logrid/cpu/software_rasterizer.hpp"
 #include "logrid/culler.hpp"
 #include "logrid/error.hpp"

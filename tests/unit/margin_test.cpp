@@ -20,7 +20,7 @@
 #include <set>
 #include <vector>
 
-#include "logrid/bvh.hpp"
+#include "logrid/bvh/bvh.hpp"
 #include "logrid/cpu/software_rasterizer.hpp"
 #include "logrid/culler.hpp"
 #include "logrid/grid.hpp"

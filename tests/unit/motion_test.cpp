@@ -21,8 +21,8 @@
 
 #include "box_world.hpp"
 #include "logrid/error.hpp"
-#include "logrid/motion.hpp"
-#include "logrid/ternary_tree.hpp"
+#include "logrid/bvh/motion.hpp"
+#include "logrid/bvh/ternary_tree.hpp"
 
 namespace logrid {
 namespace {

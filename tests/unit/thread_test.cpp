@@ -11,7 +11,7 @@
 #include <random>
 
 #include "ddo_scenes.hpp"
-#include "logrid/bvh.hpp"
+#include "logrid/bvh/bvh.hpp"
 #include "logrid/cpu/occlusion_buffer.hpp"
 #include "logrid/ddo/build.hpp"
 #include "occluder_scenes.hpp"

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "attachment.hpp"
+#include "fence.hpp"
 #include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
 
@@ -90,7 +91,6 @@ namespace {
 
 constexpr std::size_t kAlign = 16;
 std::size_t aligned(std::size_t bytes) { return (bytes + kAlign - 1) & ~(kAlign - 1); }
-constexpr GLuint64 kWaitNanoseconds = 10'000'000'000ull;  // 10 s: a hung renderer
 
 }  // namespace
 
@@ -180,16 +180,7 @@ void PboSource::fetch(const PixelRect* rects, std::size_t count, const void** da
     throw Error(ErrorCode::Runtime, "PboSource: fetch of rectangles that were not issued");
   }
   GlStateGuard::Scope scope(guard_, "PboSource");
-  for (Slot& slot : slots_) {
-    if (!slot.fence) continue;
-    const GLenum result = glClientWaitSync(static_cast<GLsync>(slot.fence), 0, kWaitNanoseconds);
-    glDeleteSync(static_cast<GLsync>(slot.fence));
-    slot.fence = nullptr;
-    if (result == GL_TIMEOUT_EXPIRED || result == GL_WAIT_FAILED) {
-      throw Error(ErrorCode::Runtime,
-                  "PboSource: waiting for depth reads failed or took over 10 s");
-    }
-  }
+  for (Slot& slot : slots_) detail::waitFence(slot.fence, "PboSource: waiting for depth reads");
   scope.check("glClientWaitSync");
   for (std::size_t i = 0; i < count; ++i) {
     data[i] = slots_[issued_[i].slot].mapped + issued_[i].offset;

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "attachment.hpp"
+#include "fence.hpp"
 #include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
 #include "logrid/zread/gl_sources.hpp"
@@ -108,7 +109,6 @@ std::string perWorkgroupKernel(int rb, int ab) {
 float down(float v) { return std::nextafter(v, -std::numeric_limits<float>::infinity()); }
 float up(float v) { return std::nextafter(v, std::numeric_limits<float>::infinity()); }
 
-constexpr GLuint64 kWaitNanoseconds = 10'000'000'000ull;  // 10 s: a hung renderer
 
 // Binding points and the texture unit used, from the top of their ranges so that an
 // application's usual low bindings are not touched (they are restored anyway).
@@ -312,14 +312,7 @@ void ReductionSource::collect() {
   const bool exact = depth_.format == DepthFormat::D32F;
   for (Slot& slot : slots_) {
     if (!slot.fence) continue;
-    const GLenum result = glClientWaitSync(static_cast<GLsync>(slot.fence), 0, kWaitNanoseconds);
-    glDeleteSync(static_cast<GLsync>(slot.fence));
-    slot.fence = nullptr;
-    if (result == GL_TIMEOUT_EXPIRED || result == GL_WAIT_FAILED) {
-      throw Error(ErrorCode::Runtime,
-                  "ReductionSource: waiting for the reduction failed or "
-                  "took over 10 s");
-    }
+    detail::waitFence(slot.fence, "ReductionSource: waiting for the reduction");
     for (std::size_t i = 0; i < slot.out.size(); ++i) {
       GpuAnswer g;
       std::memcpy(&g, slot.mapped + i * sizeof(GpuAnswer), sizeof g);

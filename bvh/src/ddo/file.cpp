@@ -13,19 +13,6 @@ namespace {
 
 constexpr char kMagic[8] = {'l', 'o', 'g', 'r', 'd', 'D', 'D', 'O'};
 
-std::uint64_t payloadChecksum(const unsigned char* data, std::size_t bytes) {
-  std::uint64_t h = 0xCBF29CE484222325ull;  // FNV-1a over 8-byte words, then bytes
-  std::size_t i = 0;
-  for (; i + 8 <= bytes; i += 8) {
-    std::uint64_t w;
-    std::memcpy(&w, data + i, 8);
-    h = (h ^ w) * 0x100000001B3ull;
-    h ^= h >> 31;
-  }
-  for (; i < bytes; ++i) h = (h ^ data[i]) * 0x100000001B3ull;
-  return h;
-}
-
 class Writer {
  public:
   template <typename T>
@@ -75,6 +62,19 @@ class Reader {
 std::size_t maskBytesPerFace(std::uint32_t regions) { return regions / 8; }
 
 }  // namespace
+
+std::uint64_t payloadChecksum(const unsigned char* data, std::size_t bytes) {
+  std::uint64_t h = 0xCBF29CE484222325ull;  // FNV-1a over 8-byte words, then bytes
+  std::size_t i = 0;
+  for (; i + 8 <= bytes; i += 8) {
+    std::uint64_t w;
+    std::memcpy(&w, data + i, 8);
+    h = (h ^ w) * 0x100000001B3ull;
+    h ^= h >> 31;
+  }
+  for (; i < bytes; ++i) h = (h ^ data[i]) * 0x100000001B3ull;
+  return h;
+}
 
 void saveOctree(const Octree& octree, const FileExpectation& scene, const std::string& path) {
   Writer w;
@@ -129,7 +129,9 @@ void saveOctree(const Octree& octree, const FileExpectation& scene, const std::s
   }
 }
 
-Octree loadOctree(const std::string& path, const FileExpectation& expect) {
+namespace {
+
+std::vector<unsigned char> readWholeFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) {
     throw Error(ErrorCode::Environment,
@@ -140,7 +142,11 @@ Octree loadOctree(const std::string& path, const FileExpectation& expect) {
   in.seekg(0);
   if (!bytes.empty()) in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()));
   if (!in) throw Error(ErrorCode::Environment, "reading the DDO file '" + path + "' failed");
+  return bytes;
+}
 
+// The magic, the version and the checksum; returns the size of the checked payload.
+std::size_t checkEnvelope(const std::vector<unsigned char>& bytes, const std::string& path) {
   if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) {
     throw Error(ErrorCode::BadInput, "'" + path +
                                          "' is not a DDO file (its first bytes are not "
@@ -162,8 +168,11 @@ Octree loadOctree(const std::string& path, const FileExpectation& expect) {
   std::uint64_t stored;
   std::memcpy(&stored, bytes.data() + body, 8);
   if (stored != payloadChecksum(bytes.data(), body)) header.fail("is corrupt (checksum mismatch)");
+  return body;
+}
 
-  Reader r(bytes, body, path);
+// The scene the file was built for, and the octree's parameters, against what is asked.
+OctreeParams readParams(Reader& r, const FileExpectation& expect) {
   {
     char magic[8];
     r.getBytes(magic, 8);
@@ -201,15 +210,11 @@ Octree loadOctree(const std::string& path, const FileExpectation& expect) {
         << " asked for";
     r.fail(out.str());
   }
-  const auto node_count = r.get<std::uint64_t>();
-  const auto object_count = r.get<std::uint64_t>();
-  constexpr std::size_t kNodeBytes = 6 * 4 + 3 * 4 + 4 * 4 + 2;
-  const std::size_t per_face = maskBytesPerFace(p.regions);
-  if (node_count == 0 || node_count > r.left() / kNodeBytes || object_count > r.left() / 4 ||
-      r.left() != node_count * kNodeBytes + object_count * 4 + node_count * kFaces * per_face) {
-    r.fail("is truncated or has inconsistent sizes");
-  }
-  std::vector<OctreeNode> nodes(node_count);
+  return p;
+}
+
+std::vector<OctreeNode> readNodes(Reader& r, std::uint64_t count) {
+  std::vector<OctreeNode> nodes(count);
   for (OctreeNode& n : nodes) {
     float box[6];
     r.getBytes(box, sizeof box);
@@ -222,15 +227,18 @@ Octree loadOctree(const std::string& path, const FileExpectation& expect) {
     n.level = r.get<std::uint8_t>();
     n.child_mask = r.get<std::uint8_t>();
   }
-  std::vector<ObjectId> object_list(object_count);
-  r.getBytes(object_list.data(), object_count * sizeof(ObjectId));
-  // The structure must be one the run time can walk without checks.
+  return nodes;
+}
+
+// The structure must be one the run time can walk without checks.
+void checkStructure(const std::vector<OctreeNode>& nodes, const std::vector<ObjectId>& objects,
+                    const OctreeParams& p, const FileExpectation& expect, Reader& r) {
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     const OctreeNode& n = nodes[i];
     const bool bad_children =
         !n.leaf() &&
-        (n.first_child <= i || n.first_child + std::uint64_t(n.childCount()) > node_count);
-    const bool bad_objects = std::uint64_t(n.first_object) + n.object_count > object_count;
+        (n.first_child <= i || n.first_child + std::uint64_t(n.childCount()) > nodes.size());
+    const bool bad_objects = std::uint64_t(n.first_object) + n.object_count > objects.size();
     const bool bad_level = n.level > p.max_depth || (i == 0 && n.level != 0);
     if (bad_children || bad_objects || bad_level) {
       std::ostringstream out;
@@ -248,9 +256,30 @@ Octree loadOctree(const std::string& path, const FileExpectation& expect) {
     if (i == 0 && (n.cell[0] | n.cell[1] | n.cell[2]) != 0)
       r.fail("describes an inconsistent octree");
   }
-  for (ObjectId id : object_list) {
+  for (ObjectId id : objects) {
     if (id >= expect.objects) r.fail("names an object the scene does not have");
   }
+}
+
+}  // namespace
+
+Octree loadOctree(const std::string& path, const FileExpectation& expect) {
+  const std::vector<unsigned char> bytes = readWholeFile(path);
+  const std::size_t body = checkEnvelope(bytes, path);
+  Reader r(bytes, body, path);
+  const OctreeParams p = readParams(r, expect);
+  const auto node_count = r.get<std::uint64_t>();
+  const auto object_count = r.get<std::uint64_t>();
+  constexpr std::size_t kNodeBytes = 6 * 4 + 3 * 4 + 4 * 4 + 2;
+  const std::size_t per_face = maskBytesPerFace(p.regions);
+  if (node_count == 0 || node_count > r.left() / kNodeBytes || object_count > r.left() / 4 ||
+      r.left() != node_count * kNodeBytes + object_count * 4 + node_count * kFaces * per_face) {
+    r.fail("is truncated or has inconsistent sizes");
+  }
+  std::vector<OctreeNode> nodes = readNodes(r, node_count);
+  std::vector<ObjectId> object_list(object_count);
+  r.getBytes(object_list.data(), object_count * sizeof(ObjectId));
+  checkStructure(nodes, object_list, p, expect, r);
   Octree octree(p, std::move(nodes), std::move(object_list));
   for (std::uint64_t& m : octree.mutableMasks()) {
     m = 0;

@@ -90,16 +90,20 @@ void SegmentIndex::walk(const double* a, const double* b, const Slab& slab,
   }
 }
 
+void SegmentIndex::corners(std::uint32_t t, double v[3][3]) const {
+  for (int k = 0; k < 3; ++k) {
+    const float* p = mesh_.vertex(mesh_.corner(t, k));
+    v[k][0] = p[0], v[k][1] = p[1], v[k][2] = p[2];
+  }
+}
+
 bool SegmentIndex::meetsAny(const double* a, const double* b, const Slab& slab,
                             const MeshTopology& topology, std::vector<std::uint32_t>& stack) const {
   bool met = false;
   walk(a, b, slab, stack, [&](std::uint32_t t, bool inside) {
     if (topology.degenerate(t) || (!inside && !insideSlab(t, slab))) return true;
     double v[3][3];
-    for (int k = 0; k < 3; ++k) {
-      const float* p = mesh_.vertex(mesh_.corner(t, k));
-      v[k][0] = p[0], v[k][1] = p[1], v[k][2] = p[2];
-    }
+    corners(t, v);
     met = segmentCrossesTriangle(a, b, v[0], v[1], v[2]) != Crossing::Miss;
     return !met;
   });
@@ -113,10 +117,7 @@ bool SegmentIndex::crossings(const double* a, const double* b, const Slab& slab,
   walk(a, b, slab, stack, [&](std::uint32_t t, bool inside) {
     if (topology.degenerate(t) || (!inside && !insideSlab(t, slab))) return true;
     double v[3][3];
-    for (int k = 0; k < 3; ++k) {
-      const float* p = mesh_.vertex(mesh_.corner(t, k));
-      v[k][0] = p[0], v[k][1] = p[1], v[k][2] = p[2];
-    }
+    corners(t, v);
     const Crossing c = segmentCrossesTriangle(a, b, v[0], v[1], v[2]);
     if (c == Crossing::Miss) return true;
     out.push_back({t, c});

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "logrid/bvh.hpp"
+#include "logrid/bvh/bvh.hpp"
 #include "logrid/ddo/mesh.hpp"
 #include "predicates.hpp"
 #include "topology.hpp"
@@ -44,6 +44,8 @@ class SegmentIndex {
   std::size_t memoryBytes() const;
 
  private:
+  // Triangle t's corners, in double.
+  void corners(std::uint32_t t, double v[3][3]) const;
   // Runs visit(triangle, inside_slab_known) for the triangles of every leaf whose box the
   // segment meets; visit returns false to stop.
   template <typename Visit>

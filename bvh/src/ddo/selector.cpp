@@ -75,6 +75,14 @@ bool shrinkQuad(const double q[4][2], double d, double out[4][2]) {
 
 }  // namespace
 
+// A face's outline on screen: its corners' window positions and keys, and the corners
+// of the enlarged face.
+struct Selector::FaceOutline {
+  double win[4][2];
+  double key[4];
+  double win_plus[4][2];
+};
+
 // A selected face, kept for merging.
 struct Selector::Face {
   int face = 0;
@@ -96,6 +104,7 @@ struct Selector::Frame {
   double eye[3] = {0, 0, 0};  // perspective eye, local coordinates
   double dir[3] = {0, 0, 0};  // orthographic: towards the viewer
   float clear_key = 1;
+  double snap_pixels = 0;  // SelectorSettings::snap_pixels
   double key_sign = 1, depth_scale = 0.5, depth_offset = 0.5;
   std::vector<Face> faces;
 
@@ -190,6 +199,7 @@ void Selector::select(const Camera& camera, const std::function<void(ObjectId)>&
   frame.draw = &draw;
   frame.stats = &stats;
   frame.clear_key = frame.projector.clearKey();
+  frame.snap_pixels = settings_.snap_pixels;
   frame.key_sign = camera.depth.convention == DepthConvention::Reversed ? -1.0 : 1.0;
   const bool zero_to_one = camera.depth.clip_range == ClipDepthRange::ZeroToOne;
   frame.depth_scale = zero_to_one ? 1.0 : 0.5;
@@ -285,157 +295,175 @@ void Selector::visit(std::uint32_t n, Frame& frame) {
 
 void Selector::selectFaces(std::uint32_t n, Frame& frame) {
   SelectionStats& stats = *frame.stats;
-  const RegionLayout& layout = octree_.layout();
-  const double snap = settings_.snap_pixels;
   for (int f = 0; f < kFaces; ++f) {
     const std::uint64_t mask = octree_.mask(n, f);
     if (!mask) continue;
     const FaceFrame fr = octree_.face(n, f);
-    const double m = fr.margin;
-    // The slopes under which the anchors of the enlarged face see the viewpoint.
-    double s1lo, s1hi, s2lo, s2hi;
-    if (frame.ortho) {
-      const double dh = fr.dir * frame.dir[fr.axis];
-      if (!(dh > 0)) continue;
-      s1lo = s1hi = frame.dir[fr.t1] / dh;
-      s2lo = s2hi = frame.dir[fr.t2] / dh;
-    } else {
-      const double h = fr.heightOf(frame.eye);
-      if (!(h >= fr.height)) continue;  // not beyond the clipping plane
-      s1lo = (frame.eye[fr.t1] - (fr.hi1 + m)) / h;
-      s1hi = (frame.eye[fr.t1] - (fr.lo1 - m)) / h;
-      s2lo = (frame.eye[fr.t2] - (fr.hi2 + m)) / h;
-      s2hi = (frame.eye[fr.t2] - (fr.lo2 - m)) / h;
-    }
-    int b1a, b1b, b2a, b2b;
-    RegionLayout::binsMeeting(layout.bins1(), s1lo, s1hi, b1a, b1b);
-    RegionLayout::binsMeeting(layout.bins2(), s2lo, s2hi, b2a, b2b);
-    int region = -1;
-    for (int b1 = b1a; b1 <= b1b && region < 0; ++b1) {
-      for (int b2 = b2a; b2 <= b2b && region < 0; ++b2) {
-        const std::uint32_t r = layout.region(std::uint32_t(b1), std::uint32_t(b2));
-        if ((mask >> r) & 1u) region = int(r);
-      }
-    }
-    if (region < 0) continue;
+    if (!seesValidRegion(mask, fr, frame)) continue;
     ++stats.faces_valid;
-
-    // The geometry that hides the face lies, along the rays from the eye through the
-    // enlarged face, between the face and the clipping plane: inside the convex hull of
-    // the face's corners and the points where those rays cross the clipping plane. That
-    // hull must lie in front of the near plane (nothing of it clipped or behind the eye);
-    // its box's projection margin bounds the stored depth of that geometry.
-    double cone[8][3];
-    Aabb cone_box{{HUGE_VALF, HUGE_VALF, HUGE_VALF}, {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF}};
-    bool cone_in_front = true;
-    for (int i = 0; i < 4 && cone_in_front; ++i) {
-      double* q = cone[i];
-      double* top = cone[4 + i];
-      fr.toWorld(0, (i & 1) ? fr.hi1 + m : fr.lo1 - m, (i & 2) ? fr.hi2 + m : fr.lo2 - m, q);
-      q[fr.axis] = fr.plane;
-      if (frame.ortho) {
-        const double t = fr.height / (fr.dir * frame.dir[fr.axis]);
-        for (int a = 0; a < 3; ++a) top[a] = q[a] + t * frame.dir[a];
-      } else {
-        const double t = fr.height / fr.heightOf(frame.eye);
-        for (int a = 0; a < 3; ++a) top[a] = q[a] + t * (frame.eye[a] - q[a]);
-      }
-      cone_in_front = frame.inFrontOfNear(q) && frame.inFrontOfNear(top);
-    }
-    if (!cone_in_front) continue;
-    for (const auto& p : cone) {
-      const float lo[3] = {std::nextafter(float(p[0]), -HUGE_VALF),
-                           std::nextafter(float(p[1]), -HUGE_VALF),
-                           std::nextafter(float(p[2]), -HUGE_VALF)};
-      const float hi[3] = {std::nextafter(float(p[0]), HUGE_VALF),
-                           std::nextafter(float(p[1]), HUGE_VALF),
-                           std::nextafter(float(p[2]), HUGE_VALF)};
-      cone_box.min = {std::min(cone_box.min.x, lo[0]), std::min(cone_box.min.y, lo[1]),
-                      std::min(cone_box.min.z, lo[2])};
-      cone_box.max = {std::max(cone_box.max.x, hi[0]), std::max(cone_box.max.y, hi[1]),
-                      std::max(cone_box.max.z, hi[2])};
-    }
-    const BoxProjection region_p = frame.projector.project(cone_box);
-    // Outside: the face cannot be seen. A box the projector gave up on (margin 0 while
-    // crossing the near plane) has no usable margin.
-    if (region_p.cls == ProjectionClass::Outside || region_p.cls == ProjectionClass::Invalid ||
-        (region_p.cls == ProjectionClass::CrossesNear && !(region_p.margin > 0))) {
-      continue;
-    }
-
-    // The face and the enlarged face on screen.
+    BoxProjection cone;
+    if (!coneProjection(fr, frame, cone)) continue;
     Face face;
     face.face = f;
-    face.axis = fr.axis, face.t1 = fr.t1, face.t2 = fr.t2;
-    face.plane = fr.plane;
-    face.lo1 = fr.lo1, face.hi1 = fr.hi1, face.lo2 = fr.lo2, face.hi2 = fr.hi2;
-    const double u[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-    double win[4][2], key[4], win_plus[4][2];
-    bool in_front = true;
-    Aabb face_box{{HUGE_VALF, HUGE_VALF, HUGE_VALF}, {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF}};
-    for (int i = 0; i < 4 && in_front; ++i) {
-      double p[3], q[3], k_plus;
-      fr.toWorld(0, u[i][0] ? fr.hi1 : fr.lo1, u[i][1] ? fr.hi2 : fr.lo2, p);
-      p[fr.axis] = fr.plane;
-      fr.toWorld(0, u[i][0] ? fr.hi1 + m : fr.lo1 - m, u[i][1] ? fr.hi2 + m : fr.lo2 - m, q);
-      q[fr.axis] = fr.plane;
-      in_front = frame.toWindow(p, win[i], key[i]) && frame.toWindow(q, win_plus[i], k_plus);
-      const float qf[3] = {float(q[0]), float(q[1]), float(q[2])};
-      face_box.min = {std::min(face_box.min.x, std::nextafter(qf[0], -HUGE_VALF)),
-                      std::min(face_box.min.y, std::nextafter(qf[1], -HUGE_VALF)),
-                      std::min(face_box.min.z, std::nextafter(qf[2], -HUGE_VALF))};
-      face_box.max = {std::max(face_box.max.x, std::nextafter(qf[0], HUGE_VALF)),
-                      std::max(face_box.max.y, std::nextafter(qf[1], HUGE_VALF)),
-                      std::max(face_box.max.z, std::nextafter(qf[2], HUGE_VALF))};
-    }
-    if (!in_front) continue;
-    const BoxProjection face_p = frame.projector.project(face_box);
-    if (face_p.cls != ProjectionClass::Inside) continue;
-    face.delta = 2.0 * (double(region_p.margin) + double(face_p.margin));
-
-    // Width of the band between the face and the enlarged face, on screen.
-    double band = HUGE_VAL;
-    for (int i = 0; i < 4; ++i) {
-      band = std::min(band, pointQuadBoundaryDistance(win[i], win_plus));
-      band = std::min(band, pointQuadBoundaryDistance(win_plus[i], win));
-    }
-    face.safe = band >= 2.0 * snap;
-
-    // The depth plane over window coordinates from the largest corner triangle, moved up
-    // by the fourth corner's residual (rounding) and pushed back by delta.
-    int skip = 0;
-    double best = -1;
-    for (int s = 0; s < 4; ++s) {
-      const double* a = win[(s + 1) % 4];
-      const double* b = win[(s + 2) % 4];
-      const double* c = win[(s + 3) % 4];
-      const double area = std::fabs((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]));
-      if (area > best) best = area, skip = s;
-    }
-    if (!(best > 0)) continue;  // seen edge-on
-    const int i0 = (skip + 1) % 4, i1 = (skip + 2) % 4, i2 = (skip + 3) % 4;
-    const double dx1 = win[i1][0] - win[i0][0], dy1 = win[i1][1] - win[i0][1];
-    const double dx2 = win[i2][0] - win[i0][0], dy2 = win[i2][1] - win[i0][1];
-    const double dk1 = key[i1] - key[i0], dk2 = key[i2] - key[i0];
-    const double det = dx1 * dy2 - dx2 * dy1;
-    const double b = (dk1 * dy2 - dk2 * dy1) / det, c = (dx1 * dk2 - dx2 * dk1) / det;
-    double a = key[i0] - b * win[i0][0] - c * win[i0][1];
-    const double residual = key[skip] - (a + b * win[skip][0] + c * win[skip][1]);
-    a += std::max(0.0, residual) + face.delta;
-    face.plane_key[0] = a, face.plane_key[1] = b, face.plane_key[2] = c;
-    double farthest = -HUGE_VAL;
-    for (int i = 0; i < 4; ++i) farthest = std::max(farthest, a + b * win[i][0] + c * win[i][1]);
-    if (!(farthest < double(frame.clear_key))) continue;  // pushed beyond the far plane
-
+    FaceOutline outline;
+    if (!faceOnScreen(fr, frame, cone, face, outline)) continue;
+    if (!depthPlane(outline, frame.clear_key, face)) continue;
     if (face.safe) {
-      std::copy(&win[0][0], &win[0][0] + 8, &face.window[0][0]);
-    } else if (!shrinkQuad(win, 2.0 * snap, face.window)) {
+      std::copy(&outline.win[0][0], &outline.win[0][0] + 8, &face.window[0][0]);
+    } else if (!shrinkQuad(outline.win, 2.0 * settings_.snap_pixels, face.window)) {
       continue;
     }
     ++stats.faces_selected;
-    if (settings_.occlusion_map) stats.map_pixels += map_.insertQuad(face.window, a, b, c);
+    if (settings_.occlusion_map) {
+      stats.map_pixels +=
+          map_.insertQuad(face.window, face.plane_key[0], face.plane_key[1], face.plane_key[2]);
+    }
     frame.faces.push_back(face);
   }
+}
+
+bool Selector::seesValidRegion(std::uint64_t mask, const FaceFrame& fr, const Frame& frame) const {
+  const RegionLayout& layout = octree_.layout();
+  const double m = fr.margin;
+  // The slopes under which the anchors of the enlarged face see the viewpoint.
+  double s1lo, s1hi, s2lo, s2hi;
+  if (frame.ortho) {
+    const double dh = fr.dir * frame.dir[fr.axis];
+    if (!(dh > 0)) return false;
+    s1lo = s1hi = frame.dir[fr.t1] / dh;
+    s2lo = s2hi = frame.dir[fr.t2] / dh;
+  } else {
+    const double h = fr.heightOf(frame.eye);
+    if (!(h >= fr.height)) return false;  // not beyond the clipping plane
+    s1lo = (frame.eye[fr.t1] - (fr.hi1 + m)) / h;
+    s1hi = (frame.eye[fr.t1] - (fr.lo1 - m)) / h;
+    s2lo = (frame.eye[fr.t2] - (fr.hi2 + m)) / h;
+    s2hi = (frame.eye[fr.t2] - (fr.lo2 - m)) / h;
+  }
+  int b1a, b1b, b2a, b2b;
+  RegionLayout::binsMeeting(layout.bins1(), s1lo, s1hi, b1a, b1b);
+  RegionLayout::binsMeeting(layout.bins2(), s2lo, s2hi, b2a, b2b);
+  for (int b1 = b1a; b1 <= b1b; ++b1) {
+    for (int b2 = b2a; b2 <= b2b; ++b2) {
+      const std::uint32_t r = layout.region(std::uint32_t(b1), std::uint32_t(b2));
+      if ((mask >> r) & 1u) return true;
+    }
+  }
+  return false;
+}
+
+namespace {
+
+// Grows `box` by the float box around a double point (one float step outwards).
+void growOutwards(Aabb& box, const double* p) {
+  const float lo[3] = {std::nextafter(float(p[0]), -HUGE_VALF),
+                       std::nextafter(float(p[1]), -HUGE_VALF),
+                       std::nextafter(float(p[2]), -HUGE_VALF)};
+  const float hi[3] = {std::nextafter(float(p[0]), HUGE_VALF),
+                       std::nextafter(float(p[1]), HUGE_VALF),
+                       std::nextafter(float(p[2]), HUGE_VALF)};
+  box.min = {std::min(box.min.x, lo[0]), std::min(box.min.y, lo[1]), std::min(box.min.z, lo[2])};
+  box.max = {std::max(box.max.x, hi[0]), std::max(box.max.y, hi[1]), std::max(box.max.z, hi[2])};
+}
+
+const Aabb kNoBox{{HUGE_VALF, HUGE_VALF, HUGE_VALF}, {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF}};
+
+}  // namespace
+
+bool Selector::coneProjection(const FaceFrame& fr, const Frame& frame, BoxProjection& out) {
+  // The geometry that hides the face lies, along the rays from the eye through the
+  // enlarged face, between the face and the clipping plane: inside the convex hull of
+  // the face's corners and the points where those rays cross the clipping plane. That
+  // hull must lie in front of the near plane (nothing of it clipped or behind the eye);
+  // its box's projection margin bounds the stored depth of that geometry.
+  const double m = fr.margin;
+  double cone[8][3];
+  for (int i = 0; i < 4; ++i) {
+    double* q = cone[i];
+    double* top = cone[4 + i];
+    fr.toWorld(0, (i & 1) ? fr.hi1 + m : fr.lo1 - m, (i & 2) ? fr.hi2 + m : fr.lo2 - m, q);
+    q[fr.axis] = fr.plane;
+    if (frame.ortho) {
+      const double t = fr.height / (fr.dir * frame.dir[fr.axis]);
+      for (int a = 0; a < 3; ++a) top[a] = q[a] + t * frame.dir[a];
+    } else {
+      const double t = fr.height / fr.heightOf(frame.eye);
+      for (int a = 0; a < 3; ++a) top[a] = q[a] + t * (frame.eye[a] - q[a]);
+    }
+    if (!frame.inFrontOfNear(q) || !frame.inFrontOfNear(top)) return false;
+  }
+  Aabb cone_box = kNoBox;
+  for (const auto& p : cone) growOutwards(cone_box, p);
+  out = frame.projector.project(cone_box);
+  // Outside: the face cannot be seen. A box the projector gave up on (margin 0 while
+  // crossing the near plane) has no usable margin.
+  return !(out.cls == ProjectionClass::Outside || out.cls == ProjectionClass::Invalid ||
+           (out.cls == ProjectionClass::CrossesNear && !(out.margin > 0)));
+}
+
+bool Selector::faceOnScreen(const FaceFrame& fr, const Frame& frame, const BoxProjection& cone,
+                            Face& face, FaceOutline& o) {
+  // The face and the enlarged face on screen.
+  const double m = fr.margin;
+  face.axis = fr.axis, face.t1 = fr.t1, face.t2 = fr.t2;
+  face.plane = fr.plane;
+  face.lo1 = fr.lo1, face.hi1 = fr.hi1, face.lo2 = fr.lo2, face.hi2 = fr.hi2;
+  const double u[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  Aabb face_box = kNoBox;
+  for (int i = 0; i < 4; ++i) {
+    double p[3], q[3], k_plus;
+    fr.toWorld(0, u[i][0] ? fr.hi1 : fr.lo1, u[i][1] ? fr.hi2 : fr.lo2, p);
+    p[fr.axis] = fr.plane;
+    fr.toWorld(0, u[i][0] ? fr.hi1 + m : fr.lo1 - m, u[i][1] ? fr.hi2 + m : fr.lo2 - m, q);
+    q[fr.axis] = fr.plane;
+    const bool in_front =
+        frame.toWindow(p, o.win[i], o.key[i]) && frame.toWindow(q, o.win_plus[i], k_plus);
+    const double qf[3] = {double(float(q[0])), double(float(q[1])), double(float(q[2]))};
+    growOutwards(face_box, qf);
+    if (!in_front) return false;
+  }
+  const BoxProjection face_p = frame.projector.project(face_box);
+  if (face_p.cls != ProjectionClass::Inside) return false;
+  face.delta = 2.0 * (double(cone.margin) + double(face_p.margin));
+
+  // Width of the band between the face and the enlarged face, on screen.
+  double band = HUGE_VAL;
+  for (int i = 0; i < 4; ++i) {
+    band = std::min(band, pointQuadBoundaryDistance(o.win[i], o.win_plus));
+    band = std::min(band, pointQuadBoundaryDistance(o.win_plus[i], o.win));
+  }
+  face.safe = band >= 2.0 * frame.snap_pixels;
+  return true;
+}
+
+bool Selector::depthPlane(const FaceOutline& o, float clear_key, Face& face) {
+  // The depth plane over window coordinates from the largest corner triangle, moved up
+  // by the fourth corner's residual (rounding) and pushed back by delta.
+  const auto& win = o.win;
+  const auto& key = o.key;
+  int skip = 0;
+  double best = -1;
+  for (int s = 0; s < 4; ++s) {
+    const double* a = win[(s + 1) % 4];
+    const double* b = win[(s + 2) % 4];
+    const double* c = win[(s + 3) % 4];
+    const double area = std::fabs((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]));
+    if (area > best) best = area, skip = s;
+  }
+  if (!(best > 0)) return false;  // seen edge-on
+  const int i0 = (skip + 1) % 4, i1 = (skip + 2) % 4, i2 = (skip + 3) % 4;
+  const double dx1 = win[i1][0] - win[i0][0], dy1 = win[i1][1] - win[i0][1];
+  const double dx2 = win[i2][0] - win[i0][0], dy2 = win[i2][1] - win[i0][1];
+  const double dk1 = key[i1] - key[i0], dk2 = key[i2] - key[i0];
+  const double det = dx1 * dy2 - dx2 * dy1;
+  const double b = (dk1 * dy2 - dk2 * dy1) / det, c = (dx1 * dk2 - dx2 * dk1) / det;
+  double a = key[i0] - b * win[i0][0] - c * win[i0][1];
+  const double residual = key[skip] - (a + b * win[skip][0] + c * win[skip][1]);
+  a += std::max(0.0, residual) + face.delta;
+  face.plane_key[0] = a, face.plane_key[1] = b, face.plane_key[2] = c;
+  double farthest = -HUGE_VAL;
+  for (int i = 0; i < 4; ++i) farthest = std::max(farthest, a + b * win[i][0] + c * win[i][1]);
+  return farthest < double(clear_key);  // else pushed beyond the far plane
 }
 
 void Selector::finishOccluders(Frame& frame) {

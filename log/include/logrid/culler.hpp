@@ -61,10 +61,10 @@
 // screen out of one batch.
 //
 // Temporal coherence (CullerDesc::temporal_coherence, MethodTakes::temporal_coherence):
-// the leaves found visible last frame are drawn first, without tests, the grid's outdated
-// tiles are refreshed in one batch, and then the hierarchy is traversed as usual; a leaf
-// drawn first is not drawn again. Conservative by construction: whatever was not drawn
-// first is tested against this frame's depth. The culler remembers leaves by NodeId, and
+// the nodes with objects found visible last frame are drawn first, without tests, the
+// grid's outdated tiles are refreshed in one batch, and then the hierarchy is traversed as
+// usual; a node drawn first is not drawn again. Conservative by construction: whatever
+// was not drawn first is tested against this frame's depth. The culler remembers nodes by NodeId, and
 // forgets them when the hierarchy object or its revision() changes.
 #pragma once
 
@@ -118,7 +118,7 @@ struct CullerDesc {
   // a time) up to kUnlimitedLookahead. Methods that do not take it (MethodTakes), and
   // counting tests (approximation.visible_pixels with a grid), test one box at a time.
   std::uint32_t lookahead = 1;
-  // Draw last frame's visible leaves first, then refresh the grid in one batch (methods
+  // Draw last frame's visible nodes with objects first, then refresh the grid in one batch (methods
   // that take it, MethodTakes).
   bool temporal_coherence = false;
   // Detection of colliding queries (ternary-tree paper, §3.5): with lookahead > 1, a box
@@ -275,7 +275,7 @@ class Culler {
   // The grid of the last frame (nullptr for methods without one), for overlays.
   const OcclusionGrid* grid() const;
   void setObserver(CullObserver* observer) { observer_ = observer; }
-  // Forget the leaves remembered for temporal coherence, and what the query methods
+  // Forget the nodes remembered for temporal coherence, and what the query methods
   // remember of each node.
   void forgetCoherence();
 
@@ -299,7 +299,9 @@ class Culler {
   bool traverse();
   // Work that waits for the batch to be drawn (busy refreshes); false if it still waits.
   bool afterBatchDrawn();
-  void pushTest(NodeId node);
+  // Projects the children of `node` and puts those in view on the test-list.
+  void pushChildren(NodeId node);
+  void pushTest(NodeId node, const BoxProjection& projection);
   // Decides what needs no occlusion test (view culled, invalid, crossing the near
   // plane, no occlusion test for this method); nothing if the box must be tested.
   bool forced(const Entry& entry, Visibility& result);
@@ -345,7 +347,7 @@ class Culler {
   ReadCounters depth_before_;
   QueryCounters queries_before_;
   bool coherence_ = false;
-  bool record_visible_ = false;  // the visible leaves are kept for the next frame
+  bool record_visible_ = false;  // the visible nodes with objects are kept for the next frame
   FrameSetting setting_;         // this frame's
   FrameStats stats_;
   GridTestCounts grid_counts_;
@@ -354,7 +356,7 @@ class Culler {
     DrawnArea area;
     bool ordered;
   };
-  std::vector<BatchArea> batch_areas_;  // the batch's leaves, noted again after a clear
+  std::vector<BatchArea> batch_areas_;  // the batch's nodes, noted again after a clear
   std::vector<PixelRect> after_draw_;   // drawn; the tester reads them once drawn (busy)
   float drawn_back_ = 0;  // farthest key + margin of what was drawn in order so far this
                           // frame (and of unordered areas beyond kMaxUnorderedAreas)
@@ -363,15 +365,19 @@ class Culler {
   std::uint32_t lookahead_ = 1;            // this frame's
   std::vector<Entry> test_list_;
   std::vector<Entry> draw_list_;
+  // pushChildren()'s scratch: a node's children, their boxes and projections.
+  std::vector<NodeId> child_ids_;
+  std::vector<Aabb> child_boxes_;
+  std::vector<BoxProjection> child_projections_;
   std::vector<Entry> pending_;         // set aside for the next batch, in test-list order
   std::vector<Entry> deferred_;        // visible by the records behind pending_: test again
   std::optional<Entry> testing_;       // taken off the test-list, its test may need the batch
   std::vector<Entry> culled_undrawn_;  // found occluded while the batch waits to be drawn
   bool resolve_due_ = false;           // pending_ is to be read and resolved
-  // Temporal coherence: last frame's visible leaves, for which hierarchy.
+  // Temporal coherence: last frame's visible nodes with objects, for which hierarchy.
   std::vector<NodeId> coherent_;
-  std::vector<NodeId> visible_leaves_;  // this frame's
-  std::vector<NodeId> drawn_first_;     // sorted: leaves drawn from coherent_
+  std::vector<NodeId> visible_drawn_;  // this frame's
+  std::vector<NodeId> drawn_first_;    // sorted: nodes drawn from coherent_
   const Hierarchy* coherent_hierarchy_ = nullptr;
   std::uint64_t coherent_revision_ = 0;
   // Query methods: the schedule and its frame count, for which hierarchy; mid-frame

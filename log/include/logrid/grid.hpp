@@ -171,11 +171,30 @@ class OcclusionGrid {
   // after the batch was submitted keeps its new far bound but stays outdated.
   void apply(GridBatch& batch);
   // The answer of test `index` (in plan() order) of an applied batch.
-  Visibility resolve(const GridBatch& batch, std::size_t index, GridTestCounts& counts) const;
+  // (Counts nothing: plan() counted the tiles the test reads.)
+  Visibility resolve(const GridBatch& batch, std::size_t index) const;
 
  private:
   enum class Decision : std::uint8_t { Occluded, Visible, Undecided };
   Decision decideFromRecord(std::size_t index, bool internal, float threshold) const;
+  // The tiles a pixel rectangle touches, and the internal ones (inside it whole).
+  struct TileSpan;
+  TileSpan tileSpan(const PixelRect& rect) const;
+  // The span's tiles row by row as visit(index, internal), or those of one class as
+  // visit(index); stops at the first visit that returns true, and then returns true.
+  template <typename Visit>
+  bool forEachTile(const TileSpan& span, Visit&& visit) const;
+  template <typename Visit>
+  bool forEachTileOf(const TileSpan& span, bool internal, Visit&& visit) const;
+  // Steps 1 and 2 (§3): true at the first up-to-date tile whose record shows the box.
+  bool recordsShow(const TileSpan& span, float threshold, GridTestCounts& counts) const;
+  // The tiles of one class that only a read can decide, as take(index) (stopping as
+  // forEachTile does); outdated tiles whose stale far key is in front count as tested.
+  template <typename Take>
+  bool forEachUndecided(const TileSpan& span, bool internal, float threshold,
+                        GridTestCounts& counts, Take&& take) const;
+  PixelRect viewport() const;
+  bool insideViewport(const PixelRect& rect) const;
   // Steps 1 and 2 and the stale-far rule over the tiles of `rect`: Visible at the first
   // tile that shows the box; Occluded if every tile hides it; otherwise nothing, after
   // collecting the tiles a read must decide into *undecided (packed with kInternalBit),

@@ -5,7 +5,9 @@
 // Contract (not checked per frame; tests/unit/bvh_test.cpp checks the builder's):
 //   * bounds(n) contains the bounds of every child of n and all geometry of n's objects;
 //   * node and object ids are the application's own; logrid only hands them back;
-//   * a node may have children, objects, or both.
+//   * a node may have children, objects, or both. A leaf is a node without children;
+//     the culler speaks of "nodes with objects" for those it draws (in bvh/'s
+//     hierarchies every node with objects is a leaf, but an adapter's need not be).
 #pragma once
 
 #include <cstdint>
@@ -25,6 +27,19 @@ class Hierarchy {
   virtual Aabb bounds(NodeId node) const = 0;
   virtual std::uint32_t childCount(NodeId node) const = 0;
   virtual NodeId child(NodeId node, std::uint32_t index) const = 0;
+  // The children of `node` with their boxes in one call, in child() order:
+  // ids[i] = child(node, i) and boxes[i] = bounds(ids[i]) for i < childCount(node),
+  // which both arrays must hold. Returns that count. The traversal asks this once per
+  // node instead of two calls per child; the default makes those calls, and a hierarchy
+  // that keeps a node's children together overrides it.
+  virtual std::uint32_t children(NodeId node, NodeId* ids, Aabb* boxes) const {
+    const std::uint32_t count = childCount(node);
+    for (std::uint32_t i = 0; i < count; ++i) {
+      ids[i] = child(node, i);
+      boxes[i] = bounds(ids[i]);
+    }
+    return count;
+  }
   // The objects drawn when `node` is found visible ("BVols that have objects as direct
   // children", LOG §3).
   virtual std::uint32_t objectCount(NodeId node) const = 0;

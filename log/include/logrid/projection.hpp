@@ -110,7 +110,9 @@
 // artifacts"); half a pixel of widening moves the side faces nearer to cover it.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -185,6 +187,13 @@ class Projector {
   explicit Projector(const Camera& camera, const ProjectionSettings& settings = {});
 
   BoxProjection project(const Aabb& box) const;
+  // The same for `count` boxes (a node's children, say): out[i] = project(boxes[i]).
+  void project(const Aabb* boxes, std::size_t count, BoxProjection* out) const;
+  // Frustum only: true where project(box) finds all eight corners beyond one plane of
+  // the view frustum (and answers Outside without projecting). The first, cheap part of
+  // project(); an invalid box is never outside.
+  bool outsideFrustum(const Aabb& box) const;
+  void outsideFrustum(const Aabb* boxes, std::size_t count, std::uint8_t* outside) const;
   // The box a hardware occlusion query draws for `box`, or nothing where no query can
   // answer conservatively (the box does not project Inside, or the widened, biased faces
   // would reach the near plane): such a box is visible without a query.
@@ -207,6 +216,50 @@ class Projector {
     double widen_x = 0, widen_y = 0, w_min = 0, w_max = 0;
   };
   BoxProjection projectWith(const Aabb& box, Extent* extent) const;
+
+  // The steps of projectWith(). A point of the (near-clipped) box in clip space, with S:
+  // the sums of the magnitudes of the terms of its clip x, y, z and w ("Why the margins
+  // have their values").
+  struct ClipPoint {
+    double c[4];
+    double s[4];
+  };
+  // The eight corners as structure of arrays: c[row][corner], s[row][corner], and in
+  // q_abs[axis][0 and 1] the magnitudes of the box's min and max relative to the render
+  // origin.
+  struct Corners {
+    double c[4][8];
+    double s[4][8];
+    double q_abs[3][8];
+    ClipPoint point(int i) const {
+      return {{c[0][i], c[1][i], c[2][i], c[3][i]}, {s[0][i], s[1][i], s[2][i], s[3][i]}};
+    }
+  };
+  // The window-space bounds of the clipped box and the largest rounding errors of its
+  // points (pixels in x and y, window depth in z).
+  struct WindowBounds {
+    double x_min = kInf, x_max = -kInf, y_min = kInf, y_max = -kInf;
+    double key_min = kInf, key_max = -kInf;
+    double err_x = 0, err_y = 0, err_z = 0;
+    double w_min = kInf, w_max = 0;
+  };
+  static constexpr double kInf = std::numeric_limits<double>::infinity();
+  static bool validBox(const Aabb& box);
+  BoxProjection visibleEverywhere(ProjectionClass cls) const;
+  void clipCorners(const Aabb& box, Corners& corners) const;
+  void termMagnitudes(Corners& corners) const;
+  bool outsideOnePlane(const Corners& corners) const;
+  // dot(plane, corner i's clip position), summed as a four-term dot product.
+  static double planeDistance(const double* plane, const Corners& k, int i) {
+    return plane[0] * k.c[0][i] + plane[1] * k.c[1][i] + plane[2] * k.c[2][i] +
+           plane[3] * k.c[3][i];
+  }
+  // Writes the clipped box's points (at most 8 + 12); crosses_near when a corner lies
+  // beyond the near plane.
+  int clipToNear(const Corners& corners, ClipPoint* points, bool& crosses_near) const;
+  // False when a point lies at or behind the eye (w <= 0).
+  bool windowBounds(const ClipPoint* points, int count, WindowBounds& bounds) const;
+  PixelRect pixelRect(const WindowBounds& bounds, double widen_x, double widen_y) const;
 
   Camera camera_;
   ProjectionSettings settings_;

@@ -21,7 +21,7 @@ struct FrameSetting {
 };
 
 // What the grid's tests examined and read (added to, never reset, by the grid's test(),
-// plan() and resolve()); FrameStats::tiles_tested and tiles_read are a frame's.
+// decide() and plan()); FrameStats::tiles_tested and tiles_read are a frame's.
 struct GridTestCounts {
   std::uint64_t tiles_tested = 0;  // tiles whose record or pixels decided something
   std::uint64_t tiles_read = 0;    // tiles (or tile intersections) read from the source
@@ -68,7 +68,7 @@ struct FrameStats {
   // Drawing.
   std::uint64_t leaves_drawn = 0;     // nodes whose objects were drawn
   std::uint64_t objects_drawn = 0;    // draw callbacks made
-  std::uint64_t coherent_leaves = 0;  // leaves drawn first from last frame's visible set
+  std::uint64_t coherent_leaves = 0;  // nodes with objects drawn first from last frame's set
   std::uint64_t draw_batches = 0;     // non-empty batches handed out (Culler::nextBatch)
   std::uint64_t occluders = 0;        // selected by the occluder pre-pass (ddo: faces in
                                       // its map; ddo+log: quads drawn)

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "logrid/bvh.hpp"
+#include "logrid/bvh/bvh.hpp"
 #include "logrid/cpu/software_rasterizer.hpp"
 #include "logrid/culler.hpp"
 #include "logrid/gl/context.hpp"

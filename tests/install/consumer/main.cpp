@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "logrid/bvh.hpp"
+#include "logrid/bvh/bvh.hpp"
 #include "logrid/logrid.hpp"
 
 namespace {

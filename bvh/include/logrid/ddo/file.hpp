@@ -8,6 +8,7 @@
 // half-written file under the final name.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 
@@ -25,6 +26,10 @@ struct FileExpectation {
   std::uint32_t regions = 0;         // 0: any
   std::uint32_t leaf_triangles = 0;  // 0: any
 };
+
+// The checksum a file ends with, of the `bytes` bytes before it (FNV-1a over 8-byte
+// words, then the remaining bytes).
+std::uint64_t payloadChecksum(const unsigned char* data, std::size_t bytes);
 
 // Throws logrid::Error(Environment) when the file cannot be written (naming the path).
 void saveOctree(const Octree& octree, const FileExpectation& scene, const std::string& path);

@@ -111,8 +111,21 @@ class Selector {
  private:
   struct Face;
   struct Frame;
+  struct FaceOutline;
   void visit(std::uint32_t node, Frame& frame);
+  // The node's faces that hide what lies behind them from this viewpoint, each through
+  // the steps below (false: the face is not used this frame).
   void selectFaces(std::uint32_t node, Frame& frame);
+  // The viewpoint lies in one of the face's valid regions (the bits of `mask`).
+  bool seesValidRegion(std::uint64_t mask, const FaceFrame& face, const Frame& frame) const;
+  // The projection of the cone between the face and its clipping plane, whose margin
+  // bounds the depth of the geometry that hides the face.
+  static bool coneProjection(const FaceFrame& face, const Frame& frame, BoxProjection& cone);
+  // The face's outline on screen, its depth push-back and whether it may be merged.
+  static bool faceOnScreen(const FaceFrame& frame_face, const Frame& frame,
+                           const BoxProjection& cone, Face& face, FaceOutline& outline);
+  // The depth plane over the outline, pushed back; false if it reaches the far plane.
+  static bool depthPlane(const FaceOutline& outline, float clear_key, Face& face);
   void finishOccluders(Frame& frame);
 
   const Octree& octree_;

@@ -81,7 +81,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "logrid/motion.hpp"
+#include "logrid/bvh/motion.hpp"
 #include "logrid/projection.hpp"
 
 namespace logrid::bvh {

@@ -43,6 +43,14 @@ class FlatHierarchy : public Hierarchy {
   Aabb bounds(NodeId node) const override { return nodes_[node].box; }
   std::uint32_t childCount(NodeId node) const override { return nodes_[node].child_count; }
   NodeId child(NodeId node, std::uint32_t i) const override { return nodes_[node].first_child + i; }
+  std::uint32_t children(NodeId node, NodeId* ids, Aabb* boxes) const override {
+    const Node& n = nodes_[node];
+    for (std::uint32_t i = 0; i < n.child_count; ++i) {
+      ids[i] = n.first_child + i;
+      boxes[i] = nodes_[n.first_child + i].box;
+    }
+    return n.child_count;
+  }
   std::uint32_t objectCount(NodeId node) const override { return nodes_[node].object_count; }
   ObjectId object(NodeId node, std::uint32_t i) const override {
     return objects_[nodes_[node].first_object + i];

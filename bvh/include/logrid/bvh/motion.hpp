@@ -32,7 +32,7 @@
 #include <string>
 #include <vector>
 
-#include "logrid/bvh.hpp"
+#include "logrid/bvh/bvh.hpp"
 #include "logrid/camera.hpp"
 #include "logrid/culler.hpp"
 #include "logrid/depth_source.hpp"
