@@ -287,7 +287,7 @@ void Culler::beginFrame(const Camera& camera, const Hierarchy& hierarchy,
                     : desc_.temporal_coherence && info.takes.temporal_coherence;
   // auto keeps the visible nodes with objects every frame: the next may choose coherence.
   record_visible_ = coherence_ || auto_;
-  if (!auto_) setting_ = {desc_.method, lookahead_, coherence_, false};
+  if (!auto_) setting_ = {desc_.method, lookahead_, coherence_, false, {}};
   setting_.approximation = budget_ ? budget_->current() : desc_.approximation;
   stats_.setting = setting_;
 
