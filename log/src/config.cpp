@@ -13,8 +13,8 @@ namespace {
 
 using detail::Json;
 
-constexpr detail::JsonFileKind kConfigFile{"configuration file",
-                                           "write one with `logrid tune --auto --write-config FILE`"};
+constexpr detail::JsonFileKind kConfigFile{
+    "configuration file", "write one with `logrid tune --auto --write-config FILE`"};
 
 class ConfigReader {
  public:
@@ -128,7 +128,8 @@ std::string formatCullerConfig(const CullerConfig& config) {
   std::ostringstream out;
   out << "{\n  \"format\": \"logrid-config\",\n  \"version\": 1,\n  \"source\": \""
       << detail::jsonEscape(config.source) << "\",\n  \"culler\": {\n    \"method\": \""
-      << toString(d.method) << "\",\n    \"tile_size\": " << d.tile_size << ",\n    \"lookahead\": ";
+      << toString(d.method) << "\",\n    \"tile_size\": " << d.tile_size
+      << ",\n    \"lookahead\": ";
   if (d.lookahead == kUnlimitedLookahead) {
     out << "\"all\"";
   } else {

@@ -28,8 +28,7 @@ class JsonReader {
     std::size_t line = 1;
     for (std::size_t k = 0; k < i_ && k < s_.size(); ++k) line += s_[k] == '\n';
     throw Error(ErrorCode::BadInput, origin_ + ": not a " + kind_.what + " (line " +
-                                         std::to_string(line) + ": " + what + "); " +
-                                         kind_.remedy);
+                                         std::to_string(line) + ": " + what + "); " + kind_.remedy);
   }
   void space() {
     while (i_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[i_]))) ++i_;

@@ -14,9 +14,8 @@ namespace {
 
 // The options a configuration file sets; none may be given beside --config.
 constexpr const char* kConfigured[] = {
-    "--method",  "--tile",        "--tiles",          "--reader",         "--lookahead",
-    "--coherence", "--colliding", "--leaf",           "--tree-parts",     "--visible-pixels",
-    "--full-fraction", "--row-stride"};
+    "--method",    "--tile", "--tiles",      "--reader",         "--lookahead",     "--coherence",
+    "--colliding", "--leaf", "--tree-parts", "--visible-pixels", "--full-fraction", "--row-stride"};
 
 [[noreturn]] void badScene(const std::string& path, const std::string& what) {
   throw Error(ErrorCode::BadInput, path + ": \"scene\": " + what);
@@ -34,7 +33,8 @@ void applySceneSection(const std::string& path, WalkOptions& o) {
   if (!scene.is_object()) badScene(path, "is not an object");
   if (scene.contains("leaf")) {
     const nlohmann::json& leaf = scene["leaf"];
-    if (!leaf.is_number_unsigned() || leaf.get<std::uint64_t>() > std::numeric_limits<std::uint32_t>::max()) {
+    if (!leaf.is_number_unsigned() ||
+        leaf.get<std::uint64_t>() > std::numeric_limits<std::uint32_t>::max()) {
       badScene(path, "\"leaf\" is not a whole number in [0, 4294967295] (0: the scene's default)");
     }
     o.leaf = leaf.get<std::uint32_t>();

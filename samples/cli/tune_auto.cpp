@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 
 #include "cli/common.hpp"
 #include "cli/config_option.hpp"
@@ -133,7 +134,9 @@ Stage methodStage(const WalkOptions& base) {
   s.candidates.push_back({withMethod(base, "vfc")});
   for (Method m : {Method::LogState, Method::LogZfar}) {
     for (std::uint32_t k : {1u, 16u}) {
-      for (bool tc : {false, true}) s.candidates.push_back({withMethod(base, choiceName(m, k, tc))});
+      for (bool tc : {false, true}) {
+        s.candidates.push_back({withMethod(base, choiceName(m, k, tc))});
+      }
     }
   }
   s.candidates.push_back({withMethod(base, "auto")});
@@ -242,7 +245,8 @@ int runTuneAuto(const TuneAutoOptions& o) {
     print(s);
     nlohmann::json js{{"stage", s.name}, {"candidates", nlohmann::json::array()}};
     for (const Candidate& c : s.candidates) {
-      js["candidates"].push_back({{"setting", describe(c.options)}, {"ms", c.ms}, {"missed", c.missed}});
+      js["candidates"].push_back(
+          {{"setting", describe(c.options)}, {"ms", c.ms}, {"missed", c.missed}});
       missed |= c.missed > 0;
     }
     report["stages"].push_back(std::move(js));
@@ -251,7 +255,8 @@ int runTuneAuto(const TuneAutoOptions& o) {
   // What the scene needed, from stage 1 (same frames, same tile and reader).
   const Stage& first = stages.front();
   const auto grid = [](const MethodChoice& c) { return c.method && methodInfo(*c.method).grid; };
-  const Candidate* vfc = fastest(first, [](const MethodChoice& c) { return c.method == Method::Vfc; });
+  const Candidate* vfc =
+      fastest(first, [](const MethodChoice& c) { return c.method == Method::Vfc; });
   const Candidate* any_grid = fastest(first, grid);
   const Candidate* batched = fastest(first, [&](const MethodChoice& c) {
     return grid(c) && c.method != Method::Auto && c.lookahead.value_or(1) > 1;
@@ -287,9 +292,12 @@ int runTuneAuto(const TuneAutoOptions& o) {
     config.source = best.reader;
     nlohmann::json file = nlohmann::json::parse(formatCullerConfig(config));
     file["scene"] = nlohmann::json::parse(sceneSection(best));
-    file["report"] = {{"scene", scene.prepared.name}, {"size", o.walk.size},
-                      {"frames", o.walk.frames}, {"ms_per_frame", stages.back().candidates[stages.back().best].ms},
-                      {"needed", report["needed"]}, {"command", commandLine()}};
+    file["report"] = {{"scene", scene.prepared.name},
+                      {"size", o.walk.size},
+                      {"frames", o.walk.frames},
+                      {"ms_per_frame", stages.back().candidates[stages.back().best].ms},
+                      {"needed", report["needed"]},
+                      {"command", commandLine()}};
     std::ofstream out(o.config);
     out << file.dump(2) << "\n";
     if (!out) {

@@ -10,10 +10,10 @@
 namespace logrid::samples {
 
 struct TuneAutoOptions {
-  WalkOptions walk;         // the scene, path, frames, size; the tile and reader to start from
-  std::size_t repeat = 3;   // interleaved repetitions per stage
-  std::string json;         // the whole sweep as JSON
-  std::string config;       // the configuration file written (--write-config)
+  WalkOptions walk;        // the scene, path, frames, size; the tile and reader to start from
+  std::size_t repeat = 3;  // interleaved repetitions per stage
+  std::string json;        // the whole sweep as JSON
+  std::string config;      // the configuration file written (--write-config)
 };
 
 // Runs the sweep (stages in tune_auto.cpp), prints each stage and what the scene needed,

@@ -24,7 +24,7 @@ struct Scripted {
 
 // `frames` frames whose time is rung_ms[rung] x (1 + noise) (uniform in +-noise).
 Scripted script(BudgetController& c, const std::vector<double>& rung_ms, double budget_ms,
-           std::size_t frames, double noise = 0, unsigned seed = 1) {
+                std::size_t frames, double noise = 0, unsigned seed = 1) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> jitter(-noise, noise);
   Scripted r;
@@ -127,7 +127,8 @@ TEST(BudgetCuller, ValidatesAndRecordsTheKnobsEachFrameRan) {
   std::vector<float> fractions;
   for (int frame = 0; frame < 24; ++frame) {
     cpu::SoftwareDepthBuffer depth(cam.width, cam.height, DepthConvention::Standard);
-    const test::CulledFrame f = test::cullBoxes(culler, world, cam, depth, test::SourceKind::Software);
+    const test::CulledFrame f =
+        test::cullBoxes(culler, world, cam, depth, test::SourceKind::Software);
     fractions.push_back(f.stats.setting.approximation.full_free_fraction);
   }
   EXPECT_EQ(fractions.front(), 0.0f);
@@ -140,7 +141,8 @@ TEST(BudgetCuller, ValidatesAndRecordsTheKnobsEachFrameRan) {
   Culler easy(d);
   for (int frame = 0; frame < 12; ++frame) {
     cpu::SoftwareDepthBuffer depth(cam.width, cam.height, DepthConvention::Standard);
-    const test::CulledFrame f = test::cullBoxes(easy, world, cam, depth, test::SourceKind::Software);
+    const test::CulledFrame f =
+        test::cullBoxes(easy, world, cam, depth, test::SourceKind::Software);
     EXPECT_TRUE(f.stats.setting.approximation.exact());
     for (ObjectId id : test::visibleBoxes(world.boxes, cam)) EXPECT_TRUE(f.drawn.count(id));
   }
