@@ -175,14 +175,13 @@ void Framebuffer::release() {
 void Framebuffer::bind() const {
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
   glViewport(0, 0, GLsizei(desc_.width), GLsizei(desc_.height));
-  // Under GlStatePolicy::ApplicationManaged a depth source leaves its own draws' state set
-  // (a multisample resolve: the scissor test on around its last rectangle, colour writes
-  // off), and the application sets what it draws with: clears and draws here depend on
-  // both.
-  glDisable(GL_SCISSOR_TEST);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   selectIdPass(false);
   applyDepthState(desc_.depth);
+}
+
+void Framebuffer::unmask() const {
+  glDisable(GL_SCISSOR_TEST);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
 }
 
 void Framebuffer::selectIdPass(bool id_pass) const {

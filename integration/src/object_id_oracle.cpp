@@ -48,6 +48,7 @@ OracleFrame objectIdOracle(const Framebuffer& framebuffer, const Camera& camera,
   const Projector projector(camera);  // validates the camera
 
   framebuffer.bind();
+  framebuffer.unmask();  // whatever a depth source left set: the whole frame's IDs
   framebuffer.clearDepthAndIds();
   framebuffer.selectIdPass(true);
   draw_ids();

@@ -401,6 +401,7 @@ FrameRecord FrameRunner::render(const CameraPose& pose, std::size_t frame, bool 
     rec.update = dynamic_->update(update);
   }
   framebuffer_->bind();
+  framebuffer_->unmask();  // after a reader that leaves its state (leavesGlState)
   framebuffer_->clear(kBackground);
   if (config_.hooks.after_clear) config_.hooks.after_clear();
   renderer_.begin(gl::Pass::Shaded, camera);
@@ -436,11 +437,15 @@ FrameRecord FrameRunner::render(const CameraPose& pose, std::size_t frame, bool 
                         {&reader_->source(), queries_.get(), occluders_.get()});
     try {
       for (DrawBatch batch = culler_->nextBatch(); !batch.empty(); batch = culler_->nextBatch()) {
-        // Under GlStatePolicy::ApplicationManaged the source's passes leave their state (a
-        // multisample resolve: its framebuffer, program and vertex array, whose missing
-        // element buffer crashed the driver): the application sets what it draws with.
-        framebuffer_->bind();
-        renderer_.begin(gl::Pass::Shaded, camera);
+        if (reader_->leavesGlState()) {
+          // Under GlStatePolicy::ApplicationManaged the source's passes leave their state
+          // (a multisample resolve: its framebuffer, program and vertex array, whose
+          // missing element buffer crashed the driver, the scissor and colour masks):
+          // the application sets what it draws with.
+          framebuffer_->bind();
+          framebuffer_->unmask();
+          renderer_.begin(gl::Pass::Shaded, camera);
+        }
         for (ObjectId id : batch) draw(id);
       }
     } catch (...) {

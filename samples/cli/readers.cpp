@@ -23,6 +23,19 @@ class GlReader final : public FrameReader {
   Source source_;
 };
 
+// readpixels for an application that keeps its own GL state (GlStatePolicy::
+// ApplicationManaged): nothing saved or restored, so the runner sets its state again.
+class ManagedReader final : public FrameReader {
+ public:
+  explicit ManagedReader(std::uint32_t framebuffer)
+      : source_(framebuffer, zread::GlStatePolicy::ApplicationManaged) {}
+  DepthSource& source() override { return source_; }
+  bool leavesGlState() const override { return true; }
+
+ private:
+  zread::ReadPixelsSource source_;
+};
+
 // readpixels with the GL state saved, checked and restored around every read, as every
 // read did before the culler opened one access window per batch (gl_state.hpp): the
 // source's beginAccess() and endAccess() are not passed on. For comparison only.
@@ -119,10 +132,7 @@ const std::vector<ReaderInfo>& readerTable() {
        "readpixels for an application that manages its GL state (GlStatePolicy::"
        "ApplicationManaged): nothing saved or restored",
        true, true,
-       [](const ReaderContext& c) {
-         return std::make_unique<GlReader<zread::ReadPixelsSource>>(
-             c.framebuffer, zread::GlStatePolicy::ApplicationManaged);
-       }},
+       [](const ReaderContext& c) { return std::make_unique<ManagedReader>(c.framebuffer); }},
       {"readpixels-per-read",
        "readpixels with the GL state saved and restored around every read instead of once "
        "per batch (for comparison)",

@@ -27,6 +27,9 @@ class FrameReader {
   virtual void beginFrame(const Camera& camera) { (void)camera; }
   // After the renderer drew object `id` through the culler's callback.
   virtual void objectDrawn(ObjectId id) { (void)id; }
+  // Its source's reads leave their GL state set (GlStatePolicy::ApplicationManaged): the
+  // runner sets what it draws with again before each batch.
+  virtual bool leavesGlState() const { return false; }
 };
 
 // What a reader is made from.

@@ -55,10 +55,13 @@ class Framebuffer {
   // Samples per pixel the driver allocated (0: single-sampled).
   std::uint32_t samples() const { return samples_; }
 
-  // Binds for drawing: framebuffer, viewport, scissor test off, colour writes on, draw
-  // buffers and the depth state (what logrid's sources may leave set under
-  // GlStatePolicy::ApplicationManaged among them).
+  // Binds for drawing: framebuffer, viewport, draw buffers and the depth state.
   void bind() const;
+  // Scissor test off and colour writes on: what a whole-frame clear or pass needs, and
+  // what a depth source under GlStatePolicy::ApplicationManaged may leave set (a
+  // multisample resolve: the scissor around its last rectangle, colour writes off).
+  // Not part of bind(): an application's own scissor between its draws is its own.
+  void unmask() const;
   // Clears colour to `rgba`, depth to the convention's clear value, IDs to `kNoObject`.
   void clear(const float rgba[4]) const;
   // The same without touching colour (for an ID pass after a frame, object_id_oracle.hpp).
