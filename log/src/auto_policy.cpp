@@ -3,11 +3,10 @@
 #include <algorithm>
 #include <iterator>
 
+#include "subtree_loads.hpp"
+
 namespace logrid::detail {
 namespace {
-
-// Objects whose hierarchy does not know their triangles count as this many (as nohc's).
-constexpr double kAssumedTriangles = 1000;
 
 // How fast the outlook follows the frames (weight of the newest frame).
 constexpr double kOutlookRate = 0.3;
@@ -143,35 +142,8 @@ void AutoPolicy::loadSubtrees(const Hierarchy& h) {
   loads_.clear();
   loads_hierarchy_ = &h;
   loads_revision_ = h.revision();
-  if (h.root() == kNoNode) return;
-  // Post-order: a node's load is its objects' plus its children's.
-  struct Item {
-    NodeId node;
-    bool done;
-  };
-  std::vector<Item> stack{{h.root(), false}};
-  while (!stack.empty()) {
-    const Item it = stack.back();
-    stack.pop_back();
-    const std::uint32_t children = h.childCount(it.node);
-    if (!it.done) {
-      stack.push_back({it.node, true});
-      for (std::uint32_t i = 0; i < children; ++i) stack.push_back({h.child(it.node, i), false});
-      continue;
-    }
-    NodeLoad load;
-    const std::uint32_t objects = h.objectCount(it.node);
-    load.objects = objects;
-    for (std::uint32_t i = 0; i < objects; ++i) {
-      const std::uint32_t t = h.objectTriangles(h.object(it.node, i));
-      load.triangles += t ? double(t) : kAssumedTriangles;
-    }
-    for (std::uint32_t i = 0; i < children; ++i) {
-      const NodeLoad& c = loads_[h.child(it.node, i)];
-      load.objects += c.objects;
-      load.triangles += c.triangles;
-    }
-    loads_[it.node] = load;
+  for (const auto& [node, load] : subtreeLoads(h)) {
+    loads_[node] = {double(load.triangles), double(load.objects)};
   }
 }
 

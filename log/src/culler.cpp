@@ -697,19 +697,23 @@ void Culler::resolvePending() {
   deferred_.clear();
 }
 
-void Culler::drawEntry(const Entry& entry) {
-  if (!drawn_first_.empty() &&
-      std::binary_search(drawn_first_.begin(), drawn_first_.end(), entry.node)) {
-    return;  // drawn before the traversal (temporal coherence)
-  }
-  const std::uint32_t n = hierarchy_->objectCount(entry.node);
+void Culler::batchObjects(NodeId node) {
+  const std::uint32_t n = hierarchy_->objectCount(node);
   for (std::uint32_t i = 0; i < n; ++i) {
-    const ObjectId id = hierarchy_->object(entry.node, i);
+    const ObjectId id = hierarchy_->object(node, i);
     batch_.push_back(id);
     stats_.triangles_drawn += hierarchy_->objectTriangles(id);
   }
   stats_.objects_drawn += n;
   ++stats_.leaves_drawn;
+}
+
+void Culler::drawEntry(const Entry& entry) {
+  if (!drawn_first_.empty() &&
+      std::binary_search(drawn_first_.begin(), drawn_first_.end(), entry.node)) {
+    return;  // drawn before the traversal (temporal coherence)
+  }
+  batchObjects(entry.node);
   noteDrawnWith({entry.projection.rect, entry.projection.far_key + entry.projection.margin}, true);
   batch_areas_.push_back(
       {{entry.projection.rect, entry.projection.far_key + entry.projection.margin}, true});
@@ -724,14 +728,7 @@ void Culler::drawCoherent() {
   for (NodeId node : coherent_) {
     const BoxProjection p = projector_->project(hierarchy.bounds(node));
     if (p.cls == ProjectionClass::Outside) continue;
-    const std::uint32_t n = hierarchy.objectCount(node);
-    for (std::uint32_t i = 0; i < n; ++i) {
-      const ObjectId id = hierarchy.object(node, i);
-      batch_.push_back(id);
-      stats_.triangles_drawn += hierarchy.objectTriangles(id);
-    }
-    stats_.objects_drawn += n;
-    ++stats_.leaves_drawn;
+    batchObjects(node);
     ++stats_.coherent_leaves;
     drawn_first_.push_back(node);
     // Drawn out of order: later occlusion-state tests of boxes in front of it go by depth.

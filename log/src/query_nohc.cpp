@@ -41,12 +41,12 @@
 #include <vector>
 
 #include "query_frame.hpp"
+#include "subtree_loads.hpp"
 
 namespace logrid::detail {
 namespace {
 
 constexpr double kRcov = 0.785398163397448;  // pi / 4
-constexpr std::uint32_t kAssumedTriangles = 1000;
 
 class NohcSchedule final : public Schedule {
  public:
@@ -110,42 +110,15 @@ class NohcSchedule final : public Schedule {
     bool wait;  // children queued only after the answer
   };
 
-  // Subtree totals bottom-up (once per hierarchy), and N_h.
+  // Subtree totals (once per hierarchy), and N_h.
   void measureSubtrees(const Hierarchy& h) {
-    nodes_ = 0;
-    if (h.root() != kNoNode) {
-      struct Item {
-        NodeId node;
-        bool done;
-      };
-      std::vector<Item> stack{{h.root(), false}};
-      while (!stack.empty()) {
-        const Item it = stack.back();
-        stack.pop_back();
-        const std::uint32_t children = h.childCount(it.node);
-        if (!it.done) {
-          stack.push_back({it.node, true});
-          for (std::uint32_t i = 0; i < children; ++i)
-            stack.push_back({h.child(it.node, i), false});
-          continue;
-        }
-        ++nodes_;
-        Record& r = memory_[it.node];
-        const std::uint32_t objects = h.objectCount(it.node);
-        r.calls = objects;
-        r.triangles = 0;
-        for (std::uint32_t i = 0; i < objects; ++i) {
-          const std::uint32_t t = h.objectTriangles(h.object(it.node, i));
-          r.triangles += t ? t : kAssumedTriangles;
-        }
-        r.leaves = children == 0 ? 1 : 0;
-        for (std::uint32_t i = 0; i < children; ++i) {
-          const Record& c = memory_[h.child(it.node, i)];
-          memory_[it.node].calls += c.calls;
-          memory_[it.node].triangles += c.triangles;
-          memory_[it.node].leaves += c.leaves;
-        }
-      }
+    const std::unordered_map<NodeId, SubtreeLoad> loads = subtreeLoads(h);
+    nodes_ = loads.size();
+    for (const auto& [node, load] : loads) {
+      Record& r = memory_[node];
+      r.calls = load.objects;
+      r.triangles = load.triangles;
+      r.leaves = load.leaves;
     }
     levels_ = std::log2(double(nodes_) + 1.0);
     subtrees_ready_ = true;

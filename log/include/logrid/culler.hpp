@@ -316,6 +316,8 @@ class Culler {
   void decided(const Entry& entry, Visibility v);
   void finish(const Entry& entry, Visibility v);
   void resolvePending();
+  // The node's objects into this batch, counted as drawn (objects, triangles, leaves).
+  void batchObjects(NodeId node);
   void drawEntry(const Entry& entry);
   void drawCoherent();
   // `ordered`: drawn in two-list order (in front of every box still to be tested, up to
