@@ -5,9 +5,9 @@
 #include <cmath>
 #include <sstream>
 
+#include "logrid/bvh/ternary_tree.hpp"
 #include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
-#include "logrid/bvh/ternary_tree.hpp"
 
 namespace logrid::bvh {
 namespace {

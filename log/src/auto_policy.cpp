@@ -106,9 +106,9 @@ void AutoPolicy::endFrame(const FrameStats& stats, const CullerCosts& costs) {
                         double(stats.boxes_tested + stats.boxes_untested) * costs.box_test_s -
                         double(stats.queries) * costs.query_s;
     const double now = std::max(0.0, rest) / double(stats.triangles_drawn);
-    observed_triangle_s_ =
-        observed_triangle_s_ > 0 ? observed_triangle_s_ + kOutlookRate * (now - observed_triangle_s_)
-                                 : now;
+    observed_triangle_s_ = observed_triangle_s_ > 0
+                               ? observed_triangle_s_ + kOutlookRate * (now - observed_triangle_s_)
+                               : now;
   }
   const double seconds = modelledSeconds(costs, stats);
   if (!frame_.probe) {

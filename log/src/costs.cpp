@@ -54,8 +54,9 @@ CullerCostsFile parseCullerCosts(const std::string& text, const std::string& ori
   if (doc->kind != Json::Kind::Object) bad(origin, "a costs file is one JSON object");
   const Json* format = doc->find("format");
   if (!format || format->kind != Json::Kind::String || format->text != "logrid-costs") {
-    bad(origin, "\"format\" is not \"logrid-costs\"; write the file with `logrid calibrate "
-                "--costs FILE`");
+    bad(origin,
+        "\"format\" is not \"logrid-costs\"; write the file with `logrid calibrate "
+        "--costs FILE`");
   }
   const Json* version = doc->find("version");
   if (!version || version->kind != Json::Kind::Number || version->number != 1) {
@@ -108,8 +109,7 @@ std::string formatCullerCosts(const CullerCostsFile& file) {
   std::ostringstream out;
   out.precision(6);
   out << "{\n  \"format\": \"logrid-costs\",\n  \"version\": 1,\n  \"machine\": \""
-      << detail::jsonEscape(file.machine)
-      << "\",\n  \"sources\": {";
+      << detail::jsonEscape(file.machine) << "\",\n  \"sources\": {";
   bool first_source = true;
   for (const auto& [name, costs] : file.sources) {
     out << (first_source ? "\n" : ",\n") << "    \"" << name << "\": {";

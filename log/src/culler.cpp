@@ -10,12 +10,12 @@
 #include <sstream>
 #include <utility>
 
+#include "auto_policy.hpp"
+#include "budget.hpp"
 #include "logrid/coverage.hpp"
 #include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
 #include "logrid/grid.hpp"
-#include "auto_policy.hpp"
-#include "budget.hpp"
 #include "methods/method_def.hpp"
 #include "query_frame.hpp"
 #include "query_prefilter.hpp"
@@ -91,8 +91,8 @@ Culler::Culler(const CullerDesc& desc) : desc_(desc), estimate_(desc.costs) {
     method_ = &detail::methodDef(auto_->current().method);
     const Method other =
         auto_->current().method == Method::LogState ? Method::LogZfar : Method::LogState;
-    other_tester_ =
-        detail::makeGridTester(desc_, *detail::methodDef(other).info.grid, detail::GridRefresh::Lazy);
+    other_tester_ = detail::makeGridTester(desc_, *detail::methodDef(other).info.grid,
+                                           detail::GridRefresh::Lazy);
   }
   if (desc_.budget_ms > 0) {
     budget_ = std::make_unique<detail::BudgetController>(
@@ -284,7 +284,7 @@ void Culler::beginFrame(const Camera& camera, const Hierarchy& hierarchy,
   drawn_first_.clear();
   unordered_.clear();
   coherence_ = auto_ ? setting_.temporal_coherence
-                    : desc_.temporal_coherence && info.takes.temporal_coherence;
+                     : desc_.temporal_coherence && info.takes.temporal_coherence;
   // auto keeps the visible nodes with objects every frame: the next may choose coherence.
   record_visible_ = coherence_ || auto_;
   if (!auto_) setting_ = {desc_.method, lookahead_, coherence_, false, {}};

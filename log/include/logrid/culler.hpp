@@ -64,8 +64,8 @@
 // the nodes with objects found visible last frame are drawn first, without tests, the
 // grid's outdated tiles are refreshed in one batch, and then the hierarchy is traversed as
 // usual; a node drawn first is not drawn again. Conservative by construction: whatever
-// was not drawn first is tested against this frame's depth. The culler remembers nodes by NodeId, and
-// forgets them when the hierarchy object or its revision() changes.
+// was not drawn first is tested against this frame's depth. The culler remembers nodes by NodeId,
+// and forgets them when the hierarchy object or its revision() changes.
 #pragma once
 
 #include <chrono>
@@ -333,9 +333,9 @@ class Culler {
   CullerDesc desc_;
   const detail::MethodDef* method_;  // what the frame runs (auto: the method it chose)
   std::unique_ptr<detail::BoxTester> tester_;
-  std::unique_ptr<detail::AutoPolicy> auto_;            // `auto` only
-  std::unique_ptr<detail::BudgetController> budget_;    // CullerDesc::budget_ms > 0 only
-  std::unique_ptr<detail::BoxTester> other_tester_;     // auto: the other grid variant's
+  std::unique_ptr<detail::AutoPolicy> auto_;          // `auto` only
+  std::unique_ptr<detail::BudgetController> budget_;  // CullerDesc::budget_ms > 0 only
+  std::unique_ptr<detail::BoxTester> other_tester_;   // auto: the other grid variant's
   CostEstimate estimate_;
   std::unique_ptr<Projector> projector_;
   CullObserver* observer_ = nullptr;
