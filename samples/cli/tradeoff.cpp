@@ -262,7 +262,9 @@ int runTradeoff(const ExperimentOptions& options, const std::vector<double>& bud
     e.md() << "\n## " << name << " " << so.size << "\n\n"
            << measured.front().result.config.frames << " frames, " << options.repeat
            << " repetitions, tile " << so.tile << ", " << scene.prepared.triangles
-           << " triangles (scale " << so.scale << ").\n\n";
+           << " triangles (scale " << so.scale << "); log-state with lookahead " << so.lookahead
+           << (so.coherence ? " and temporal coherence" : "") << ", reader " << so.reader
+           << ".\n\n";
     writeOutcomes(e.md(), outcomes);
     nlohmann::json scene_json = scene.describe();
     scene_json["size"] = so.size;
