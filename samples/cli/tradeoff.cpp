@@ -226,8 +226,9 @@ constexpr const char* kIntro =
     "whose colour differs, and PSNR (OpenImageIO `compare`; ∞ when every frame is "
     "identical). The Pareto front holds the settings no other setting beats on both time "
     "and differing pixels. A `budget B ms` row is log-state with `--budget-ms B` "
-    "(CullerDesc::budget_ms): the culler moves along the full-tile fraction to meet B and "
-    "back to exact when there is time; its frames over budget count the per-frame medians "
+    "(CullerDesc::budget_ms): the culler moves along the approximate knobs of its setting "
+    "(docs/BUDGET.md) to meet B and back to exact when there is time; its frames over "
+    "budget count the per-frame medians "
     "above B, and its image error comes from a second, untimed pass in which the "
     "controller chooses again from that pass's own frame times.\n";
 
