@@ -62,7 +62,8 @@ TEST(AutoNodeDecision, TestingSwitchesOffWhereNothingIsHiddenButNotForLargeSubtr
   const CullerCosts c = scripted();
   const double test = detail::expectedTestSeconds(c, nothing_hidden);
   const double objects = 1;
-  const double triangles = (test / detail::kMinOccludedFraction - objects * c.draw_s) / c.triangle_s;
+  const double triangles =
+      (test / detail::kMinOccludedFraction - objects * c.draw_s) / c.triangle_s;
   EXPECT_TRUE(testPays(c, nothing_hidden, NodeLoad{std::ceil(triangles), objects}));
   EXPECT_FALSE(testPays(c, nothing_hidden, NodeLoad{std::floor(triangles) - 1, objects}));
 }
@@ -259,6 +260,32 @@ TEST(CostsFile, RoundTrip) {
   ASSERT_EQ(back.sources.size(), 2u);
   EXPECT_NEAR(back.sources.at("pbo").flush_s, 3.5e-5, 1e-12);
   EXPECT_NEAR(back.sources.at("readpixels").triangle_s, 20e-9, 1e-15);
+}
+
+// What the config fuzzer found: costs written with six digits, and a source name written
+// without escaping its quotes (a file calibrate could not read back).
+TEST(CostsFile, EveryCostAndNameReadsBackExactly) {
+  CullerCostsFile file;
+  file.machine = "llvmpipe\n\t\"x\"\x01";
+  CullerCosts odd = scripted();
+  odd.flush_s = 1.0 / 3.0;
+  odd.pixel_s = 4.9406564584124654e-324;  // the least denormal
+  odd.box_test_s = std::nextafter(1.0, 0.0);
+  file.sources["a \"quoted\" \\ name"] = odd;
+  file.sources["tab\tname"] = scripted();
+  const CullerCostsFile back = parseCullerCosts(formatCullerCosts(file), "round trip");
+  EXPECT_EQ(back.machine, file.machine);
+  ASSERT_EQ(back.sources.size(), file.sources.size());
+  for (const auto& [name, costs] : file.sources) {
+    ASSERT_EQ(back.sources.count(name), 1u) << name;
+    const CullerCosts& b = back.sources.at(name);
+    EXPECT_EQ(b.flush_s, costs.flush_s) << name;
+    EXPECT_EQ(b.pixel_s, costs.pixel_s) << name;
+    EXPECT_EQ(b.box_test_s, costs.box_test_s) << name;
+    EXPECT_EQ(b.triangle_s, costs.triangle_s) << name;
+    EXPECT_EQ(b.draw_s, costs.draw_s) << name;
+    EXPECT_EQ(b.query_s, costs.query_s) << name;
+  }
 }
 
 void expectBad(const std::string& text, const std::string& says) {
