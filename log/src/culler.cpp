@@ -75,10 +75,10 @@ std::string validateCullerDesc(const CullerDesc& desc) {
            "fraction or visible pixels, which it does not take; use log-state, log-zfar, bog "
            "or ddo+log, or no budget";
   }
-  if (desc.budget_clock != BudgetClock::CulledPass &&
-      desc.budget_clock != BudgetClock::ReportedFrame) {
-    return "culler: budget_clock " + std::to_string(int(desc.budget_clock)) +
-           " is not a BudgetClock; use CulledPass or ReportedFrame";
+  if (desc.frame_clock != FrameClock::CulledPass &&
+      desc.frame_clock != FrameClock::ReportedFrame) {
+    return "culler: frame_clock " + std::to_string(int(desc.frame_clock)) +
+           " is not a FrameClock; use CulledPass or ReportedFrame";
   }
   if (desc.budget_ms > 0 && !a.exact()) {
     return "culler: with a frame-time budget the culler sets the approximate knobs itself; "
@@ -265,6 +265,10 @@ void Culler::beginFrame(const Camera& camera, const Hierarchy& hierarchy,
                 "Culler::beginFrame: the last frame was not ended; call nextBatch() until it "
                 "returns an empty batch, then endFrame()");
   }
+  if (unreported_) {  // not reported: taken at its culled pass's time
+    learnFrom(*unreported_);
+    unreported_.reset();
+  }
   start_ = std::chrono::steady_clock::now();
   if (auto_) chooseSetting(hierarchy);
   const MethodInfo& info = method_->info;
@@ -410,11 +414,19 @@ FrameStats Culler::endFrame() {
     stats_.read_seconds += q.seconds - queries_before_.seconds;
   }
   stats_.seconds = secondsSince(start_);
-  estimate_.update(stats_);
-  if (auto_) auto_->endFrame(stats_, estimate_.costs());
-  if (budget_ && desc_.budget_clock == BudgetClock::CulledPass) budget_->endFrame(stats_.seconds);
+  if (desc_.frame_clock == FrameClock::ReportedFrame) {
+    unreported_ = stats_;  // learnt from when its whole time is reported
+  } else {
+    learnFrom(stats_);
+  }
   abandonFrame();  // the frame's state is let go of
   return stats_;
+}
+
+void Culler::learnFrom(const FrameStats& frame) {
+  estimate_.update(frame);
+  if (auto_) auto_->endFrame(frame, estimate_.costs());
+  if (budget_) budget_->endFrame(frame.seconds);
 }
 
 void Culler::reportFrameTime(double seconds) {
@@ -424,12 +436,18 @@ void Culler::reportFrameTime(double seconds) {
         << " s is not a frame time; pass the seconds the whole frame took (finite, >= 0)";
     throw Error(ErrorCode::InvalidArgument, out.str());
   }
-  if (in_frame_) {
+  if (desc_.frame_clock != FrameClock::ReportedFrame) return;
+  if (in_frame_ || !unreported_) {
     throw Error(ErrorCode::InvalidArgument,
-                "Culler::reportFrameTime: called inside a frame; report a frame's time after "
-                "its endFrame()");
+                in_frame_ ? "Culler::reportFrameTime: called inside a frame; report a frame's "
+                            "time after its endFrame()"
+                          : "Culler::reportFrameTime: no frame ended since the last report; "
+                            "report each frame once, after its endFrame()");
   }
-  if (budget_ && desc_.budget_clock == BudgetClock::ReportedFrame) budget_->endFrame(seconds);
+  FrameStats frame = *unreported_;
+  unreported_.reset();
+  frame.seconds = seconds;
+  learnFrom(frame);
 }
 
 void Culler::abandonFrame() {

@@ -191,7 +191,7 @@ TEST(BudgetCuller, ValidatesAndRecordsTheKnobsEachFrameRan) {
   // and each frame's FrameStats::setting says what it ran. The application reports the
   // frame times (deterministic, unlike the culled pass's own): 10 ms x the rung's ratio.
   d.budget_ms = 1e-9;
-  d.budget_clock = BudgetClock::ReportedFrame;
+  d.frame_clock = FrameClock::ReportedFrame;
   d.tile_size = 8;
   Culler culler(d);
   const test::BoxWorld world = test::makeBoxWorld(3);
@@ -215,7 +215,7 @@ TEST(BudgetCuller, ValidatesAndRecordsTheKnobsEachFrameRan) {
 
   // A budget every frame meets: always exact, and every visible box drawn.
   d.budget_ms = 1e6;
-  d.budget_clock = BudgetClock::CulledPass;
+  d.frame_clock = FrameClock::CulledPass;
   Culler easy(d);
   for (int frame = 0; frame < 12; ++frame) {
     cpu::SoftwareDepthBuffer depth(cam.width, cam.height, DepthConvention::Standard);
@@ -231,7 +231,7 @@ TEST(BudgetCuller, AReportedFrameClockTakesTheApplicationsTimes) {
   d.method = Method::LogState;
   d.tile_size = 8;
   d.budget_ms = 50;  // the culled pass of the box world takes far less
-  d.budget_clock = BudgetClock::ReportedFrame;
+  d.frame_clock = FrameClock::ReportedFrame;
   const test::BoxWorld world = test::makeBoxWorld(3);
   const Camera cam = test::boxCamera(160, 120, DepthConvention::Standard, 0);
   auto frame = [&](Culler& culler) {
@@ -247,7 +247,7 @@ TEST(BudgetCuller, AReportedFrameClockTakesTheApplicationsTimes) {
   }
   EXPECT_FALSE(frame(reported).setting.approximation.exact());
   // The culled pass's own clock with the same reports: they are ignored, it stays exact.
-  d.budget_clock = BudgetClock::CulledPass;
+  d.frame_clock = FrameClock::CulledPass;
   Culler own(d);
   for (int i = 0; i < 3; ++i) {
     frame(own);
@@ -259,8 +259,49 @@ TEST(BudgetCuller, AReportedFrameClockTakesTheApplicationsTimes) {
                     {"Culler::reportFrameTime", "not a frame time"});
   test::expectError([&] { own.reportFrameTime(std::numeric_limits<double>::infinity()); },
                     ErrorCode::InvalidArgument, {"not a frame time"});
-  d.budget_clock = BudgetClock(7);
-  EXPECT_NE(validateCullerDesc(d).find("budget_clock 7"), std::string::npos);
+  // With ReportedFrame: each frame once, after its endFrame.
+  d.frame_clock = FrameClock::ReportedFrame;
+  Culler strict(d);
+  test::expectError([&] { strict.reportFrameTime(0.01); }, ErrorCode::InvalidArgument,
+                    {"no frame ended"});
+  frame(strict);
+  strict.reportFrameTime(0.01);
+  test::expectError([&] { strict.reportFrameTime(0.01); }, ErrorCode::InvalidArgument,
+                    {"report each frame once"});
+  d.frame_clock = FrameClock(7);
+  EXPECT_NE(validateCullerDesc(d).find("frame_clock 7"), std::string::npos);
+}
+
+TEST(FrameClockCuller, TheCostEstimateLearnsFromTheReportedTimeOrTheCulledPass) {
+  CullerDesc d;
+  d.method = Method::LogState;
+  d.tile_size = 8;
+  d.frame_clock = FrameClock::ReportedFrame;
+  const test::BoxWorld world = test::makeBoxWorld(3);
+  const Camera cam = test::boxCamera(160, 120, DepthConvention::Standard, 0);
+  auto frame = [&](Culler& culler) {
+    cpu::SoftwareDepthBuffer depth(cam.width, cam.height, DepthConvention::Standard);
+    return test::cullBoxes(culler, world, cam, depth, test::SourceKind::Software).stats;
+  };
+  // Learnt from when the time comes: the report, or the next frame's start without one.
+  // The same frames reported at 15 ms and at 5 ms: the estimates follow the reports (the
+  // culled passes, alike for both, do not enter), deterministically.
+  Culler slow(d), fast(d);
+  FrameStats last = frame(slow);
+  EXPECT_EQ(slow.costEstimate().frames(), 0u);
+  slow.reportFrameTime(0.015);
+  EXPECT_EQ(slow.costEstimate().frames(), 1u);
+  for (int i = 0; i < 30; ++i) {
+    last = frame(slow);
+    slow.reportFrameTime(0.015);
+    frame(fast);
+    fast.reportFrameTime(0.005);
+  }
+  EXPECT_EQ(slow.costEstimate().frames(), 31u);
+  EXPECT_GT(slow.costEstimate().predict(last), 1.5 * fast.costEstimate().predict(last));
+  frame(slow);
+  frame(slow);  // the frame before, unreported, was taken at its culled pass's time
+  EXPECT_EQ(slow.costEstimate().frames(), 32u);
 }
 
 }  // namespace

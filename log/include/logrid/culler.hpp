@@ -95,8 +95,9 @@ namespace logrid {
 // CullerDesc::lookahead value: gather every box the traversal reaches before it must wait.
 inline constexpr std::uint32_t kUnlimitedLookahead = std::numeric_limits<std::uint32_t>::max();
 
-// What a frame-time budget (CullerDesc::budget_ms) times.
-enum class BudgetClock {
+// What the culler times its frames by, for what it learns from them: the online cost
+// estimate (Culler::costEstimate), auto's choices and a frame-time budget.
+enum class FrameClock {
   CulledPass,     // beginFrame() to endFrame(), FrameStats::seconds
   ReportedFrame,  // the whole frame, as the application reports it (Culler::reportFrameTime)
 };
@@ -138,7 +139,7 @@ struct CullerDesc {
   // hardware parameters (zread::calibrateQueries).
   QueryScheduleDesc queries = {};
 
-  // A frame-time budget in milliseconds (what it times: budget_clock), 0: none, the culler
+  // A frame-time budget in milliseconds (what it times: frame_clock), 0: none, the culler
   // stays as exact as `approximation` says. With a budget the culler sets the approximate
   // knobs itself, frame by frame: when its frames run over the budget it moves along the
   // measured Pareto front of the knobs the method takes at its setting (without temporal
@@ -148,11 +149,12 @@ struct CullerDesc {
   // Needs a grid method that takes those knobs (log-state, log-zfar, bog, ddo+log) and
   // `approximation` left exact.
   double budget_ms = 0;
-  // The culled pass by default. An application that presents the frame knows its whole
-  // time (clear, the culled pass, its other drawing, the finish or swap), which is what
-  // its user sees: with ReportedFrame the budget controls the times it passes to
-  // Culler::reportFrameTime() instead.
-  BudgetClock budget_clock = BudgetClock::CulledPass;
+  // The culled pass by default: its time misses what the renderer does after endFrame()
+  // (on a deferred renderer such as llvmpipe, much of the drawing, done at the finish).
+  // An application that presents the frame knows its whole time (clear, the culled pass,
+  // its other drawing, the finish or swap), which is what its user sees: with
+  // ReportedFrame the culler learns from the times it passes to reportFrameTime() instead.
+  FrameClock frame_clock = FrameClock::CulledPass;
 
   // The cost model's starting point (costs.hpp): measured on this machine for the depth
   // source used (loadCullerCosts on a file of `logrid calibrate --costs`), or the
@@ -291,10 +293,11 @@ class Culler {
   // remember of each node.
   void forgetCoherence();
 
-  // The whole time of the frame that ended last, as the application measured it, for a
-  // budget with CullerDesc::budget_clock = ReportedFrame (ignored otherwise); call it
-  // after endFrame() and before the next beginFrame(). Throws logrid::Error for a time
-  // that is negative or not finite.
+  // The whole time of the frame that ended last, as the application measured it, for
+  // CullerDesc::frame_clock = ReportedFrame (ignored with CulledPass); call it once after
+  // endFrame() and before the next beginFrame(). A frame not reported by then is taken
+  // at its culled pass's time. Throws logrid::Error for a time that is negative or not
+  // finite, and with ReportedFrame for a frame reported twice or none ended.
   void reportFrameTime(double seconds);
 
   // The online cost estimate (costs.hpp), from CullerDesc::costs and every frame ended.
@@ -312,6 +315,8 @@ class Culler {
   void prepare(const Camera& camera, const CullSources& sources);
   // Runs the frame until the batch must be drawn before going on, or the frame is done.
   void advance();
+  // What the culler learns from a frame (cost estimate, auto, budget), with its time.
+  void learnFrom(const FrameStats& frame);
   // Two-list or approximate front to back, with lookahead: true when done, false when
   // the batch must be drawn first.
   bool traverse();
@@ -353,6 +358,8 @@ class Culler {
   std::unique_ptr<detail::BoxTester> tester_;
   std::unique_ptr<detail::AutoPolicy> auto_;          // `auto` only
   std::unique_ptr<detail::BudgetController> budget_;  // CullerDesc::budget_ms > 0 only
+  // FrameClock::ReportedFrame: the frame that ended, until its time is reported.
+  std::optional<FrameStats> unreported_;
   std::unique_ptr<detail::BoxTester> other_tester_;   // auto: the other grid variant's
   CostEstimate estimate_;
   std::unique_ptr<Projector> projector_;
