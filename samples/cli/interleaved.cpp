@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <memory>
+#include <vector>
 
 #include "cli/progress.hpp"
 #include "cli/summary.hpp"
@@ -15,6 +17,43 @@ bool sameView(const ViewSettings& a, const ViewSettings& b) {
          a.orthographic == b.orthographic && a.near_plane == b.near_plane &&
          a.far_plane == b.far_plane && a.depth.convention == b.depth.convention &&
          a.depth.format == b.depth.format && a.depth.clip_range == b.depth.clip_range;
+}
+
+// `first`: every frame verified; `second`: the odd frames verified, the even ones not.
+VerificationCheck verificationCheck(const double* first, const double* second, std::size_t frames) {
+  VerificationCheck check;
+  double even_first = 0, even_second = 0, odd_first = 0, odd_second = 0;
+  std::size_t even = 0;
+  for (std::size_t f = 0; f < frames; ++f) {
+    if (f % 2 == 0) {
+      even_first += first[f], even_second += second[f], ++even;
+    } else {
+      odd_first += first[f], odd_second += second[f];
+    }
+  }
+  if (even < 2 || frames - even < 2 || odd_first <= 0 || even_second <= 0) return check;
+  const double drift = odd_second / odd_first;
+  check.measured = true;
+  check.verified_ms = drift * even_first / double(even);
+  check.unverified_ms = even_second / double(even);
+  check.difference = check.verified_ms / check.unverified_ms - 1;
+  // The noise of the per-frame ratios second / first, odd against even: twice the
+  // standard error of the difference of their means, relative to the odd frames' mean.
+  std::vector<double> ratios[2];
+  for (std::size_t f = 0; f < frames; ++f) {
+    if (first[f] > 0) ratios[f % 2].push_back(second[f] / first[f]);
+  }
+  double variance_of_difference = 0;
+  for (const std::vector<double>& group : ratios) {
+    if (group.size() < 2) return check;
+    double mean = 0, squares = 0;
+    for (double v : group) mean += v;
+    mean /= double(group.size());
+    for (double v : group) squares += (v - mean) * (v - mean);
+    variance_of_difference += squares / double(group.size() - 1) / double(group.size());
+  }
+  check.noise = 2 * std::sqrt(variance_of_difference) / drift;
+  return check;
 }
 
 }  // namespace
@@ -61,27 +100,24 @@ std::vector<ConfigResult> runInterleaved(const PreparedScene& scene, gl::MeshRen
   std::vector<std::vector<double>> times(configs.size(), std::vector<double>(frames * repeats));
   Progress progress(label, frames * repeats);
   for (std::size_t rep = 0; rep < repeats; ++rep) {
+    // The first repetition verifies every frame (records keep its counts); the second
+    // every odd frame again, each with its own ID pass (not from the shared cache, so
+    // that it does the work verification does), for VerificationCheck; later ones none.
+    if (rep == 1) {
+      for (auto& runner : runners) runner->shareOracle(nullptr);
+    } else if (rep == 2) {
+      for (auto& runner : runners) runner->shareOracle(cacheFor(runner->config().view));
+    }
     for (std::size_t f = 0; f < frames; ++f) {
       double round_ms = 0;
       for (std::size_t c = 0; c < runners.size(); ++c) {
-        // Only the first repetition pays for the oracle check (it is not timed anyway).
+        runners[c]->setVerify(configs[c].verify && (rep == 0 || (rep == 1 && f % 2 == 1)));
         FrameRecord rec = runners[c]->renderFrame(f);
         times[c][rep * frames + f] = rec.ms;
         round_ms += rec.ms;
         if (rep == 0) results[c].records.push_back(std::move(rec));
       }
       progress.update(rep * frames + f + 1, round_ms);
-    }
-    if (rep == 0) {
-      // Later repetitions skip the ID pass: rebuild runners without verification.
-      for (std::size_t c = 0; c < runners.size(); ++c) {
-        if (!configs[c].verify) continue;
-        RunConfig quiet = results[c].config;
-        quiet.verify = false;
-        runners[c] = std::make_unique<FrameRunner>(scene, renderer, quiet);
-        runners[c]->shareOracle(cacheFor(quiet.view));
-        runners[c]->renderFrame(0);  // warm the new framebuffer's state
-      }
     }
   }
   progress.finish();
@@ -98,6 +134,9 @@ std::vector<ConfigResult> runInterleaved(const PreparedScene& scene, gl::MeshRen
       double sum = 0;
       for (std::size_t f = 0; f < frames; ++f) sum += times[c][rep * frames + f];
       r.repetition_ms.push_back(sum / double(frames));
+    }
+    if (configs[c].verify && repeats >= 2) {
+      r.verification = verificationCheck(times[c].data(), times[c].data() + frames, frames);
     }
   }
   return results;
