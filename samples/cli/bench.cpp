@@ -188,16 +188,18 @@ void writeVerificationCheck(std::ostream& md, const std::vector<Row>& rows) {
   std::copy_if(rows.begin(), rows.end(), std::back_inserter(checked),
                [](const Row& r) { return r.verification.measured; });
   if (checked.empty()) return;
-  md << "\nVerification and timing: the first repetition verifies every frame, the second "
-        "only the odd ones (each with its own ID pass); the odd frames give the drift between "
-        "the two, and the even frames are compared verified (first repetition, times the "
-        "drift) and unverified (second). Noise is twice the standard error over the frames; "
-        "a difference beyond both the spread and the noise is flagged:\n\n";
+  md << "\nVerification and timing: the second repetition runs its odd frames with an ID "
+        "pass of each row's own (after a method's frame, as verification does; before the "
+        "oracle's) and its even frames with none; each frame is taken against its own time "
+        "in the first repetition, the even frames giving the drift. Noise is twice the "
+        "standard error over the frames; a difference beyond both the spread and the noise "
+        "is flagged:\n\n";
   writeTable<Row>(
       md,
       {{"method", "---", [](const Row& r) { return r.label; }},
-       {"verified ms", "--:", [](const Row& r) { return formatFixed(r.verification.verified_ms); }},
-       {"unverified ms",
+       {"with ID passes ms",
+        "--:", [](const Row& r) { return formatFixed(r.verification.verified_ms); }},
+       {"without ms",
         "--:", [](const Row& r) { return formatFixed(r.verification.unverified_ms); }},
        {"difference",
         "--:", [](const Row& r) { return formatFixed(100 * r.verification.difference, 1) + "%"; }},
@@ -454,8 +456,9 @@ constexpr const char* kIntro =
     "same traversal and renderer, into the same framebuffer (colour and depth: the ID "
     "pass has its own); frame time is clear + cull + draw + glFinish. The oracle draws "
     "exactly the objects an untimed ID pass found visible: the floor no culling method "
-    "can beat. `missed` counts visible objects a method did not draw, checked after every "
-    "frame of the first repetition against the object-ID oracle, outside the timed frame; "
+    "can beat. `missed` counts visible objects a method did not draw, checked on every "
+    "frame of the first repetition against the object-ID oracle, whose passes run before "
+    "any frame is timed; "
     "objects the ID pass shows only through fragments nearer than their own box allows "
     "(llvmpipe's depth extrapolation on edge-on sliver triangles, see "
     "logrid/gl/object_id_oracle.hpp) are counted apart as artifacts.\n";

@@ -2,11 +2,12 @@
 // for each frame, every configuration renders that frame in turn. Machine drift and
 // noise then hit every configuration alike; per frame the median over repetitions is
 // kept, and the spread of the per-repetition averages is reported. The first
-// repetition also checks every frame against the object-ID oracle (not timed).
+// repetition also checks every frame against the object-ID oracle, whose visible sets
+// are found before any frame is timed (the ID passes run in a runner of their own).
 //
 // Verification must not change what is timed (frame_runner.hpp). With two repetitions or
-// more this is checked: the second repetition verifies again every odd frame, each with
-// its own ID pass, and leaves the even frames alone; VerificationCheck compares the two.
+// more this is checked: the second repetition runs its odd frames with ID passes and its
+// even frames without (VerificationCheck).
 #pragma once
 
 #include <algorithm>
@@ -21,15 +22,17 @@ namespace logrid::samples {
 // The most repetitions (and warm-up frames) the commands take.
 inline constexpr std::size_t kMaxRepeats = 1000;
 
-// A configuration's timed frames with and without the object-ID check after them. The
-// first repetition verifies every frame, the second only the odd ones: the odd frames,
-// verified in both, give the drift between the two repetitions; the even frames, verified
-// in the first only, give that drift times what verification changes.
+// Whether the object-ID passes change a configuration's timed frames (they must not,
+// frame_runner.hpp). The second repetition runs its odd frames with an ID pass of the
+// configuration's own (after a method's frame, as verification does; before the oracle's)
+// and its even frames with none; each frame's time is taken against the same frame's
+// time in the first repetition, so that neither the frames' own costs nor the drift
+// between repetitions (the even frames' ratio) enter.
 struct VerificationCheck {
   bool measured = false;     // needs 2 repetitions or more and a verified configuration
-  double verified_ms = 0;    // the even frames, verified: their first-repetition times
+  double verified_ms = 0;    // the odd frames of the second repetition, with ID passes
+  double unverified_ms = 0;  // the same frames without: their first-repetition times,
                              // times the drift
-  double unverified_ms = 0;  // the same frames unverified: their second-repetition times
   double difference = 0;     // verified_ms / unverified_ms - 1
   double noise = 0;          // twice the standard error of `difference` over the frames
   // |difference| beyond the configuration's spread and the noise: verification
@@ -42,7 +45,8 @@ struct VerificationCheck {
 struct ConfigResult {
   RunConfig config;
   std::vector<FrameRecord> records;   // the first repetition (statistics, oracle counts)
-  std::vector<double> frame_ms;       // per frame: median over repetitions
+  std::vector<double> frame_ms;       // per frame: median over repetitions (not counting
+                                      // the frames run for VerificationCheck)
   std::vector<double> frame_ms_low;   // per frame: fastest repetition
   std::vector<double> frame_ms_high;  // per frame: slowest repetition
   std::vector<double> repetition_ms;  // per repetition: average frame time
