@@ -171,17 +171,38 @@ TEST(AutoFrameChoice, LessBatchingWhereLateKnowledgeDrawsTooMuch) {
   expectLocalOptimum(policy.current(), 2000.0, c);
 }
 
-TEST(AutoFrameChoice, ProbesAreOneFrameInAPeriod) {
+TEST(AutoFrameChoice, ProbesBackOffAtALocalOptimumAndComeBackWhenTheSceneChanges) {
   const CullerCosts c = scripted();
   OneLeaf h;
   AutoPolicy policy;
-  int probes = 0;
-  for (int frame = 0; frame < 80; ++frame) {
-    const FrameSetting s = policy.beginFrame(h);
-    probes += s.probe;
-    policy.endFrame(scriptedFrame(s, 2000.0), c);
-  }
-  EXPECT_EQ(probes, 80 / int(AutoPolicy::kProbePeriod));
+  std::vector<std::size_t> probe_frames;
+  auto run = [&](std::size_t frames, double triangles_per_k, double scale) {
+    for (std::size_t f = 0; f < frames; ++f) {
+      const FrameSetting s = policy.beginFrame(h);
+      if (s.probe) probe_frames.push_back(f);
+      FrameStats stats = scriptedFrame(s, triangles_per_k);
+      stats.triangles_drawn = std::uint64_t(double(stats.triangles_drawn) * scale);
+      policy.endFrame(stats, c);
+    }
+  };
+  // The first probe comes on the kProbePeriod-th frame.
+  run(AutoPolicy::kProbePeriod, 2000.0, 1);
+  ASSERT_EQ(probe_frames.size(), 1u);
+  EXPECT_EQ(probe_frames.front(), AutoPolicy::kProbePeriod - 1);
+  // Settled: the probes thin out to one in kMaxProbePeriod frames.
+  run(600, 2000.0, 1);
+  expectLocalOptimum(policy.current(), 2000.0, c);
+  EXPECT_EQ(policy.probePeriod(), AutoPolicy::kMaxProbePeriod);
+  probe_frames.clear();
+  run(640, 2000.0, 1);
+  EXPECT_LE(probe_frames.size(), 640u / AutoPolicy::kMaxProbePeriod);
+  EXPECT_GE(probe_frames.size(), 640u / AutoPolicy::kMaxProbePeriod - 1);
+  // The scene turns three times dearer to draw: the probes come back at once, one per
+  // kProbePeriod frames (at kMaxProbePeriod there would be at most one in these frames).
+  probe_frames.clear();
+  run(2 * AutoPolicy::kProbePeriod, 2000.0, 3);
+  EXPECT_GE(probe_frames.size(), 2u);
+  EXPECT_EQ(policy.probePeriod(), AutoPolicy::kProbePeriod);
 }
 
 // ---- The online estimate ----
