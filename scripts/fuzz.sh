@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds and runs one libFuzzer target for a given time (not part of the test run).
 # Usage: scripts/fuzz.sh TARGET SECONDS [libFuzzer options...]
-#   TARGET   loader | camera_path | grid | ddo_file | animation   (tests/fuzz/TARGET_fuzzer.cpp)
+#   TARGET   loader | camera_path | grid | ddo_file | animation | config
+#            (tests/fuzz/TARGET_fuzzer.cpp)
 #   SECONDS  how long to fuzz (libFuzzer's -max_total_time)
 # Builds with clang, AddressSanitizer and UndefinedBehaviorSanitizer into build-fuzz/
 # (installs clang-14 and libclang-rt-14-dev if missing). The fuzzer starts from the
@@ -12,7 +13,7 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 if [[ $# -lt 2 ]]; then
-  echo "usage: $0 TARGET SECONDS [libFuzzer options...]   (TARGET: loader, camera_path, grid, ddo_file, animation)" >&2
+  echo "usage: $0 TARGET SECONDS [libFuzzer options...]   (TARGET: loader, camera_path, grid, ddo_file, animation, config)" >&2
   exit 2
 fi
 target=$1 seconds=$2

@@ -72,7 +72,9 @@ FrameSetting AutoPolicy::beginFrame(const Hierarchy& hierarchy) {
   loadSubtrees(hierarchy);
   frame_ = current_;
   frame_.probe = false;
-  if (have_base_ && frame_index_ % kProbePeriod == kProbePeriod - 1) {
+  ++since_probe_;
+  if (have_base_ && since_probe_ >= probe_period_) {
+    since_probe_ = 0;
     // The next neighbour that differs from the current setting (K at the ladder's end
     // has one neighbour fewer).
     for (std::uint32_t tries = 0; tries < 4; ++tries) {
@@ -85,7 +87,6 @@ FrameSetting AutoPolicy::beginFrame(const Hierarchy& hierarchy) {
       }
     }
   }
-  ++frame_index_;
   return frame_;
 }
 
@@ -114,6 +115,11 @@ void AutoPolicy::endFrame(const FrameStats& stats, const CullerCosts& costs) {
   if (!frame_.probe) {
     base_seconds_ = seconds;
     have_base_ = true;
+    if (probe_period_ > kProbePeriod &&
+        (seconds > kSceneChange * settled_seconds_ || seconds * kSceneChange < settled_seconds_)) {
+      probe_period_ = kProbePeriod;  // the scene changed since the setting settled
+      lost_probes_ = 0;
+    }
     return;
   }
   if (seconds < (1.0 - kSwitchMargin) * base_seconds_) {
@@ -121,6 +127,14 @@ void AutoPolicy::endFrame(const FrameStats& stats, const CullerCosts& costs) {
     current_.probe = false;
     next_neighbour_ = 0;
     base_seconds_ = seconds;
+    probe_period_ = kProbePeriod;
+    lost_probes_ = 0;
+    return;
+  }
+  if (++lost_probes_ == kNeighbours) {  // every neighbour lost in turn
+    probe_period_ = std::min(kMaxProbePeriod, 2 * probe_period_);
+    lost_probes_ = 0;
+    settled_seconds_ = base_seconds_;
   }
 }
 

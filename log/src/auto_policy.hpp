@@ -8,10 +8,14 @@
 // (drawn, or opened and its children considered): always conservative.
 //
 // Per frame: the exact setting (grid method, lookahead K, temporal coherence) is kept
-// while it models cheapest; every kProbePeriod-th frame tries one neighbouring setting
+// while it models cheapest; one frame in a probe period tries one neighbouring setting
 // (K x4 or /4, coherence flipped, the other grid variant), and the neighbour is adopted
 // when its frame models at least kSwitchMargin cheaper than the frame before it (the
-// hysteresis that keeps settings from flickering).
+// hysteresis that keeps settings from flickering). The period starts at kProbePeriod and
+// doubles, up to kMaxProbePeriod, each time every neighbour in turn has lost (the setting
+// is a local optimum and a probe is a frame paid for nothing); it starts again at
+// kProbePeriod when a probe wins or when the frames' modelled time moves by more than
+// kSceneChange from where the period last doubled (the scene changed: look around again).
 #pragma once
 
 #include <cstdint>
@@ -51,13 +55,16 @@ bool testPays(const CullerCosts& costs, const TestOutlook& outlook, const NodeLo
 class AutoPolicy {
  public:
   static constexpr std::uint32_t kProbePeriod = 8;
+  static constexpr std::uint32_t kMaxProbePeriod = 64;
+  static constexpr std::uint32_t kNeighbours = 4;
+  static constexpr double kSceneChange = 1.5;
   static constexpr double kSwitchMargin = 0.10;
   // The lookaheads auto chooses among.
   static constexpr std::uint32_t kLookaheads[] = {1, 4, 16, 64, 256};
 
   AutoPolicy();
 
-  // The setting of the next frame (a probe every kProbePeriod frames).
+  // The setting of the next frame (a probe once per probePeriod() frames).
   FrameSetting beginFrame(const Hierarchy& hierarchy);
   // Is testing `node` expected to pay (its subtree's load from the hierarchy of the
   // last beginFrame)?
@@ -73,6 +80,7 @@ class AutoPolicy {
   // scene's triangles, and drawing is what a test saves.
   double observedTriangleSeconds() const { return observed_triangle_s_; }
   const FrameSetting& current() const { return current_; }
+  std::uint32_t probePeriod() const { return probe_period_; }
   NodeLoad load(NodeId node) const;
 
  private:
@@ -81,7 +89,10 @@ class AutoPolicy {
 
   FrameSetting current_;
   FrameSetting frame_;  // this frame's (a probe or current_)
-  std::uint64_t frame_index_ = 0;
+  std::uint32_t since_probe_ = 0;  // frames since the last probe (or the first frame)
+  std::uint32_t probe_period_ = kProbePeriod;
+  std::uint32_t lost_probes_ = 0;  // in a row
+  double settled_seconds_ = 0;     // modelled, when the period last doubled
   std::uint32_t next_neighbour_ = 0;
   bool have_base_ = false;
   double base_seconds_ = 0;  // the last non-probe frame, modelled

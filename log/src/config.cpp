@@ -1,8 +1,10 @@
 // The configuration file (config.hpp): reader and writer.
 #include "logrid/config.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <limits>
+#include <locale>
 #include <sstream>
 
 #include "json_reader.hpp"
@@ -50,13 +52,20 @@ class ConfigReader {
     out = std::uint32_t(v->number);
   }
 
+  // Parsed as a float from the number's text (one rounding: formatCullerConfig's shortest
+  // text of a float reads back as that float); below a float's range it is that double
+  // rounded (0 or a denormal).
   void fraction(const Json& parent, const char* key, float& out) const {
     const Json* v = parent.find(key);
     if (!v) return;
-    if (v->kind != Json::Kind::Number || !(v->number >= 0 && v->number <= 1)) {
-      bad(std::string("\"") + key + "\" is not a number in [0, 1]");
+    float f = std::numeric_limits<float>::quiet_NaN();
+    if (v->kind == Json::Kind::Number) {
+      const std::from_chars_result r =
+          std::from_chars(v->text.data(), v->text.data() + v->text.size(), f);
+      if (r.ec == std::errc::result_out_of_range) f = float(v->number);
     }
-    out = float(v->number);
+    if (!(f >= 0 && f <= 1)) bad(std::string("\"") + key + "\" is not a number in [0, 1]");
+    out = f;
   }
 
   void lookahead(const Json& parent, std::uint32_t& out) const {
@@ -126,6 +135,7 @@ CullerConfig loadCullerConfig(const std::string& path) {
 std::string formatCullerConfig(const CullerConfig& config) {
   const CullerDesc& d = config.culler;
   std::ostringstream out;
+  out.imbue(std::locale::classic());  // no digit grouping whatever the global locale
   out << "{\n  \"format\": \"logrid-config\",\n  \"version\": 1,\n  \"source\": \""
       << detail::jsonEscape(config.source) << "\",\n  \"culler\": {\n    \"method\": \""
       << toString(d.method) << "\",\n    \"tile_size\": " << d.tile_size
@@ -138,7 +148,7 @@ std::string formatCullerConfig(const CullerConfig& config) {
   out << ",\n    \"temporal_coherence\": " << (d.temporal_coherence ? "true" : "false")
       << ",\n    \"detect_colliding\": " << (d.detect_colliding ? "true" : "false")
       << ",\n    \"approximation\": {\"visible_pixels\": " << d.approximation.visible_pixels
-      << ", \"full_free_fraction\": " << d.approximation.full_free_fraction
+      << ", \"full_free_fraction\": " << detail::jsonNumber(d.approximation.full_free_fraction)
       << ", \"row_stride\": " << d.approximation.row_stride << "}\n  }\n}\n";
   return out.str();
 }

@@ -107,16 +107,15 @@ CullerCosts loadCullerCosts(const std::string& path, const std::string& source) 
 
 std::string formatCullerCosts(const CullerCostsFile& file) {
   std::ostringstream out;
-  out.precision(6);
   out << "{\n  \"format\": \"logrid-costs\",\n  \"version\": 1,\n  \"machine\": \""
       << detail::jsonEscape(file.machine) << "\",\n  \"sources\": {";
   bool first_source = true;
   for (const auto& [name, costs] : file.sources) {
-    out << (first_source ? "\n" : ",\n") << "    \"" << name << "\": {";
+    out << (first_source ? "\n" : ",\n") << "    \"" << detail::jsonEscape(name) << "\": {";
     first_source = false;
     bool first = true;
     for (const CostField& f : kFields) {
-      out << (first ? "" : ", ") << "\"" << f.name << "\": " << costs.*f.member;
+      out << (first ? "" : ", ") << "\"" << f.name << "\": " << detail::jsonNumber(costs.*f.member);
       first = false;
     }
     out << "}";

@@ -67,10 +67,18 @@ std::string validateCullerDesc(const CullerDesc& desc) {
         << " ms is invalid; use 0 (none) or a frame time in (0, 1000000] ms";
     return out.str();
   }
-  if (desc.budget_ms > 0 && detail::budgetLadder(info.takes.full_fraction).empty()) {
+  if (desc.budget_ms > 0 &&
+      detail::budgetLadder(info, desc.temporal_coherence && info.takes.temporal_coherence)
+          .empty()) {
     return "culler: method " + method +
-           " cannot meet a frame-time budget: the budget moves along the full-tile free "
-           "fraction, which it does not take; use log-state, bog or ddo+log, or no budget";
+           " cannot meet a frame-time budget: the budget moves along a grid's full-tile free "
+           "fraction or visible pixels, which it does not take; use log-state, log-zfar, bog "
+           "or ddo+log, or no budget";
+  }
+  if (desc.budget_clock != BudgetClock::CulledPass &&
+      desc.budget_clock != BudgetClock::ReportedFrame) {
+    return "culler: budget_clock " + std::to_string(int(desc.budget_clock)) +
+           " is not a BudgetClock; use CulledPass or ReportedFrame";
   }
   if (desc.budget_ms > 0 && !a.exact()) {
     return "culler: with a frame-time budget the culler sets the approximate knobs itself; "
@@ -95,8 +103,10 @@ Culler::Culler(const CullerDesc& desc) : desc_(desc), estimate_(desc.costs) {
                                            detail::GridRefresh::Lazy);
   }
   if (desc_.budget_ms > 0) {
+    const MethodInfo& info = method_->info;
     budget_ = std::make_unique<detail::BudgetController>(
-        desc_.budget_ms * 1e-3, detail::budgetLadder(method_->info.takes.full_fraction));
+        desc_.budget_ms * 1e-3,
+        detail::budgetLadder(info, desc_.temporal_coherence && info.takes.temporal_coherence));
   }
   tester_ = method_->make_tester(desc_, method_->info);
   if (method_->make_schedule) schedule_ = method_->make_schedule(desc_, method_->info);
@@ -222,11 +232,12 @@ void Culler::prepare(const Camera& camera, const CullSources& sources) {
   sources_ = {info.needs.depth ? sources.depth : nullptr,
               info.needs.queries ? sources.queries : nullptr,
               info.needs.occluders ? sources.occluders : nullptr};
-  if (budget_) tester_->setApproximation(budget_->current());
+  const GridApproximation& approximation = budget_ ? budget_->current() : desc_.approximation;
+  if (budget_) tester_->setApproximation(approximation);
   tester_->beginFrame(camera, projector_->clearKey(), sources_);
   // Counting tests of the grid are sequential (grid.hpp); so are methods whose tests
   // read nothing worth batching.
-  const bool counting_grid = desc_.approximation.visible_pixels > 0 && info.grid;
+  const bool counting_grid = approximation.visible_pixels > 0 && info.grid;
   lookahead_ = info.takes.lookahead && !counting_grid ? desc_.lookahead : 1;
   if (auto_) lookahead_ = setting_.lookahead;
 }
@@ -401,9 +412,24 @@ FrameStats Culler::endFrame() {
   stats_.seconds = secondsSince(start_);
   estimate_.update(stats_);
   if (auto_) auto_->endFrame(stats_, estimate_.costs());
-  if (budget_) budget_->endFrame(stats_.seconds);
+  if (budget_ && desc_.budget_clock == BudgetClock::CulledPass) budget_->endFrame(stats_.seconds);
   abandonFrame();  // the frame's state is let go of
   return stats_;
+}
+
+void Culler::reportFrameTime(double seconds) {
+  if (!(std::isfinite(seconds) && seconds >= 0)) {
+    std::ostringstream out;
+    out << "Culler::reportFrameTime: " << seconds
+        << " s is not a frame time; pass the seconds the whole frame took (finite, >= 0)";
+    throw Error(ErrorCode::InvalidArgument, out.str());
+  }
+  if (in_frame_) {
+    throw Error(ErrorCode::InvalidArgument,
+                "Culler::reportFrameTime: called inside a frame; report a frame's time after "
+                "its endFrame()");
+  }
+  if (budget_ && desc_.budget_clock == BudgetClock::ReportedFrame) budget_->endFrame(seconds);
 }
 
 void Culler::abandonFrame() {

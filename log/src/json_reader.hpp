@@ -16,7 +16,7 @@ struct Json {
   enum class Kind { Null, Bool, Number, String, Array, Object } kind = Kind::Null;
   bool boolean = false;
   double number = 0;
-  std::string text;
+  std::string text;  // a string's contents, or a number's text as the file has it
   std::vector<std::pair<std::string, std::unique_ptr<Json>>> members;
 
   // The member named `key` of an object; nullptr if there is none.
@@ -41,8 +41,14 @@ std::unique_ptr<Json> parseJson(const std::string& text, const std::string& orig
 // the kind's remedy if it cannot be read.
 std::string readTextFile(const std::string& path, const JsonFileKind& kind);
 
-// `text` as a JSON string's contents: quotes and backslashes escaped, control
-// characters as spaces.
+// `text` as a JSON string's contents: quotes, backslashes and control characters
+// escaped, so that parseJson reads back exactly `text`.
 std::string jsonEscape(const std::string& text);
+
+// The shortest text of a JSON number that reads back as exactly `v` (finite values
+// only; independent of the locale). A float is read back exactly by parsing the text
+// as a float (std::from_chars on Json::text), not by rounding Json::number.
+std::string jsonNumber(double v);
+std::string jsonNumber(float v);
 
 }  // namespace logrid::detail

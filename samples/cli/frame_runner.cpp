@@ -483,6 +483,7 @@ FrameRecord FrameRunner::render(const CameraPose& pose, std::size_t frame, bool 
   glFinish();
   rec.ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  if (culler_) culler_->reportFrameTime(rec.ms * 1e-3);  // the whole frame (budget_clock)
 
   if (!config_.images_dir.empty()) writeImages(frame, camera);
   if (config_.verify || config_.method.oracle()) {

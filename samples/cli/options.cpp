@@ -122,9 +122,10 @@ void addViewOptions(CLI::App& app, WalkOptions& o) {
             "approximate: read every k-th pixel row of a tile, k up to the tile size (default "
             "1: every row)");
   addNumber(app, "--budget-ms", o.budget_ms, closed(0.0, 1e6),
-            "frame-time budget of the culled pass in ms: the culler sets the full-tile "
-            "fraction itself to meet it, exact when there is time (log-state, bog, ddo+log; "
-            "default 0: none)");
+            "frame-time budget in ms, the whole frame from clear to finish: the culler sets "
+            "the approximate knobs itself to meet it (the full-tile fraction, then visible "
+            "pixels; visible pixels alone with --coherence), exact when there is time "
+            "(log-state, log-zfar, bog, ddo+log; default 0: none)");
   app.add_option("--query-schedule", o.query_schedule,
                  "log+hwq: schedule of the boxes the grid leaves undecided: " + querySchedules());
   app.add_option("--query-shape", o.query_shape,

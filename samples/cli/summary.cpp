@@ -287,7 +287,9 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
   }
   if (config.reader == "cpu" && config.method.method) j["cpu"] = cpuJson(config, a);
   const GridApproximation& approximation = config.culler.approximation;
-  j["conservative"] = approximation.exact();
+  // A budget approximates when its frames run over it (FrameStats::setting says when).
+  j["conservative"] = approximation.exact() && config.culler.budget_ms == 0;
+  if (config.culler.budget_ms > 0) j["budget_ms"] = config.culler.budget_ms;
   if (!approximation.exact()) {
     j["approximation"] = {{"visible_pixels", approximation.visible_pixels},
                           {"full_free_fraction", approximation.full_free_fraction},

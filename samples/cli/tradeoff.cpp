@@ -226,8 +226,9 @@ constexpr const char* kIntro =
     "whose colour differs, and PSNR (OpenImageIO `compare`; ∞ when every frame is "
     "identical). The Pareto front holds the settings no other setting beats on both time "
     "and differing pixels. A `budget B ms` row is log-state with `--budget-ms B` "
-    "(CullerDesc::budget_ms): the culler moves along the full-tile fraction to meet B and "
-    "back to exact when there is time; its frames over budget count the per-frame medians "
+    "(CullerDesc::budget_ms): the culler moves along the approximate knobs of its setting "
+    "(docs/BUDGET.md) to meet B and back to exact when there is time; its frames over "
+    "budget count the per-frame medians "
     "above B, and its image error comes from a second, untimed pass in which the "
     "controller chooses again from that pass's own frame times.\n";
 
@@ -262,7 +263,9 @@ int runTradeoff(const ExperimentOptions& options, const std::vector<double>& bud
     e.md() << "\n## " << name << " " << so.size << "\n\n"
            << measured.front().result.config.frames << " frames, " << options.repeat
            << " repetitions, tile " << so.tile << ", " << scene.prepared.triangles
-           << " triangles (scale " << so.scale << ").\n\n";
+           << " triangles (scale " << so.scale << "); log-state with lookahead " << so.lookahead
+           << (so.coherence ? " and temporal coherence" : "") << ", reader " << so.reader
+           << ".\n\n";
     writeOutcomes(e.md(), outcomes);
     nlohmann::json scene_json = scene.describe();
     scene_json["size"] = so.size;

@@ -83,6 +83,34 @@ TEST(CommandLine, WalkWithRepeatedFramesWalksTheLastCount) {
   EXPECT_EQ(report["height"], 32);
 }
 
+TEST(CommandLine, WalkReportsAnApproximateSettingsMissesWithoutFailing) {
+  LOGRID_REQUIRE_GL();
+  // Misses are what an approximate setting pays for its speed: reported, exit 0. The same
+  // walk exact draws every visible object; a budget counts as approximate.
+  const fs::path json = scratch("walk_approximate.json");
+  const std::vector<std::string> walk = {"walk",    "--scene", "forest",  "--scale", "0.3",
+                                         "--frames", "3",      "--size",  "160x120", "--verify",
+                                         "--method", "log-state", "--json", json.string()};
+  std::vector<std::string> approximate = walk;
+  approximate.insert(approximate.end(), {"--full-fraction", "0.9"});
+  ASSERT_EQ(runLogrid(approximate), 0);
+  nlohmann::json report = readJson(json);
+  EXPECT_FALSE(report["conservative"].get<bool>());
+  EXPECT_GT(report["missed_visible_objects"].get<std::int64_t>(), 0);
+
+  ASSERT_EQ(runLogrid(walk), 0);
+  report = readJson(json);
+  EXPECT_TRUE(report["conservative"].get<bool>());
+  EXPECT_EQ(report["missed_visible_objects"].get<std::int64_t>(), 0);
+
+  std::vector<std::string> budget = walk;
+  budget.insert(budget.end(), {"--budget-ms", "1000"});
+  ASSERT_EQ(runLogrid(budget), 0);
+  report = readJson(json);
+  EXPECT_FALSE(report["conservative"].get<bool>());
+  EXPECT_EQ(report["budget_ms"].get<double>(), 1000.0);
+}
+
 TEST(CommandLine, TuneWithRepeatedTilesSweepsTheLastList) {
   LOGRID_REQUIRE_GL();
   const fs::path json = scratch("tune.json");

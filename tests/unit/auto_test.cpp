@@ -62,7 +62,8 @@ TEST(AutoNodeDecision, TestingSwitchesOffWhereNothingIsHiddenButNotForLargeSubtr
   const CullerCosts c = scripted();
   const double test = detail::expectedTestSeconds(c, nothing_hidden);
   const double objects = 1;
-  const double triangles = (test / detail::kMinOccludedFraction - objects * c.draw_s) / c.triangle_s;
+  const double triangles =
+      (test / detail::kMinOccludedFraction - objects * c.draw_s) / c.triangle_s;
   EXPECT_TRUE(testPays(c, nothing_hidden, NodeLoad{std::ceil(triangles), objects}));
   EXPECT_FALSE(testPays(c, nothing_hidden, NodeLoad{std::floor(triangles) - 1, objects}));
 }
@@ -170,17 +171,38 @@ TEST(AutoFrameChoice, LessBatchingWhereLateKnowledgeDrawsTooMuch) {
   expectLocalOptimum(policy.current(), 2000.0, c);
 }
 
-TEST(AutoFrameChoice, ProbesAreOneFrameInAPeriod) {
+TEST(AutoFrameChoice, ProbesBackOffAtALocalOptimumAndComeBackWhenTheSceneChanges) {
   const CullerCosts c = scripted();
   OneLeaf h;
   AutoPolicy policy;
-  int probes = 0;
-  for (int frame = 0; frame < 80; ++frame) {
-    const FrameSetting s = policy.beginFrame(h);
-    probes += s.probe;
-    policy.endFrame(scriptedFrame(s, 2000.0), c);
-  }
-  EXPECT_EQ(probes, 80 / int(AutoPolicy::kProbePeriod));
+  std::vector<std::size_t> probe_frames;
+  auto run = [&](std::size_t frames, double triangles_per_k, double scale) {
+    for (std::size_t f = 0; f < frames; ++f) {
+      const FrameSetting s = policy.beginFrame(h);
+      if (s.probe) probe_frames.push_back(f);
+      FrameStats stats = scriptedFrame(s, triangles_per_k);
+      stats.triangles_drawn = std::uint64_t(double(stats.triangles_drawn) * scale);
+      policy.endFrame(stats, c);
+    }
+  };
+  // The first probe comes on the kProbePeriod-th frame.
+  run(AutoPolicy::kProbePeriod, 2000.0, 1);
+  ASSERT_EQ(probe_frames.size(), 1u);
+  EXPECT_EQ(probe_frames.front(), AutoPolicy::kProbePeriod - 1);
+  // Settled: the probes thin out to one in kMaxProbePeriod frames.
+  run(600, 2000.0, 1);
+  expectLocalOptimum(policy.current(), 2000.0, c);
+  EXPECT_EQ(policy.probePeriod(), AutoPolicy::kMaxProbePeriod);
+  probe_frames.clear();
+  run(640, 2000.0, 1);
+  EXPECT_LE(probe_frames.size(), 640u / AutoPolicy::kMaxProbePeriod);
+  EXPECT_GE(probe_frames.size(), 640u / AutoPolicy::kMaxProbePeriod - 1);
+  // The scene turns three times dearer to draw: the probes come back at once, one per
+  // kProbePeriod frames (at kMaxProbePeriod there would be at most one in these frames).
+  probe_frames.clear();
+  run(2 * AutoPolicy::kProbePeriod, 2000.0, 3);
+  EXPECT_GE(probe_frames.size(), 2u);
+  EXPECT_EQ(policy.probePeriod(), AutoPolicy::kProbePeriod);
 }
 
 // ---- The online estimate ----
@@ -238,6 +260,32 @@ TEST(CostsFile, RoundTrip) {
   ASSERT_EQ(back.sources.size(), 2u);
   EXPECT_NEAR(back.sources.at("pbo").flush_s, 3.5e-5, 1e-12);
   EXPECT_NEAR(back.sources.at("readpixels").triangle_s, 20e-9, 1e-15);
+}
+
+// What the config fuzzer found: costs written with six digits, and a source name written
+// without escaping its quotes (a file calibrate could not read back).
+TEST(CostsFile, EveryCostAndNameReadsBackExactly) {
+  CullerCostsFile file;
+  file.machine = "llvmpipe\n\t\"x\"\x01";
+  CullerCosts odd = scripted();
+  odd.flush_s = 1.0 / 3.0;
+  odd.pixel_s = 4.9406564584124654e-324;  // the least denormal
+  odd.box_test_s = std::nextafter(1.0, 0.0);
+  file.sources["a \"quoted\" \\ name"] = odd;
+  file.sources["tab\tname"] = scripted();
+  const CullerCostsFile back = parseCullerCosts(formatCullerCosts(file), "round trip");
+  EXPECT_EQ(back.machine, file.machine);
+  ASSERT_EQ(back.sources.size(), file.sources.size());
+  for (const auto& [name, costs] : file.sources) {
+    ASSERT_EQ(back.sources.count(name), 1u) << name;
+    const CullerCosts& b = back.sources.at(name);
+    EXPECT_EQ(b.flush_s, costs.flush_s) << name;
+    EXPECT_EQ(b.pixel_s, costs.pixel_s) << name;
+    EXPECT_EQ(b.box_test_s, costs.box_test_s) << name;
+    EXPECT_EQ(b.triangle_s, costs.triangle_s) << name;
+    EXPECT_EQ(b.draw_s, costs.draw_s) << name;
+    EXPECT_EQ(b.query_s, costs.query_s) << name;
+  }
 }
 
 void expectBad(const std::string& text, const std::string& says) {

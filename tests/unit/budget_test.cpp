@@ -4,17 +4,31 @@
 // an unreachable one; and the culler with a budget records the knobs it ran with.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <limits>
 #include <random>
 #include <vector>
 
 #include "box_world.hpp"
 #include "budget.hpp"
+#include "expect_error.hpp"
 #include "logrid/culler.hpp"
 
 namespace logrid {
 namespace {
 
 using detail::BudgetController;
+using detail::BudgetRung;
+
+// A ladder of `priors.size()` rungs (the first exact), each with its prior ratio.
+std::vector<BudgetRung> ladderOf(const std::vector<double>& priors) {
+  std::vector<BudgetRung> ladder(priors.size());
+  for (std::size_t i = 0; i < priors.size(); ++i) {
+    ladder[i].approximation.full_free_fraction = float(i) * 0.05f;
+    ladder[i].ratio = priors[i];
+  }
+  return ladder;
+}
 
 struct Scripted {
   std::size_t over = 0;     // frames over the budget
@@ -22,15 +36,15 @@ struct Scripted {
   std::vector<std::size_t> rungs;
 };
 
-// `frames` frames whose time is rung_ms[rung] x (1 + noise) (uniform in +-noise).
-Scripted script(BudgetController& c, const std::vector<double>& rung_ms, double budget_ms,
-                std::size_t frames, double noise = 0, unsigned seed = 1) {
+// `frames` frames whose time is exact_ms x truth[rung] x (1 + noise) (uniform in +-noise).
+Scripted script(BudgetController& c, double exact_ms, const std::vector<double>& truth,
+                double budget_ms, std::size_t frames, double noise = 0, unsigned seed = 1) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> jitter(-noise, noise);
   Scripted r;
   for (std::size_t f = 0; f < frames; ++f) {
     const std::size_t rung = c.rung();
-    const double ms = rung_ms[rung] * (1 + jitter(rng));
+    const double ms = exact_ms * truth[rung] * (1 + jitter(rng));
     r.over += ms > budget_ms;
     r.rungs.push_back(rung);
     c.endFrame(ms * 1e-3);
@@ -39,45 +53,73 @@ Scripted script(BudgetController& c, const std::vector<double>& rung_ms, double 
   return r;
 }
 
-TEST(Budget, TheLadderIsThePaperFrontOfTheFullTileFraction) {
-  const auto ladder = detail::budgetLadder(true);
-  ASSERT_EQ(ladder.size(), 5u);
-  EXPECT_TRUE(ladder.front().exact());
-  for (std::size_t i = 1; i < ladder.size(); ++i) {
-    EXPECT_GT(ladder[i].full_free_fraction, ladder[i - 1].full_free_fraction);
-    EXPECT_EQ(ladder[i].visible_pixels, 0u);  // counting tests would end batching
+const std::vector<double> kRatios = {1, 0.9, 0.8, 0.7, 0.6};
+
+TEST(Budget, TheLaddersAreTheMeasuredFrontsAtTheCullersSetting) {
+  const MethodInfo& state = methodInfo(Method::LogState);
+  // Without coherence: the full-tile fraction, then visible pixels.
+  const auto plain = detail::budgetLadder(state, false);
+  ASSERT_EQ(plain.size(), 6u);
+  EXPECT_TRUE(plain.front().approximation.exact());
+  EXPECT_EQ(plain.front().ratio, 1.0);
+  for (std::size_t i = 1; i < plain.size(); ++i) {
+    EXPECT_LT(plain[i].ratio, plain[i - 1].ratio);
+    EXPECT_FALSE(plain[i].approximation.exact());
   }
-  EXPECT_TRUE(detail::budgetLadder(false).empty());
+  EXPECT_GT(plain[4].approximation.full_free_fraction, plain[1].approximation.full_free_fraction);
+  EXPECT_EQ(plain.back().approximation.visible_pixels, 256u);
+  // With coherence the full-tile fraction buys nothing (depth tests): visible pixels only.
+  const auto coherent = detail::budgetLadder(state, true);
+  ASSERT_EQ(coherent.size(), 4u);
+  for (std::size_t i = 1; i < coherent.size(); ++i) {
+    EXPECT_EQ(coherent[i].approximation.full_free_fraction, 0.0f);
+    EXPECT_GT(coherent[i].approximation.visible_pixels, coherent[i - 1].approximation.visible_pixels);
+  }
+  // log-zfar takes visible pixels only; methods without a grid take no budget.
+  EXPECT_EQ(detail::budgetLadder(methodInfo(Method::LogZfar), false).size(), 4u);
+  EXPECT_TRUE(detail::budgetLadder(methodInfo(Method::Vfc), false).empty());
+  EXPECT_TRUE(detail::budgetLadder(methodInfo(Method::Hwq), false).empty());
 }
 
-TEST(Budget, MeetsAReachableBudgetAndSettles) {
-  const std::vector<double> ms = {10, 9, 8, 7, 6};
-  BudgetController c(7.5e-3, detail::budgetLadder(true));
-  const Scripted r = script(c, ms, 7.5, 400);
-  // Up one rung every 4 frames until under the budget: rung 3 (7 ms) from frame 12 on.
+TEST(Budget, MeetsAReachableBudgetFromTheFirstFrameOverIt) {
+  BudgetController c(7.5e-3, ladderOf(kRatios));
+  const Scripted r = script(c, 10, kRatios, 7.5, 400);
+  // 10 ms over 7.5: the rung predicted under 0.95 x 7.5 ms is the 7 ms one, at once.
+  EXPECT_EQ(r.rungs[1], 3u);
   EXPECT_EQ(r.rungs.back(), 3u);
-  EXPECT_EQ(r.rungs[20], 3u);
-  // Tries towards exact are rare and each costs a few frames over the budget.
+  // Tries towards exact are rare and each costs a frame over the budget.
   EXPECT_LE(r.over, 400u / 20);  // at least 95 % of frames within the budget
-  EXPECT_LE(r.changes, 3u + 2u * 8u);
+  EXPECT_LE(r.changes, 1u + 2u * 8u);
+}
+
+TEST(Budget, LearnsTheRatiosItsPriorsGotWrong) {
+  // The priors promise 0.9 ... 0.6; the frames give 0.97 ... 0.88.
+  const std::vector<double> truth = {1, 0.97, 0.94, 0.91, 0.88};
+  BudgetController c(9.2e-3, ladderOf(kRatios));
+  const Scripted r = script(c, 10, truth, 9.2, 400);
+  // 9.1 ms is the only rung under 9.2 ms but the last: found within a few frames.
+  for (std::size_t f = 20; f < r.rungs.size(); ++f) EXPECT_GE(r.rungs[f], 3u) << "frame " << f;
+  EXPECT_LE(r.over, 400u / 20);
+  EXPECT_EQ(r.rungs.back(), 3u);  // not the last rung, which it does not need
 }
 
 TEST(Budget, ReturnsToExactWhenThereIsTime) {
-  BudgetController c(7.5e-3, detail::budgetLadder(true));
-  script(c, {10, 9, 8, 7, 6}, 7.5, 100);
+  BudgetController c(7.5e-3, ladderOf(kRatios));
+  script(c, 10, kRatios, 7.5, 100);
   ASSERT_GT(c.rung(), 0u);
-  // The scene became cheaper: every rung now under (1 - margin) x budget.
-  const Scripted r = script(c, {5, 4.8, 4.6, 4.4, 4.2}, 7.5, 200);
+  // The scene became cheaper: exact now under (1 - margin) x budget.
+  const Scripted r = script(c, 5, kRatios, 7.5, 200);
   EXPECT_EQ(r.rungs.back(), 0u);
   EXPECT_TRUE(c.current().exact());
   EXPECT_EQ(r.over, 0u);
 }
 
 TEST(Budget, DoesNotOscillateBetweenRungsThatStraddleTheBudget) {
-  // Rung 0 over the budget, rung 1 well under it: a naive controller would flip every
-  // few frames. The hold doubles after each step down that had to be undone.
-  BudgetController c(8e-3, detail::budgetLadder(true));
-  const Scripted r = script(c, {10, 6, 5.5, 5, 4.5}, 8, 2000);
+  // Exact over the budget, the first rung well under it: a naive controller would flip
+  // every few frames. The hold doubles after each step down that had to be undone.
+  const std::vector<double> truth = {1, 0.6, 0.55, 0.5, 0.45};
+  BudgetController c(8e-3, ladderOf(truth));
+  const Scripted r = script(c, 10, truth, 8, 2000);
   // Two changes per try: one per doubling of the hold (4 to 256: 7), then one try per
   // 256 frames (under 8 in 2000).
   EXPECT_LE(r.changes, 1u + 2u * (7u + 8u));
@@ -86,19 +128,45 @@ TEST(Budget, DoesNotOscillateBetweenRungsThatStraddleTheBudget) {
 }
 
 TEST(Budget, NoisyFramesStillSettle) {
-  BudgetController c(8.5e-3, detail::budgetLadder(true));
-  const Scripted r = script(c, {10, 9.2, 8.4, 7.6, 6.8}, 8.5, 1000, 0.1, 7);
-  EXPECT_LE(r.changes, 40u);
+  const std::vector<double> truth = {1, 0.92, 0.84, 0.76, 0.68};
+  BudgetController c(8.5e-3, ladderOf(truth));
+  const Scripted r = script(c, 10, truth, 8.5, 1000, 0.1, 7);
+  EXPECT_LE(r.changes, 60u);
   std::size_t exact_late = 0;
   for (std::size_t f = 500; f < r.rungs.size(); ++f) exact_late += r.rungs[f] == 0;
   EXPECT_LT(exact_late, 50u);  // 10 ms frames are over 8.5 ms even with the noise
+  EXPECT_LE(r.over, 1000u / 10);
 }
 
-TEST(Budget, AnUnreachableBudgetStaysAtTheLastRung) {
-  BudgetController c(1e-3, detail::budgetLadder(true));
-  const Scripted r = script(c, {10, 9, 8, 7, 6}, 1, 100);
+TEST(Budget, OneSlowFrameMovesNothingTwoInARowDo) {
+  BudgetController c(12e-3, ladderOf(kRatios));
+  for (int f = 0; f < 200; ++f) {
+    c.endFrame(f % 50 == 25 ? 30e-3 : 10e-3);  // a hitch every 50 frames
+    EXPECT_EQ(c.rung(), 0u) << "frame " << f;
+  }
+  c.endFrame(30e-3);
+  c.endFrame(30e-3);
+  EXPECT_GT(c.rung(), 0u);
+}
+
+TEST(Budget, AnUnreachableBudgetGoesToTheFastestRungAtOnceAndStays) {
+  BudgetController c(1e-3, ladderOf(kRatios));
+  const Scripted r = script(c, 10, kRatios, 1, 100);
+  EXPECT_EQ(r.rungs[1], 4u);
   EXPECT_EQ(r.rungs.back(), 4u);
-  EXPECT_EQ(r.changes, 4u);
+  EXPECT_EQ(r.changes, 1u);
+}
+
+TEST(Budget, ARungThatBuysNothingIsNotPaidForInAccuracy) {
+  // The knob has no reach at this setting (every rung as slow as exact): the controller
+  // tries the ladder, learns that, and spends its frames exact.
+  const std::vector<double> truth = {1, 1, 1, 1, 1};
+  BudgetController c(8e-3, ladderOf(kRatios));
+  const Scripted r = script(c, 10, truth, 8, 1000);
+  std::size_t exact_late = 0;
+  for (std::size_t f = 500; f < r.rungs.size(); ++f) exact_late += r.rungs[f] == 0;
+  EXPECT_GT(exact_late, 450u);
+  EXPECT_LE(r.changes, 40u);
 }
 
 TEST(BudgetCuller, ValidatesAndRecordsTheKnobsEachFrameRan) {
@@ -109,35 +177,45 @@ TEST(BudgetCuller, ValidatesAndRecordsTheKnobsEachFrameRan) {
   d.budget_ms = std::numeric_limits<double>::quiet_NaN();
   EXPECT_NE(validateCullerDesc(d), "");
   d.budget_ms = 5;
-  d.method = Method::LogZfar;  // takes no full-tile fraction
+  d.method = Method::Vfc;  // has no grid
   EXPECT_NE(validateCullerDesc(d).find("cannot meet a frame-time budget"), std::string::npos);
+  d.method = Method::LogZfar;  // visible pixels
+  EXPECT_EQ(validateCullerDesc(d), "");
   d.method = Method::LogState;
   d.approximation.row_stride = 2;
   EXPECT_NE(validateCullerDesc(d).find("leave CullerDesc::approximation exact"), std::string::npos);
   d.approximation = {};
   EXPECT_EQ(validateCullerDesc(d), "");
 
-  // A budget no frame can meet: the culler climbs the whole ladder, one rung per 4
-  // frames, and each frame's FrameStats::setting says what it ran.
+  // A budget no frame can meet: the culler goes to the fastest rung after the first frame,
+  // and each frame's FrameStats::setting says what it ran. The application reports the
+  // frame times (deterministic, unlike the culled pass's own): 10 ms x the rung's ratio.
   d.budget_ms = 1e-9;
+  d.budget_clock = BudgetClock::ReportedFrame;
   d.tile_size = 8;
   Culler culler(d);
   const test::BoxWorld world = test::makeBoxWorld(3);
   const Camera cam = test::boxCamera(160, 120, DepthConvention::Standard, 0);
-  std::vector<float> fractions;
-  for (int frame = 0; frame < 24; ++frame) {
+  const std::vector<BudgetRung> ladder = detail::budgetLadder(methodInfo(Method::LogState), false);
+  for (int frame = 0; frame < 12; ++frame) {
     cpu::SoftwareDepthBuffer depth(cam.width, cam.height, DepthConvention::Standard);
     const test::CulledFrame f =
         test::cullBoxes(culler, world, cam, depth, test::SourceKind::Software);
-    fractions.push_back(f.stats.setting.approximation.full_free_fraction);
+    const GridApproximation& ran = f.stats.setting.approximation;
+    const auto rung = std::find_if(ladder.begin(), ladder.end(), [&](const BudgetRung& r) {
+      return r.approximation.visible_pixels == ran.visible_pixels &&
+             r.approximation.full_free_fraction == ran.full_free_fraction &&
+             r.approximation.row_stride == ran.row_stride;
+    });
+    ASSERT_NE(rung, ladder.end()) << "frame " << frame << " ran a setting off the ladder";
+    EXPECT_EQ(rung - ladder.begin(), frame == 0 ? 0 : std::ptrdiff_t(ladder.size() - 1))
+        << "frame " << frame;
+    culler.reportFrameTime(0.01 * rung->ratio);
   }
-  EXPECT_EQ(fractions.front(), 0.0f);
-  EXPECT_EQ(fractions[4], 0.01f);
-  EXPECT_EQ(fractions.back(), 0.25f);
-  for (std::size_t i = 1; i < fractions.size(); ++i) EXPECT_GE(fractions[i], fractions[i - 1]);
 
   // A budget every frame meets: always exact, and every visible box drawn.
   d.budget_ms = 1e6;
+  d.budget_clock = BudgetClock::CulledPass;
   Culler easy(d);
   for (int frame = 0; frame < 12; ++frame) {
     cpu::SoftwareDepthBuffer depth(cam.width, cam.height, DepthConvention::Standard);
@@ -146,6 +224,43 @@ TEST(BudgetCuller, ValidatesAndRecordsTheKnobsEachFrameRan) {
     EXPECT_TRUE(f.stats.setting.approximation.exact());
     for (ObjectId id : test::visibleBoxes(world.boxes, cam)) EXPECT_TRUE(f.drawn.count(id));
   }
+}
+
+TEST(BudgetCuller, AReportedFrameClockTakesTheApplicationsTimes) {
+  CullerDesc d;
+  d.method = Method::LogState;
+  d.tile_size = 8;
+  d.budget_ms = 50;  // the culled pass of the box world takes far less
+  d.budget_clock = BudgetClock::ReportedFrame;
+  const test::BoxWorld world = test::makeBoxWorld(3);
+  const Camera cam = test::boxCamera(160, 120, DepthConvention::Standard, 0);
+  auto frame = [&](Culler& culler) {
+    cpu::SoftwareDepthBuffer depth(cam.width, cam.height, DepthConvention::Standard);
+    return test::cullBoxes(culler, world, cam, depth, test::SourceKind::Software).stats;
+  };
+  // Whole frames of 200 ms (say, a slow present): over the budget, so it approximates,
+  // though the culled pass alone is well within it.
+  Culler reported(d);
+  for (int i = 0; i < 3; ++i) {
+    frame(reported);
+    reported.reportFrameTime(0.2);
+  }
+  EXPECT_FALSE(frame(reported).setting.approximation.exact());
+  // The culled pass's own clock with the same reports: they are ignored, it stays exact.
+  d.budget_clock = BudgetClock::CulledPass;
+  Culler own(d);
+  for (int i = 0; i < 3; ++i) {
+    frame(own);
+    own.reportFrameTime(0.2);
+  }
+  EXPECT_TRUE(frame(own).setting.approximation.exact());
+  // Bad times are refused, naming the call.
+  test::expectError([&] { own.reportFrameTime(-1); }, ErrorCode::InvalidArgument,
+                    {"Culler::reportFrameTime", "not a frame time"});
+  test::expectError([&] { own.reportFrameTime(std::numeric_limits<double>::infinity()); },
+                    ErrorCode::InvalidArgument, {"not a frame time"});
+  d.budget_clock = BudgetClock(7);
+  EXPECT_NE(validateCullerDesc(d).find("budget_clock 7"), std::string::npos);
 }
 
 }  // namespace

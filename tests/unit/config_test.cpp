@@ -3,7 +3,9 @@
 // the key.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <string>
 
 #include "logrid/config.hpp"
@@ -47,6 +49,54 @@ TEST(ConfigFile, WhatIsWrittenReadsBackAsWritten) {
   all.culler.approximation.full_free_fraction = 0.25f;
   all.source = "a \"quoted\" name";
   expectSame(parseCullerConfig(formatCullerConfig(all)), all);
+}
+
+// What the config fuzzer found (tests/fuzz/corpus/config/finding_*): a fraction written
+// with six digits read back as another float, and a source name with a control character
+// (read from an escape such as \t) written as a space.
+TEST(ConfigFile, EveryFractionAndSourceNameReadsBackExactly) {
+  CullerConfig c = unusual();
+  c.culler.method = Method::LogState;
+  for (const float f : {0.1234567f, 0.1f, 1e-40f, std::nextafter(1.0f, 0.0f), -0.0f}) {
+    c.culler.approximation.full_free_fraction = f;
+    const CullerConfig back = parseCullerConfig(formatCullerConfig(c));
+    EXPECT_EQ(std::memcmp(&back.culler.approximation.full_free_fraction, &f, sizeof f), 0)
+        << f << " read back as " << back.culler.approximation.full_free_fraction;
+  }
+  for (const std::string& source :
+       {std::string("tab\there"), std::string("new\nline\r\b\f"), std::string("nul\0x", 5),
+        std::string("\x01\x1f\x7f\"\\/"), std::string("\xc3\xa9\xf0\x9f\x98\x80")}) {
+    c.source = source;
+    EXPECT_EQ(parseCullerConfig(formatCullerConfig(c)).source, source);
+  }
+}
+
+// JSON's escapes read as JSON says (RFC 8259 §7), and only JSON numbers are numbers.
+TEST(ConfigFile, StringsAndNumbersAreReadAsJson) {
+  const auto withSource = [](const std::string& source) {
+    return parseCullerConfig("{\"format\": \"logrid-config\", \"version\": 1, \"source\": \"" +
+                             source + "\", \"culler\": {}}")
+        .source;
+  };
+  EXPECT_EQ(withSource("p\\u0062o"), "pbo");
+  EXPECT_EQ(withSource("\\u00e9\\/\\t"), "\xc3\xa9/\t");
+  EXPECT_EQ(withSource("\\ud83d\\ude00"), "\xf0\x9f\x98\x80");  // a surrogate pair: one code point
+  const auto refused = [](const std::string& text, const std::string& says) {
+    try {
+      parseCullerConfig(text, "c.json");
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::BadInput);
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+  };
+  const std::string head = "{\"format\": \"logrid-config\", \"version\": 1, ";
+  refused(head + "\"source\": \"\\x41\", \"culler\": {}}", "unknown escape");
+  refused(head + "\"source\": \"\\u12g4\", \"culler\": {}}", "four hexadecimal digits");
+  for (const char* number : {"nan", "NaN", "inf", "-Infinity", "0x10", "+16", ".5", "16.", "1e"}) {
+    refused(head + "\"culler\": {\"tile_size\": " + number + "}}", "not a configuration file");
+  }
+  refused(head + "\"culler\": {\"tile_size\": 1e400}}", "beyond a double's range");
 }
 
 TEST(ConfigFile, AbsentKeysAreTheDescriptorsDefaultsAndUnknownKeysAreIgnored) {

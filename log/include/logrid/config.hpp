@@ -35,7 +35,7 @@ struct CullerConfig {
 CullerConfig parseCullerConfig(const std::string& text, const std::string& origin = "config");
 // Reads and parses a configuration file (ErrorCode::Environment if it cannot be read).
 CullerConfig loadCullerConfig(const std::string& path);
-// The file's text (what parseCullerConfig reads back): format, version, source, culler.
+// The file's text: format, version, source, culler; parseCullerConfig reads back `config`.
 std::string formatCullerConfig(const CullerConfig& config);
 
 }  // namespace logrid

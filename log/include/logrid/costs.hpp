@@ -60,7 +60,7 @@ CullerCostsFile loadCullerCostsFile(const std::string& path);
 // The costs of one source from a file; throws logrid::Error naming the sources the file
 // has if `source` is not among them.
 CullerCosts loadCullerCosts(const std::string& path, const std::string& source);
-// The file's text (what parseCullerCosts reads back).
+// The file's text, which parseCullerCosts reads back as `file` (every cost to the bit).
 std::string formatCullerCosts(const CullerCostsFile& file);
 
 // An online estimate of the costs from a culler's own frames (Culler::costEstimate):

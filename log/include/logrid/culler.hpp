@@ -95,6 +95,12 @@ namespace logrid {
 // CullerDesc::lookahead value: gather every box the traversal reaches before it must wait.
 inline constexpr std::uint32_t kUnlimitedLookahead = std::numeric_limits<std::uint32_t>::max();
 
+// What a frame-time budget (CullerDesc::budget_ms) times.
+enum class BudgetClock {
+  CulledPass,     // beginFrame() to endFrame(), FrameStats::seconds
+  ReportedFrame,  // the whole frame, as the application reports it (Culler::reportFrameTime)
+};
+
 struct CullerDesc {
   Method method = Method::LogState;
   std::uint32_t tile_size = 32;  // pixels per tile side (LOG §5 uses 32)
@@ -132,15 +138,21 @@ struct CullerDesc {
   // hardware parameters (zread::calibrateQueries).
   QueryScheduleDesc queries = {};
 
-  // A frame-time budget in milliseconds for the culled pass (beginFrame to endFrame, the
-  // application's drawing included), 0: none, the culler stays as exact as `approximation`
-  // says. With a budget the culler sets the approximate knobs itself, frame by frame: when
-  // its frames run over the budget it moves along the measured Pareto front of the knobs
-  // it takes (the full-tile free fraction, 0.01 to 0.25: docs/TRADEOFF.md), and back to
-  // exact when there is time, with hysteresis (docs/BUDGET.md). FrameStats::setting records
-  // what each frame ran. Needs a method that takes the full-tile free fraction (log-state,
-  // bog, ddo+log) and `approximation` left exact.
+  // A frame-time budget in milliseconds (what it times: budget_clock), 0: none, the culler
+  // stays as exact as `approximation` says. With a budget the culler sets the approximate
+  // knobs itself, frame by frame: when its frames run over the budget it moves along the
+  // measured Pareto front of the knobs the method takes at its setting (without temporal
+  // coherence the full-tile free fraction 0.01 to 0.25, then visible pixels 256; with it
+  // visible pixels 16 to 256: docs/TRADEOFF.md), and back to exact when there is time,
+  // with hysteresis (docs/BUDGET.md). FrameStats::setting records what each frame ran.
+  // Needs a grid method that takes those knobs (log-state, log-zfar, bog, ddo+log) and
+  // `approximation` left exact.
   double budget_ms = 0;
+  // The culled pass by default. An application that presents the frame knows its whole
+  // time (clear, the culled pass, its other drawing, the finish or swap), which is what
+  // its user sees: with ReportedFrame the budget controls the times it passes to
+  // Culler::reportFrameTime() instead.
+  BudgetClock budget_clock = BudgetClock::CulledPass;
 
   // The cost model's starting point (costs.hpp): measured on this machine for the depth
   // source used (loadCullerCosts on a file of `logrid calibrate --costs`), or the
@@ -278,6 +290,12 @@ class Culler {
   // Forget the nodes remembered for temporal coherence, and what the query methods
   // remember of each node.
   void forgetCoherence();
+
+  // The whole time of the frame that ended last, as the application measured it, for a
+  // budget with CullerDesc::budget_clock = ReportedFrame (ignored otherwise); call it
+  // after endFrame() and before the next beginFrame(). Throws logrid::Error for a time
+  // that is negative or not finite.
+  void reportFrameTime(double seconds);
 
   // The online cost estimate (costs.hpp), from CullerDesc::costs and every frame ended.
   const CostEstimate& costEstimate() const { return estimate_; }
