@@ -7,7 +7,8 @@
 # in one process whose memory is watched (tests/soak/soak.cpp). About an hour on 2 cores
 # with llvmpipe. Writes the summary to out/soak.json (or $LOGRID_OUT/soak.json) and the
 # progress to stderr; exits 1 on any missed visible object or error.
-# Usage: scripts/soak.sh [--frames N] [--frames-per-run K] [--seed S]
+# Usage: scripts/soak.sh [--frames N] [--frames-per-run K] [--seed S] [--memory-trace FILE]
+#   --memory-trace FILE  one line a run: RSS, peak, C heap in use and held, threads, setting
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/build.sh" >/dev/null

@@ -6,6 +6,7 @@
 // (traversal_sweep.cpp), `--motion` the hierarchies for moving objects (bench_motion.cpp);
 // all four run on the skeleton of experiment.hpp.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <iterator>
 #include <memory>
@@ -108,6 +109,7 @@ struct Row {
   std::int64_t missed = -1;
   std::int64_t missed_artifacts = 0;  // objects shown only by depth-extrapolated fragments
   bool conservative = true;
+  VerificationCheck verification;  // timed frames with and without the object-ID check
 };
 
 // A table row from a configuration's outcome.
@@ -123,6 +125,7 @@ Row makeRow(const Measured& m) {
                    : "–";
   row.ms = r.avg_ms();
   row.spread = r.spread();
+  row.verification = r.verification;
   row.objects = a.objects;
   row.triangles = a.triangles;
   row.pixels = a.pixels_read;
@@ -175,6 +178,49 @@ void writeMethodTable(std::ostream& md, const std::vector<Row>& rows) {
                                         : "");
        }}};
   writeTable(md, columns, rows);
+}
+
+// Whether verifying a frame changes its timed part (it must not: the ID pass has its own
+// framebuffer and runs outside the timer, frame_runner.hpp). From the second repetition,
+// which verifies only its odd frames (interleaved.hpp, VerificationCheck).
+void writeVerificationCheck(std::ostream& md, const std::vector<Row>& rows) {
+  std::vector<Row> checked;
+  std::copy_if(rows.begin(), rows.end(), std::back_inserter(checked),
+               [](const Row& r) { return r.verification.measured; });
+  if (checked.empty()) return;
+  md << "\nVerification and timing: the second repetition runs its odd frames with an ID "
+        "pass of each row's own (after a method's frame, as verification does; before the "
+        "oracle's) and its even frames with none; each frame is taken against its own time "
+        "in the first repetition, the even frames giving the drift. Noise is twice the "
+        "standard error over the frames; a difference beyond both the spread and the noise "
+        "is flagged:\n\n";
+  writeTable<Row>(
+      md,
+      {{"method", "---", [](const Row& r) { return r.label; }},
+       {"with ID passes ms",
+        "--:", [](const Row& r) { return formatFixed(r.verification.verified_ms); }},
+       {"without ms",
+        "--:", [](const Row& r) { return formatFixed(r.verification.unverified_ms); }},
+       {"difference",
+        "--:", [](const Row& r) { return formatFixed(100 * r.verification.difference, 1) + "%"; }},
+       {"spread", "--:", [](const Row& r) { return formatFixed(100 * r.spread, 0) + "%"; }},
+       {"noise",
+        "--:", [](const Row& r) { return formatFixed(100 * r.verification.noise, 0) + "%"; }},
+       {"", "---",
+        [](const Row& r) {
+          return r.verification.flagged(r.spread) ? "**beyond spread and noise**" : "same";
+        }}},
+      checked);
+  for (const Row& r : checked) {
+    if (!r.verification.flagged(r.spread)) continue;
+    std::fprintf(stderr,
+                 "bench: %s: verified frames took %.1f%% %s than the same frames unverified, "
+                 "beyond the run's spread (%.0f%%) and noise (%.0f%%): verification is leaking "
+                 "into the timed frame, so this row's times are not comparable\n",
+                 r.label.c_str(), 100 * std::abs(r.verification.difference),
+                 r.verification.difference > 0 ? "longer" : "less", 100 * r.spread,
+                 100 * r.verification.noise);
+  }
 }
 
 void writeOccluderLines(std::ostream& md, const std::vector<Row>& rows) {
@@ -308,6 +354,7 @@ void writeCell(std::ostream& md, const std::string& scene, std::uint32_t width,
      << " interleaved repetitions; ms/frame is the average over frames of the per-frame median, "
         "spread is (max − min) / median of the repetitions' averages.\n\n";
   writeMethodTable(md, rows);
+  writeVerificationCheck(md, rows);
   writeOccluderLines(md, rows);
   writeQueryTable(md, rows);
   const Row* log = findRow(rows, "log-state");
@@ -338,6 +385,13 @@ nlohmann::json cellJson(const nlohmann::json& scene, std::uint32_t width, std::u
     j["repetition_ms"] = r.repetition_ms;
     j["frame_ms"] = r.frame_ms;
     j["frame_read_pixels"] = pixels;
+    if (r.verification.measured) {
+      j["verification_check"] = {{"verified_ms", r.verification.verified_ms},
+                                 {"unverified_ms", r.verification.unverified_ms},
+                                 {"difference", r.verification.difference},
+                                 {"noise", r.verification.noise},
+                                 {"flagged", r.verification.flagged(r.spread())}};
+    }
     if (log) {
       j["time_vs_log"] = log->ms > 0 ? rows[c].ms / log->ms : 0;
       j["pixels_vs_log"] = log->pixels > 0 ? rows[c].pixels / log->pixels : 0;
@@ -399,10 +453,12 @@ void writeScene(std::ostream& md, const LoadedScene& scene, const WalkOptions& s
 
 constexpr const char* kIntro =
     "Every method renders the same frames in turn (interleaved per frame), through the "
-    "same traversal and renderer; frame time is clear + cull + draw + glFinish. The "
-    "oracle draws exactly the objects an untimed ID pass found visible: the floor no "
-    "culling method can beat. `missed` counts visible objects a method did not draw, "
-    "checked on every frame of the first repetition against the object-ID oracle; "
+    "same traversal and renderer, into the same framebuffer (colour and depth: the ID "
+    "pass has its own); frame time is clear + cull + draw + glFinish. The oracle draws "
+    "exactly the objects an untimed ID pass found visible: the floor no culling method "
+    "can beat. `missed` counts visible objects a method did not draw, checked on every "
+    "frame of the first repetition against the object-ID oracle, whose passes run before "
+    "any frame is timed; "
     "objects the ID pass shows only through fragments nearer than their own box allows "
     "(llvmpipe's depth extrapolation on edge-on sliver triangles, see "
     "logrid/gl/object_id_oracle.hpp) are counted apart as artifacts.\n";

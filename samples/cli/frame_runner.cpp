@@ -240,10 +240,25 @@ void FrameRunner::makeFramebuffer() {
   fb.height = config.view.height;
   fb.depth = config.view.depth;
   fb.samples = config.view.samples;
-  fb.object_ids = config.verify || config.method.oracle();
+  // Every row's frames, the oracle's included, verified or not, go into the same kind of
+  // framebuffer: colour and depth only. The ID pass has its own (idFramebuffer()): an ID
+  // attachment bound during a timed frame slowed it (its clear after an ID pass cost
+  // llvmpipe 10-19 ms at 640x480), which made a verified frame and the oracle's slower
+  // than the same frame unverified (docs/ANALYSIS.md, "An honest floor").
+  fb.object_ids = false;
   reader_.reset();  // readers and queries hold the old framebuffer's handle
   queries_.reset();
+  id_framebuffer_.reset();
   framebuffer_ = std::make_unique<gl::Framebuffer>(fb);
+}
+
+const gl::Framebuffer& FrameRunner::idFramebuffer() {
+  if (!id_framebuffer_) {
+    gl::FramebufferDesc ids = framebuffer_->desc();
+    ids.object_ids = true;
+    id_framebuffer_ = std::make_unique<gl::Framebuffer>(ids);
+  }
+  return *id_framebuffer_;
 }
 
 void FrameRunner::makeSources() {
@@ -343,8 +358,9 @@ void FrameRunner::applyMotion(double time) {
 gl::OracleFrame FrameRunner::idPass(const Camera& camera) {
   // Boxes at the frame's time: the movers' own (not from any hierarchy under test).
   // A multisampled framebuffer gives one id and depth per sample: an object is visible
-  // if any sample of it survives.
-  return gl::objectIdOracle(*framebuffer_, camera, motion_.boxes, [&] {
+  // if any sample of it survives. Never inside a timed frame: before it (the oracle's
+  // visible set) or after it (verification).
+  gl::OracleFrame found = gl::objectIdOracle(idFramebuffer(), camera, motion_.boxes, [&] {
     if (config_.hooks.after_clear) config_.hooks.after_clear();
     renderer_.begin(gl::Pass::ObjectIds, camera);
     vfc_->cullFrame(camera, staticHierarchy(), g_no_depth,
@@ -356,6 +372,8 @@ gl::OracleFrame FrameRunner::idPass(const Camera& camera) {
     }
     renderer_.end();
   });
+  framebuffer_->bind();  // the frame's framebuffer stays the bound one, as after a frame
+  return found;
 }
 
 gl::OracleFrame FrameRunner::visibleSet(std::optional<std::size_t> frame, const Camera& camera) {

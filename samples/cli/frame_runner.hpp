@@ -3,6 +3,12 @@
 // glFinish, then optionally images and the object-ID check. `walk`, `bench` and `tune`
 // are loops over FrameRunners; bench interleaves several runners frame by frame so that
 // machine drift hits every method alike. `view` renders the cameras a person flies.
+//
+// The timed part of a frame is the same for every row: the same framebuffer (colour and
+// depth, no ID attachment), verified or not, the oracle's included. The object-ID pass
+// renders into a framebuffer of its own and never inside a timed frame: before it for
+// the oracle (whose timed frame then draws exactly the set it found, as a method draws
+// what it culled), after it for the check (RunConfig::verify).
 #pragma once
 
 #include <cstdint>
@@ -94,7 +100,7 @@ struct RunConfig {
   // rate, for what methods carry from frame to frame (temporal coherence, the query
   // schedules). Untimed paths, as the procedural ones, count time in metres travelled.
   double time_step = 0;
-  bool verify = false;     // object-ID check after each frame
+  bool verify = false;     // object-ID check after each frame (untimed)
   std::string images_dir;  // write PNG frames here when set
   bool overlay = false;    // and overlay pictures (tile grid, boxes); records what
                            // overlayData() returns
@@ -135,6 +141,9 @@ class FrameRunner {
   ~FrameRunner();
 
   const RunConfig& config() const { return config_; }
+  // The object-ID check after each frame, on or off from the next frame (bench verifies
+  // some repetitions only). The frames' framebuffer is the same either way.
+  void setVerify(bool verify) { config_.verify = verify; }
   FrameRecord renderFrame(std::size_t frame);
   // Renders the frame from any pose, e.g. one a person flies (moving objects where they
   // are at frameTime(frame)); the ID pass (verify, oracle) is not shared with other
@@ -170,7 +179,8 @@ class FrameRunner {
   void shareOracle(std::shared_ptr<OracleCache> cache) { oracle_cache_ = std::move(cache); }
   // Last frame's colour image (RGBA8, bottom-up rows).
   std::vector<std::uint8_t> readColor() const { return framebuffer_->readColor(); }
-  // The framebuffer the frames are drawn into (colour attachment 0 holds the picture).
+  // The framebuffer the frames are drawn into (colour attachment 0 holds the picture;
+  // no ID attachment: the ID pass has its own, so the frame's depth stays as drawn).
   const gl::Framebuffer& framebuffer() const { return *framebuffer_; }
 
   // What the last frame did, for overlays and viewers:
@@ -184,6 +194,9 @@ class FrameRunner {
  private:
   // Moves the movers to `time`: boxes, `moved`, and the renderer's transforms.
   void applyMotion(double time);
+  // The ID pass's own framebuffer (made on first use): the frame's size, depth set-up
+  // and samples, with an object-ID attachment.
+  const gl::Framebuffer& idFramebuffer();
   gl::OracleFrame idPass(const Camera& camera);
   // The ID pass of a frame, from the shared cache when another runner did it.
   gl::OracleFrame visibleSet(std::optional<std::size_t> frame, const Camera& camera);
@@ -200,7 +213,8 @@ class FrameRunner {
   const PreparedScene& scene_;
   gl::MeshRenderer& renderer_;
   RunConfig config_;
-  std::unique_ptr<gl::Framebuffer> framebuffer_;
+  std::unique_ptr<gl::Framebuffer> framebuffer_;     // every timed frame's, never with IDs
+  std::unique_ptr<gl::Framebuffer> id_framebuffer_;  // the ID pass's (idFramebuffer())
   std::unique_ptr<FrameReader> reader_;
   std::unique_ptr<OcclusionQueries> queries_;  // query methods
   std::unique_ptr<Culler> culler_;
