@@ -66,7 +66,7 @@ class BudgetController {
   double budget_s_;
   std::vector<BudgetRung> ladder_;
   std::size_t rung_ = 0;
-  double level_ = 0;  // exact-equivalent seconds, running average; 0 before a frame
+  double level_ = 0;                // exact-equivalent seconds, running average; 0 before a frame
   std::array<double, 3> recent_{};  // the last frames' exact-equivalent seconds
   std::uint64_t recent_count_ = 0;
   std::uint32_t held_ = 0;  // frames on this rung since the last change

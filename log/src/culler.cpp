@@ -75,8 +75,7 @@ std::string validateCullerDesc(const CullerDesc& desc) {
            "fraction or visible pixels, which it does not take; use log-state, log-zfar, bog "
            "or ddo+log, or no budget";
   }
-  if (desc.frame_clock != FrameClock::CulledPass &&
-      desc.frame_clock != FrameClock::ReportedFrame) {
+  if (desc.frame_clock != FrameClock::CulledPass && desc.frame_clock != FrameClock::ReportedFrame) {
     return "culler: frame_clock " + std::to_string(int(desc.frame_clock)) +
            " is not a FrameClock; use CulledPass or ReportedFrame";
   }

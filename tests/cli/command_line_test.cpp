@@ -88,9 +88,9 @@ TEST(CommandLine, WalkReportsAnApproximateSettingsMissesWithoutFailing) {
   // Misses are what an approximate setting pays for its speed: reported, exit 0. The same
   // walk exact draws every visible object; a budget counts as approximate.
   const fs::path json = scratch("walk_approximate.json");
-  const std::vector<std::string> walk = {"walk",    "--scene", "forest",  "--scale", "0.3",
-                                         "--frames", "3",      "--size",  "160x120", "--verify",
-                                         "--method", "log-state", "--json", json.string()};
+  const std::vector<std::string> walk = {
+      "walk",   "--scene", "forest",   "--scale",  "0.3",       "--frames", "3",
+      "--size", "160x120", "--verify", "--method", "log-state", "--json",   json.string()};
   std::vector<std::string> approximate = walk;
   approximate.insert(approximate.end(), {"--full-fraction", "0.9"});
   ASSERT_EQ(runLogrid(approximate), 0);

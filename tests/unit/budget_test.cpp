@@ -73,7 +73,8 @@ TEST(Budget, TheLaddersAreTheMeasuredFrontsAtTheCullersSetting) {
   ASSERT_EQ(coherent.size(), 4u);
   for (std::size_t i = 1; i < coherent.size(); ++i) {
     EXPECT_EQ(coherent[i].approximation.full_free_fraction, 0.0f);
-    EXPECT_GT(coherent[i].approximation.visible_pixels, coherent[i - 1].approximation.visible_pixels);
+    EXPECT_GT(coherent[i].approximation.visible_pixels,
+              coherent[i - 1].approximation.visible_pixels);
   }
   // log-zfar takes visible pixels only; methods without a grid take no budget.
   EXPECT_EQ(detail::budgetLadder(methodInfo(Method::LogZfar), false).size(), 4u);
