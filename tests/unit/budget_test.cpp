@@ -227,34 +227,36 @@ TEST(BudgetCuller, ValidatesAndRecordsTheKnobsEachFrameRan) {
   }
 }
 
+// One frame of a 3 x 3 box world at 160x120 through the software rasteriser.
+FrameStats boxFrame(Culler& culler) {
+  static const test::BoxWorld world = test::makeBoxWorld(3);
+  const Camera cam = test::boxCamera(160, 120, DepthConvention::Standard, 0);
+  cpu::SoftwareDepthBuffer depth(cam.width, cam.height, DepthConvention::Standard);
+  return test::cullBoxes(culler, world, cam, depth, test::SourceKind::Software).stats;
+}
+
 TEST(BudgetCuller, AReportedFrameClockTakesTheApplicationsTimes) {
   CullerDesc d;
   d.method = Method::LogState;
   d.tile_size = 8;
   d.budget_ms = 50;  // the culled pass of the box world takes far less
   d.frame_clock = FrameClock::ReportedFrame;
-  const test::BoxWorld world = test::makeBoxWorld(3);
-  const Camera cam = test::boxCamera(160, 120, DepthConvention::Standard, 0);
-  auto frame = [&](Culler& culler) {
-    cpu::SoftwareDepthBuffer depth(cam.width, cam.height, DepthConvention::Standard);
-    return test::cullBoxes(culler, world, cam, depth, test::SourceKind::Software).stats;
-  };
   // Whole frames of 200 ms (say, a slow present): over the budget, so it approximates,
   // though the culled pass alone is well within it.
   Culler reported(d);
   for (int i = 0; i < 3; ++i) {
-    frame(reported);
+    boxFrame(reported);
     reported.reportFrameTime(0.2);
   }
-  EXPECT_FALSE(frame(reported).setting.approximation.exact());
+  EXPECT_FALSE(boxFrame(reported).setting.approximation.exact());
   // The culled pass's own clock with the same reports: they are ignored, it stays exact.
   d.frame_clock = FrameClock::CulledPass;
   Culler own(d);
   for (int i = 0; i < 3; ++i) {
-    frame(own);
+    boxFrame(own);
     own.reportFrameTime(0.2);
   }
-  EXPECT_TRUE(frame(own).setting.approximation.exact());
+  EXPECT_TRUE(boxFrame(own).setting.approximation.exact());
   // Bad times are refused, naming the call.
   test::expectError([&] { own.reportFrameTime(-1); }, ErrorCode::InvalidArgument,
                     {"Culler::reportFrameTime", "not a frame time"});
@@ -265,7 +267,7 @@ TEST(BudgetCuller, AReportedFrameClockTakesTheApplicationsTimes) {
   Culler strict(d);
   test::expectError([&] { strict.reportFrameTime(0.01); }, ErrorCode::InvalidArgument,
                     {"no frame ended"});
-  frame(strict);
+  boxFrame(strict);
   strict.reportFrameTime(0.01);
   test::expectError([&] { strict.reportFrameTime(0.01); }, ErrorCode::InvalidArgument,
                     {"report each frame once"});
@@ -278,30 +280,24 @@ TEST(FrameClockCuller, TheCostEstimateLearnsFromTheReportedTimeOrTheCulledPass) 
   d.method = Method::LogState;
   d.tile_size = 8;
   d.frame_clock = FrameClock::ReportedFrame;
-  const test::BoxWorld world = test::makeBoxWorld(3);
-  const Camera cam = test::boxCamera(160, 120, DepthConvention::Standard, 0);
-  auto frame = [&](Culler& culler) {
-    cpu::SoftwareDepthBuffer depth(cam.width, cam.height, DepthConvention::Standard);
-    return test::cullBoxes(culler, world, cam, depth, test::SourceKind::Software).stats;
-  };
   // Learnt from when the time comes: the report, or the next frame's start without one.
   // The same frames reported at 15 ms and at 5 ms: the estimates follow the reports (the
   // culled passes, alike for both, do not enter), deterministically.
   Culler slow(d), fast(d);
-  FrameStats last = frame(slow);
+  FrameStats last = boxFrame(slow);
   EXPECT_EQ(slow.costEstimate().frames(), 0u);
   slow.reportFrameTime(0.015);
   EXPECT_EQ(slow.costEstimate().frames(), 1u);
   for (int i = 0; i < 30; ++i) {
-    last = frame(slow);
+    last = boxFrame(slow);
     slow.reportFrameTime(0.015);
-    frame(fast);
+    boxFrame(fast);
     fast.reportFrameTime(0.005);
   }
   EXPECT_EQ(slow.costEstimate().frames(), 31u);
   EXPECT_GT(slow.costEstimate().predict(last), 1.5 * fast.costEstimate().predict(last));
-  frame(slow);
-  frame(slow);  // the frame before, unreported, was taken at its culled pass's time
+  boxFrame(slow);
+  boxFrame(slow);  // the frame before, unreported, was taken at its culled pass's time
   EXPECT_EQ(slow.costEstimate().frames(), 32u);
 }
 
