@@ -88,7 +88,7 @@ class AutoPolicy {
   void loadSubtrees(const Hierarchy& hierarchy);
 
   FrameSetting current_;
-  FrameSetting frame_;  // this frame's (a probe or current_)
+  FrameSetting frame_;             // this frame's (a probe or current_)
   std::uint32_t since_probe_ = 0;  // frames since the last probe (or the first frame)
   std::uint32_t probe_period_ = kProbePeriod;
   std::uint32_t lost_probes_ = 0;  // in a row

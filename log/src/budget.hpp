@@ -71,8 +71,8 @@ class BudgetController {
   std::uint64_t recent_count_ = 0;
   std::uint32_t held_ = 0;  // frames on this rung since the last change
   std::uint32_t hold_ = kHold;
-  bool came_down_ = false;  // the last change was a step towards exact
-  std::size_t from_ = 0;    // the rung before the last change
+  bool came_down_ = false;   // the last change was a step towards exact
+  std::size_t from_ = 0;     // the rung before the last change
   double from_seconds_ = 0;  // the last frame's seconds on it
   double last_seconds_ = 0;
 };

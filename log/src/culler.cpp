@@ -231,7 +231,7 @@ void Culler::prepare(const Camera& camera, const CullSources& sources) {
   sources_ = {info.needs.depth ? sources.depth : nullptr,
               info.needs.queries ? sources.queries : nullptr,
               info.needs.occluders ? sources.occluders : nullptr};
-  const GridApproximation& approximation = budget_ ? budget_->current() : desc_.approximation;
+  const GridApproximation& approximation = frameApproximation();
   if (budget_) tester_->setApproximation(approximation);
   tester_->beginFrame(camera, projector_->clearKey(), sources_);
   // Counting tests of the grid are sequential (grid.hpp); so are methods whose tests
@@ -302,7 +302,7 @@ void Culler::beginFrame(const Camera& camera, const Hierarchy& hierarchy,
   // auto keeps the visible nodes with objects every frame: the next may choose coherence.
   record_visible_ = coherence_ || auto_;
   if (!auto_) setting_ = {desc_.method, lookahead_, coherence_, false, {}};
-  setting_.approximation = budget_ ? budget_->current() : desc_.approximation;
+  setting_.approximation = frameApproximation();
   stats_.setting = setting_;
 
   for (const DrawnArea& area : drawn_before) noteDrawnWith(area, false);
@@ -420,6 +420,10 @@ FrameStats Culler::endFrame() {
   }
   abandonFrame();  // the frame's state is let go of
   return stats_;
+}
+
+const GridApproximation& Culler::frameApproximation() const {
+  return budget_ ? budget_->current() : desc_.approximation;
 }
 
 void Culler::learnFrom(const FrameStats& frame) {

@@ -200,15 +200,12 @@ bool OcclusionGrid::forEachTile(const TileSpan& s, Visit&& visit) const {
 
 template <typename Visit>
 bool OcclusionGrid::forEachTileOf(const TileSpan& s, bool internal, Visit&& visit) const {
-  return forEachTile(s, [&](std::size_t i, bool tile_internal) {
-    return tile_internal == internal && visit(i);
-  });
+  return forEachTile(
+      s, [&](std::size_t i, bool tile_internal) { return tile_internal == internal && visit(i); });
 }
 
-
 void OcclusionGrid::markOutdated(const PixelRect& rect) {
-  const PixelRect r =
-      intersect(rect, viewport());
+  const PixelRect r = intersect(rect, viewport());
   if (r.empty()) return;
   const TileSpan s = tileSpan(r);
   ++draw_stamp_;
@@ -437,8 +434,7 @@ OcclusionGrid::CountResult OcclusionGrid::countTiles(const std::uint32_t* tiles,
 }
 
 void OcclusionGrid::refreshNow(const PixelRect& rect, DepthSource& source) {
-  const PixelRect r =
-      intersect(rect, viewport());
+  const PixelRect r = intersect(rect, viewport());
   if (r.empty()) return;
   const TileSpan s = tileSpan(r);
   pending_.clear();
@@ -637,8 +633,7 @@ void OcclusionGrid::refreshOutdated(const PixelRect* rects, std::size_t count, D
   wanted_.assign(outdated_.size(), 0);
   bool any = false;
   for (std::size_t k = 0; k < count; ++k) {
-    const PixelRect r =
-        intersect(rects[k], viewport());
+    const PixelRect r = intersect(rects[k], viewport());
     if (r.empty()) continue;
     const TileSpan s = tileSpan(r);
     for (std::uint32_t ty = s.y0; ty <= s.y1; ++ty) {

@@ -109,8 +109,8 @@ BoxProjection Projector::visibleEverywhere(ProjectionClass cls) const {
 }
 
 bool Projector::validBox(const Aabb& box) {
-  return finite(box.min) && finite(box.max) && box.min.x <= box.max.x &&
-         box.min.y <= box.max.y && box.min.z <= box.max.z;
+  return finite(box.min) && finite(box.max) && box.min.x <= box.max.x && box.min.y <= box.max.y &&
+         box.min.z <= box.max.z;
 }
 
 namespace {

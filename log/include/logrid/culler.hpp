@@ -315,6 +315,8 @@ class Culler {
   void prepare(const Camera& camera, const CullSources& sources);
   // Runs the frame until the batch must be drawn before going on, or the frame is done.
   void advance();
+  // The approximate knobs this frame runs with: the budget's rung, or CullerDesc's.
+  const GridApproximation& frameApproximation() const;
   // What the culler learns from a frame (cost estimate, auto, budget), with its time.
   void learnFrom(const FrameStats& frame);
   // Two-list or approximate front to back, with lookahead: true when done, false when
@@ -360,7 +362,7 @@ class Culler {
   std::unique_ptr<detail::BudgetController> budget_;  // CullerDesc::budget_ms > 0 only
   // FrameClock::ReportedFrame: the frame that ended, until its time is reported.
   std::optional<FrameStats> unreported_;
-  std::unique_ptr<detail::BoxTester> other_tester_;   // auto: the other grid variant's
+  std::unique_ptr<detail::BoxTester> other_tester_;  // auto: the other grid variant's
   CostEstimate estimate_;
   std::unique_ptr<Projector> projector_;
   CullObserver* observer_ = nullptr;
