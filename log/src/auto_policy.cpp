@@ -98,9 +98,16 @@ void AutoPolicy::endFrame(const FrameStats& stats, const CullerCosts& costs) {
     const double w = outlook_seen_ ? kOutlookRate : 1.0;
     outlook_.flushes_per_test += w * (now.flushes_per_test - outlook_.flushes_per_test);
     outlook_.pixels_per_test += w * (now.pixels_per_test - outlook_.pixels_per_test);
-    outlook_.occluded_fraction += w * (now.occluded_fraction - outlook_.occluded_fraction);
+    if (!answers_reported_) {
+      outlook_.occluded_fraction += w * (now.occluded_fraction - outlook_.occluded_fraction);
+    }
     outlook_seen_ = true;
   }
+  if (answered_ > 0) {
+    const double now = double(hidden_) / double(answered_);
+    outlook_.occluded_fraction += kOutlookRate * (now - outlook_.occluded_fraction);
+  }
+  answered_ = hidden_ = 0;
   if (stats.triangles_drawn > 0 && stats.seconds > 0) {
     const double rest = stats.seconds - double(stats.flushes) * costs.flush_s -
                         double(stats.pixels_read) * costs.pixel_s -
@@ -136,6 +143,12 @@ void AutoPolicy::endFrame(const FrameStats& stats, const CullerCosts& costs) {
     lost_probes_ = 0;
     settled_seconds_ = base_seconds_;
   }
+}
+
+void AutoPolicy::noteAnswer(bool occluded) {
+  answers_reported_ = true;
+  ++answered_;
+  hidden_ += occluded;
 }
 
 NodeLoad AutoPolicy::load(NodeId node) const {

@@ -69,6 +69,13 @@ class AutoPolicy {
   // Is testing `node` expected to pay (its subtree's load from the hierarchy of the
   // last beginFrame)?
   bool worthTesting(NodeId node, const CullerCosts& costs) const;
+  // One test's answer, where it is evidence about what testing saves: an answer from a
+  // read, or occluded from what the grid recorded. A box found visible on tiles nothing
+  // was drawn on yet (the large nodes near the root, before anything in front of them
+  // is drawn) is left out: such answers cost nothing and would drag P(occluded) down
+  // until the per-node test refused every smaller node. Once the culler reports answers,
+  // they, not FrameStats::boxes_occluded, make the outlook's occluded fraction.
+  void noteAnswer(bool occluded);
   // What the frame did, with the costs as now estimated.
   void endFrame(const FrameStats& stats, const CullerCosts& costs);
 
@@ -97,6 +104,8 @@ class AutoPolicy {
   bool have_base_ = false;
   double base_seconds_ = 0;  // the last non-probe frame, modelled
   TestOutlook outlook_;
+  bool answers_reported_ = false;
+  std::uint64_t answered_ = 0, hidden_ = 0;  // this frame's noteAnswer()s
   bool outlook_seen_ = false;
   double observed_triangle_s_ = 0;
   // Subtree loads, for which hierarchy.

@@ -523,8 +523,9 @@ bool Culler::traverse() {
       if (!batch_.empty() && tester_->mayRead(entry.projection.rect, threshold)) return false;
       testing_.reset();
       countFallback(by_state);
+      const std::uint64_t read_before = grid_counts_.tiles_read;
       const Visibility v = tester_->test(entry.projection.rect, threshold, grid_counts_);
-      decided(entry, v);
+      decided(entry, v, v == Visibility::Occluded || grid_counts_.tiles_read > read_before);
       continue;
     }
     // Two-list order (LOG §3, fig. 2): draw the frontmost visible node once it lies in
@@ -594,7 +595,7 @@ bool Culler::traverse() {
           deferred_.push_back(entry);
           continue;
         }
-        decided(entry, *planned);
+        decided(entry, *planned, *planned == Visibility::Occluded);  // from the records
         continue;
       }
       finish(entry, v);
@@ -687,7 +688,8 @@ void Culler::countFallback(bool by_state) {
   }
 }
 
-void Culler::decided(const Entry& entry, Visibility v) {
+void Culler::decided(const Entry& entry, Visibility v, bool evidence) {
+  if (auto_ && evidence) auto_->noteAnswer(v == Visibility::Occluded);
   if (v == Visibility::Occluded) {
     ++stats_.boxes_occluded;
     // Decided before the batch handed out is drawn: a depth clear while it is drawn
@@ -732,7 +734,7 @@ void Culler::resolvePending() {
       std::push_heap(test_list_.begin(), test_list_.end(), LaterFirst{});
       continue;
     }
-    decided(batch[i], v);
+    decided(batch[i], v, true);  // read
   }
   tester_->clearBatch();
   batch.clear();

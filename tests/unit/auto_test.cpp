@@ -205,6 +205,29 @@ TEST(AutoFrameChoice, ProbesBackOffAtALocalOptimumAndComeBackWhenTheSceneChanges
   EXPECT_EQ(policy.probePeriod(), AutoPolicy::kProbePeriod);
 }
 
+TEST(AutoFrameChoice, FreeVisibleAnswersDoNotDragTheOccludedFractionDown) {
+  // A frame's counts say 1000 tests and nothing occluded, but most were answered visible
+  // on tiles nothing was drawn on; of the answers that were evidence, half were occluded.
+  const CullerCosts c = scripted();
+  OneLeaf h;
+  AutoPolicy policy;
+  FrameStats f;
+  f.boxes_tested = 1000;
+  f.flushes = 10;
+  for (int frame = 0; frame < 30; ++frame) {
+    policy.beginFrame(h);
+    for (int i = 0; i < 10; ++i) policy.noteAnswer(i % 2 == 0);
+    policy.endFrame(f, c);
+  }
+  EXPECT_NEAR(policy.outlook().occluded_fraction, 0.5, 0.01);
+  // Frames whose answers were all free leave it where it was.
+  for (int frame = 0; frame < 30; ++frame) {
+    policy.beginFrame(h);
+    policy.endFrame(f, c);
+  }
+  EXPECT_NEAR(policy.outlook().occluded_fraction, 0.5, 0.01);
+}
+
 // ---- The online estimate ----
 
 TEST(CostEstimate, ConvergesToTheCostsThatMadeTheFrames) {

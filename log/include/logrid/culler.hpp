@@ -338,7 +338,9 @@ class Culler {
   float thresholdFor(const Entry& entry, bool& by_state) const;
   void countFallback(bool by_state);  // FrameStats::order_fallbacks
   // A test's answer: counted, and an occluded box remembered while the batch is undrawn.
-  void decided(const Entry& entry, Visibility v);
+  // `evidence`: the answer came from a read, or is occluded from the records (AutoPolicy::
+  // noteAnswer).
+  void decided(const Entry& entry, Visibility v, bool evidence);
   void finish(const Entry& entry, Visibility v);
   void resolvePending();
   // The node's objects into this batch, counted as drawn (objects, triangles, leaves).
