@@ -26,17 +26,19 @@ std::size_t lookaheadIndex(std::uint32_t k) {
 
 }  // namespace
 
-double expectedTestSeconds(const CullerCosts& costs, const TestOutlook& o) {
-  return costs.box_test_s + o.flushes_per_test * costs.flush_s + o.pixels_per_test * costs.pixel_s;
+double expectedTestSeconds(const CullerCosts& costs, const TestOutlook& o, double rect_pixels) {
+  return costs.box_test_s + o.flushes_per_test * costs.flush_s +
+         o.read_share * rect_pixels * costs.pixel_s;
 }
 
 double drawSeconds(const CullerCosts& costs, const NodeLoad& load) {
   return load.triangles * costs.triangle_s + load.objects * costs.draw_s;
 }
 
-bool testPays(const CullerCosts& costs, const TestOutlook& outlook, const NodeLoad& load) {
+bool testPays(const CullerCosts& costs, const TestOutlook& outlook, const NodeLoad& load,
+              double rect_pixels) {
   const double p = std::max(kMinOccludedFraction, std::min(1.0, outlook.occluded_fraction));
-  return p * drawSeconds(costs, load) >= expectedTestSeconds(costs, outlook);
+  return p * drawSeconds(costs, load) >= expectedTestSeconds(costs, outlook, rect_pixels);
 }
 
 AutoPolicy::AutoPolicy() {
@@ -46,10 +48,10 @@ AutoPolicy::AutoPolicy() {
   current_.lookahead = 16;
   current_.temporal_coherence = false;
   frame_ = current_;
-  // Before any frame: a test is taken to flush once per batch of K boxes, read a tile
-  // and find a box hidden one time in four.
+  // Before any frame: a test is taken to flush once per batch of K boxes, read its whole
+  // rectangle and find a box hidden one time in four.
   outlook_.flushes_per_test = 1.0 / current_.lookahead;
-  outlook_.pixels_per_test = 1024;
+  outlook_.read_share = 1;
   outlook_.occluded_fraction = 0.25;
 }
 
@@ -91,23 +93,22 @@ FrameSetting AutoPolicy::beginFrame(const Hierarchy& hierarchy) {
 }
 
 void AutoPolicy::endFrame(const FrameStats& stats, const CullerCosts& costs) {
+  const double w = outlook_seen_ ? kOutlookRate : 1.0;
   if (stats.boxes_tested > 0) {
-    const double n = double(stats.boxes_tested);
-    const TestOutlook now{double(stats.flushes) / n, double(stats.pixels_read) / n,
-                          double(stats.boxes_occluded) / n};
-    const double w = outlook_seen_ ? kOutlookRate : 1.0;
-    outlook_.flushes_per_test += w * (now.flushes_per_test - outlook_.flushes_per_test);
-    outlook_.pixels_per_test += w * (now.pixels_per_test - outlook_.pixels_per_test);
-    if (!answers_reported_) {
-      outlook_.occluded_fraction += w * (now.occluded_fraction - outlook_.occluded_fraction);
+    const double flushes = double(stats.flushes) / double(stats.boxes_tested);
+    outlook_.flushes_per_test += w * (flushes - outlook_.flushes_per_test);
+    if (rect_pixels_ > 0) {
+      const double share = double(stats.pixels_read) / rect_pixels_;
+      outlook_.read_share += w * (share - outlook_.read_share);
     }
     outlook_seen_ = true;
   }
-  if (answered_ > 0) {
-    const double now = double(hidden_) / double(answered_);
-    outlook_.occluded_fraction += kOutlookRate * (now - outlook_.occluded_fraction);
+  if (evidence_ > 0) {
+    const double occluded = double(hidden_) / double(evidence_);
+    outlook_.occluded_fraction += kOutlookRate * (occluded - outlook_.occluded_fraction);
   }
-  answered_ = hidden_ = 0;
+  rect_pixels_ = 0;
+  evidence_ = hidden_ = 0;
   if (stats.triangles_drawn > 0 && stats.seconds > 0) {
     const double rest = stats.seconds - double(stats.flushes) * costs.flush_s -
                         double(stats.pixels_read) * costs.pixel_s -
@@ -145,9 +146,10 @@ void AutoPolicy::endFrame(const FrameStats& stats, const CullerCosts& costs) {
   }
 }
 
-void AutoPolicy::noteAnswer(bool occluded) {
-  answers_reported_ = true;
-  ++answered_;
+void AutoPolicy::noteAnswer(double rect_pixels, bool occluded, bool evidence) {
+  rect_pixels_ += rect_pixels;
+  if (!evidence) return;
+  ++evidence_;
   hidden_ += occluded;
 }
 
@@ -156,12 +158,16 @@ NodeLoad AutoPolicy::load(NodeId node) const {
   return it == loads_.end() ? NodeLoad{} : it->second;
 }
 
-bool AutoPolicy::worthTesting(NodeId node, const CullerCosts& costs) const {
+bool AutoPolicy::worthTesting(NodeId node, double rect_pixels, const CullerCosts& costs) const {
+  // Before a frame has shown what tests and triangles cost here (the prior's triangle is
+  // far cheaper than a scene's: the first frame would draw most leaves untested), and for
+  // a node of unknown load: test, as every exact method would.
+  if (!outlook_seen_) return true;
   const auto it = loads_.find(node);
-  if (it == loads_.end()) return true;  // unknown: test, as every exact method would
+  if (it == loads_.end()) return true;
   CullerCosts c = costs;
   c.triangle_s = std::max(c.triangle_s, observed_triangle_s_);
-  return testPays(c, outlook_, it->second);
+  return testPays(c, outlook_, it->second, rect_pixels);
 }
 
 void AutoPolicy::loadSubtrees(const Hierarchy& h) {

@@ -4,8 +4,10 @@
 // Per node: the reasonability test of near-optimal hierarchical culling (Guthe, Balázs,
 // Klein 2006, §4.1) applied to grid tests: a test pays only if the drawing it is expected
 // to save, P(occluded) x the seconds to draw the node's subtree, exceeds what the test is
-// expected to cost. A node whose test does not pay is treated as visible without a test
-// (drawn, or opened and its children considered): always conservative.
+// expected to cost (its share of a flush, and the pixels a test of its rectangle's size
+// reads). A node whose test does not pay is treated as visible without a test (drawn, or
+// opened and its children considered): always conservative. Until a frame has shown what
+// tests and drawing cost here, every node is tested, as the fixed methods do.
 //
 // Per frame: the exact setting (grid method, lookahead K, temporal coherence) is kept
 // while it models cheapest; one frame in a probe period tries one neighbouring setting
@@ -32,8 +34,8 @@ namespace logrid::detail {
 // What the culler has seen its tests do over the recent frames.
 struct TestOutlook {
   double flushes_per_test = 1;   // renderer waits per box tested
-  double pixels_per_test = 0;    // depth pixels read per box tested
-  double occluded_fraction = 0;  // share of the tests that answered occluded
+  double read_share = 1;         // depth pixels read per pixel of the tested rectangles
+  double occluded_fraction = 0;  // share of the answers that were evidence and occluded
 };
 
 // What drawing a node's subtree untested would draw.
@@ -46,11 +48,14 @@ struct NodeLoad {
 // where nothing was hidden lately and testing comes back where it pays again.
 inline constexpr double kMinOccludedFraction = 0.02;
 
-double expectedTestSeconds(const CullerCosts& costs, const TestOutlook& outlook);
+// A test of a box whose rectangle on screen covers `rect_pixels`.
+double expectedTestSeconds(const CullerCosts& costs, const TestOutlook& outlook,
+                           double rect_pixels);
 double drawSeconds(const CullerCosts& costs, const NodeLoad& load);
 // The reasonability test: true when testing the node is expected to cost less than the
 // drawing it may save.
-bool testPays(const CullerCosts& costs, const TestOutlook& outlook, const NodeLoad& load);
+bool testPays(const CullerCosts& costs, const TestOutlook& outlook, const NodeLoad& load,
+              double rect_pixels);
 
 class AutoPolicy {
  public:
@@ -66,16 +71,16 @@ class AutoPolicy {
 
   // The setting of the next frame (a probe once per probePeriod() frames).
   FrameSetting beginFrame(const Hierarchy& hierarchy);
-  // Is testing `node` expected to pay (its subtree's load from the hierarchy of the
-  // last beginFrame)?
-  bool worthTesting(NodeId node, const CullerCosts& costs) const;
-  // One test's answer, where it is evidence about what testing saves: an answer from a
-  // read, or occluded from what the grid recorded. A box found visible on tiles nothing
-  // was drawn on yet (the large nodes near the root, before anything in front of them
-  // is drawn) is left out: such answers cost nothing and would drag P(occluded) down
-  // until the per-node test refused every smaller node. Once the culler reports answers,
-  // they, not FrameStats::boxes_occluded, make the outlook's occluded fraction.
-  void noteAnswer(bool occluded);
+  // Is testing `node`, whose rectangle covers `rect_pixels`, expected to pay (its
+  // subtree's load from the hierarchy of the last beginFrame)?
+  bool worthTesting(NodeId node, double rect_pixels, const CullerCosts& costs) const;
+  // One test's answer. `evidence`: it says something about what testing saves (an answer
+  // from a read, or occluded from what the grid recorded). A box found visible on tiles
+  // nothing was drawn on yet (the large nodes near the root, before anything in front of
+  // them is drawn) is not: such answers cost nothing and would drag P(occluded) down
+  // until the per-node test refused every smaller node. Every answer's rectangle counts
+  // toward the read share.
+  void noteAnswer(double rect_pixels, bool occluded, bool evidence);
   // What the frame did, with the costs as now estimated.
   void endFrame(const FrameStats& stats, const CullerCosts& costs);
 
@@ -104,8 +109,9 @@ class AutoPolicy {
   bool have_base_ = false;
   double base_seconds_ = 0;  // the last non-probe frame, modelled
   TestOutlook outlook_;
-  bool answers_reported_ = false;
-  std::uint64_t answered_ = 0, hidden_ = 0;  // this frame's noteAnswer()s
+  // This frame's noteAnswer()s.
+  double rect_pixels_ = 0;
+  std::uint64_t evidence_ = 0, hidden_ = 0;
   bool outlook_seen_ = false;
   double observed_triangle_s_ = 0;
   // Subtree loads, for which hierarchy.

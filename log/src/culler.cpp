@@ -549,7 +549,9 @@ bool Culler::traverse() {
       ++stats_.nodes_visited;
       Visibility v = Visibility::Visible;
       bool must_test = !forced(entry, v);
-      if (must_test && auto_ && !auto_->worthTesting(entry.node, estimate_.costs())) {
+      if (must_test && auto_ &&
+          !auto_->worthTesting(entry.node, double(entry.projection.rect.area()),
+                               estimate_.costs())) {
         // Drawing it (or opening it) is expected to cost less than testing it: visible,
         // untested (NOHC §4.1's reasonability test; always conservative).
         ++stats_.boxes_untested;
@@ -689,7 +691,9 @@ void Culler::countFallback(bool by_state) {
 }
 
 void Culler::decided(const Entry& entry, Visibility v, bool evidence) {
-  if (auto_ && evidence) auto_->noteAnswer(v == Visibility::Occluded);
+  if (auto_) {
+    auto_->noteAnswer(double(entry.projection.rect.area()), v == Visibility::Occluded, evidence);
+  }
   if (v == Visibility::Occluded) {
     ++stats_.boxes_occluded;
     // Decided before the batch handed out is drawn: a depth clear while it is drawn

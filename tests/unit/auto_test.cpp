@@ -37,38 +37,47 @@ CullerCosts scripted() {
 }
 
 TEST(AutoNodeDecision, AFlushForASmallObjectDoesNotPay) {
-  // One flush per test, p = 0.5: the test costs ~102.5 µs; a 500-triangle object draws
-  // in 12 µs: saving at most 6 µs. Drawn untested.
-  const TestOutlook flushing{1.0, 1024, 0.5};
-  EXPECT_FALSE(testPays(scripted(), flushing, NodeLoad{500, 1}));
+  // One flush per test, p = 0.5: the test of a 32x32 rectangle costs ~102.5 µs; a
+  // 500-triangle object draws in 12 µs: saving at most 6 µs. Drawn untested.
+  const TestOutlook flushing{1.0, 1.0, 0.5};
+  EXPECT_FALSE(testPays(scripted(), flushing, NodeLoad{500, 1}, 1024));
   // A 100k-triangle subtree draws in ~2 ms: half of it saved pays for the flush.
-  EXPECT_TRUE(testPays(scripted(), flushing, NodeLoad{100000, 50}));
+  EXPECT_TRUE(testPays(scripted(), flushing, NodeLoad{100000, 50}, 1024));
 }
 
 TEST(AutoNodeDecision, BatchedReadsMakeSmallTestsPay) {
   // The same object with one flush per 64 tests: ~4.1 µs a test against 6 µs saved.
-  const TestOutlook batched{1.0 / 64, 1024, 0.5};
-  EXPECT_TRUE(testPays(scripted(), batched, NodeLoad{500, 1}));
+  const TestOutlook batched{1.0 / 64, 1.0, 0.5};
+  EXPECT_TRUE(testPays(scripted(), batched, NodeLoad{500, 1}, 1024));
+}
+
+TEST(AutoNodeDecision, ATestCostsThePixelsOfItsRectangle) {
+  // Reads batched, a quarter of the tested rectangles read: a 32x32 box's test costs
+  // ~2.6 µs and pays for a 400-triangle object (p = 0.5: 5 µs saved); the same object
+  // behind a 320x240 rectangle (a large box near the camera) would read ~19,200 pixels,
+  // ~40 µs: drawn untested. One average "pixels per test" would refuse the small box's
+  // test wherever large boxes are tested too (at 1280x960 every rectangle is 4x larger).
+  const TestOutlook quarter{1.0 / 64, 0.25, 0.5};
+  EXPECT_TRUE(testPays(scripted(), quarter, NodeLoad{400, 1}, 32 * 32));
+  EXPECT_FALSE(testPays(scripted(), quarter, NodeLoad{400, 1}, 320 * 240));
 }
 
 TEST(AutoNodeDecision, TestingSwitchesOffWhereNothingIsHiddenButNotForLargeSubtrees) {
   // Nothing was found occluded lately: p is held at kMinOccludedFraction, so a small
   // leaf is drawn untested while the root of a large scene is still tested, which is
   // how testing comes back where occlusion appears.
-  const TestOutlook nothing_hidden{1.0 / 16, 1024, 0.0};
-  EXPECT_FALSE(testPays(scripted(), nothing_hidden, NodeLoad{2000, 1}));
-  EXPECT_TRUE(testPays(scripted(), nothing_hidden, NodeLoad{1.5e6, 5000}));
+  const TestOutlook nothing_hidden{1.0 / 16, 1.0, 0.0};
+  EXPECT_FALSE(testPays(scripted(), nothing_hidden, NodeLoad{2000, 1}, 1024));
+  EXPECT_TRUE(testPays(scripted(), nothing_hidden, NodeLoad{1.5e6, 5000}, 1024));
   // The boundary: p x draw == test cost pays (>=), one triangle fewer does not.
   const CullerCosts c = scripted();
-  const double test = detail::expectedTestSeconds(c, nothing_hidden);
+  const double test = detail::expectedTestSeconds(c, nothing_hidden, 1024);
   const double objects = 1;
   const double triangles =
       (test / detail::kMinOccludedFraction - objects * c.draw_s) / c.triangle_s;
-  EXPECT_TRUE(testPays(c, nothing_hidden, NodeLoad{std::ceil(triangles), objects}));
-  EXPECT_FALSE(testPays(c, nothing_hidden, NodeLoad{std::floor(triangles) - 1, objects}));
+  EXPECT_TRUE(testPays(c, nothing_hidden, NodeLoad{std::ceil(triangles), objects}, 1024));
+  EXPECT_FALSE(testPays(c, nothing_hidden, NodeLoad{std::floor(triangles) - 1, objects}, 1024));
 }
-
-// ---- The per-frame choice ----
 
 // A hierarchy of one leaf: enough for AutoPolicy::beginFrame.
 class OneLeaf : public Hierarchy {
@@ -81,6 +90,34 @@ class OneLeaf : public Hierarchy {
   ObjectId object(NodeId, std::uint32_t) const override { return 0; }
   std::uint32_t objectTriangles(ObjectId) const override { return 300; }
 };
+
+TEST(AutoNodeDecision, EveryNodeIsTestedUntilAFrameHasShownTheCosts) {
+  // The prior alone would refuse the test of a 300-triangle leaf behind a full-screen
+  // rectangle; before any frame auto tests it, as the fixed methods would.
+  const CullerCosts c = scripted();
+  OneLeaf h;
+  AutoPolicy policy;
+  policy.beginFrame(h);
+  EXPECT_TRUE(policy.worthTesting(h.root(), 640 * 480, c));
+  // A frame that flushed for its one test, read the whole rectangle and found nothing
+  // hidden: the leaf draws in ~2.3 ms (its triangles took what the test did not), so at
+  // p = 0.175 a test pays up to ~0.4 ms: the full-screen one (~0.7 ms) does not, an 8x8
+  // one (one flush, ~0.1 ms) does.
+  FrameStats f;
+  f.boxes_tested = 1;
+  f.flushes = 1;
+  f.pixels_read = 640 * 480;
+  f.objects_drawn = 1;
+  f.triangles_drawn = 300;
+  f.seconds = 0.003;
+  policy.noteAnswer(640 * 480, false, true);
+  policy.endFrame(f, c);
+  policy.beginFrame(h);
+  EXPECT_FALSE(policy.worthTesting(h.root(), 640 * 480, c));
+  EXPECT_TRUE(policy.worthTesting(h.root(), 8 * 8, c));
+}
+
+// ---- The per-frame choice ----
 
 // What a frame at `s` does in a scripted scene: flushes fall with K (one per K of 1024
 // boxes tested), triangles drawn grow with K (late knowledge), coherence halves the
@@ -216,7 +253,8 @@ TEST(AutoFrameChoice, FreeVisibleAnswersDoNotDragTheOccludedFractionDown) {
   f.flushes = 10;
   for (int frame = 0; frame < 30; ++frame) {
     policy.beginFrame(h);
-    for (int i = 0; i < 10; ++i) policy.noteAnswer(i % 2 == 0);
+    for (int i = 0; i < 10; ++i) policy.noteAnswer(1024, i % 2 == 0, true);
+    for (int i = 0; i < 990; ++i) policy.noteAnswer(1024, false, false);
     policy.endFrame(f, c);
   }
   EXPECT_NEAR(policy.outlook().occluded_fraction, 0.5, 0.01);

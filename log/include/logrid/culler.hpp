@@ -338,8 +338,8 @@ class Culler {
   float thresholdFor(const Entry& entry, bool& by_state) const;
   void countFallback(bool by_state);  // FrameStats::order_fallbacks
   // A test's answer: counted, and an occluded box remembered while the batch is undrawn.
-  // `evidence`: the answer came from a read, or is occluded from the records (AutoPolicy::
-  // noteAnswer).
+  // `evidence`: the answer came from a read, or is occluded from the records (what auto
+  // learns P(occluded) from).
   void decided(const Entry& entry, Visibility v, bool evidence);
   void finish(const Entry& entry, Visibility v);
   void resolvePending();
