@@ -119,22 +119,26 @@ void AutoPolicy::endFrame(const FrameStats& stats, const CullerCosts& costs) {
                                ? observed_triangle_s_ + kOutlookRate * (now - observed_triangle_s_)
                                : now;
   }
+  // Frames are compared by their counts under one set of costs, the latest: a frame is
+  // not judged by costs that its own time (a probe's first coherent frame, a hitch) has
+  // just moved while the frame it is compared with was judged by the older ones.
   const double seconds = modelledSeconds(costs, stats);
   if (!frame_.probe) {
-    base_seconds_ = seconds;
+    base_frame_ = stats;
     have_base_ = true;
+    const double settled = modelledSeconds(costs, settled_frame_);
     if (probe_period_ > kProbePeriod &&
-        (seconds > kSceneChange * settled_seconds_ || seconds * kSceneChange < settled_seconds_)) {
+        (seconds > kSceneChange * settled || seconds * kSceneChange < settled)) {
       probe_period_ = kProbePeriod;  // the scene changed since the setting settled
       lost_probes_ = 0;
     }
     return;
   }
-  if (seconds < (1.0 - kSwitchMargin) * base_seconds_) {
+  if (seconds < (1.0 - kSwitchMargin) * modelledSeconds(costs, base_frame_)) {
     current_ = frame_;
     current_.probe = false;
     next_neighbour_ = 0;
-    base_seconds_ = seconds;
+    base_frame_ = stats;
     probe_period_ = kProbePeriod;
     lost_probes_ = 0;
     return;
@@ -142,7 +146,7 @@ void AutoPolicy::endFrame(const FrameStats& stats, const CullerCosts& costs) {
   if (++lost_probes_ == kNeighbours) {  // every neighbour lost in turn
     probe_period_ = std::min(kMaxProbePeriod, 2 * probe_period_);
     lost_probes_ = 0;
-    settled_seconds_ = base_seconds_;
+    settled_frame_ = base_frame_;
   }
 }
 

@@ -46,7 +46,7 @@ struct NodeLoad {
 
 // The least occlusion probability a test is granted, so that large subtrees stay tested
 // where nothing was hidden lately and testing comes back where it pays again.
-inline constexpr double kMinOccludedFraction = 0.02;
+inline constexpr double kMinOccludedFraction = 0.005;
 
 // A test of a box whose rectangle on screen covers `rect_pixels`.
 double expectedTestSeconds(const CullerCosts& costs, const TestOutlook& outlook,
@@ -104,10 +104,10 @@ class AutoPolicy {
   std::uint32_t since_probe_ = 0;  // frames since the last probe (or the first frame)
   std::uint32_t probe_period_ = kProbePeriod;
   std::uint32_t lost_probes_ = 0;  // in a row
-  double settled_seconds_ = 0;     // modelled, when the period last doubled
+  FrameStats settled_frame_;       // the base frame when the period last doubled
   std::uint32_t next_neighbour_ = 0;
   bool have_base_ = false;
-  double base_seconds_ = 0;  // the last non-probe frame, modelled
+  FrameStats base_frame_;  // the last non-probe frame (or the adopted probe)
   TestOutlook outlook_;
   // This frame's noteAnswer()s.
   double rect_pixels_ = 0;

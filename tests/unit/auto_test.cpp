@@ -194,6 +194,37 @@ TEST(AutoFrameChoice, AdoptsACheaperNeighbourAndSettles) {
   EXPECT_LE(changes, 5u);
 }
 
+TEST(AutoFrameChoice, AProbeIsJudgedUnderTheSameCostsAsTheFrameBeforeIt) {
+  // Flushes (1 ms) and triangles (1 µs) dear while the base frames run (K = 16: ~212 ms
+  // modelled); the probe (K = 64: fewer flushes, more triangles) then moves the estimate
+  // so that flushes are cheap. Under the new costs the probe (~164 ms) is dearer than
+  // the base frame (~116 ms) and must not be adopted, though it models far cheaper than
+  // the base frame did under the old costs.
+  CullerCosts dear_flush = scripted();
+  dear_flush.flush_s = 1e-3;
+  dear_flush.triangle_s = 1e-6;
+  CullerCosts dear_triangle = dear_flush;
+  dear_triangle.flush_s = 1e-6;
+  OneLeaf h;
+  AutoPolicy policy;
+  const FrameSetting start = policy.current();
+  for (int frame = 0; frame < 64; ++frame) {
+    const FrameSetting s = policy.beginFrame(h);
+    if (!s.probe) {
+      policy.endFrame(scriptedFrame(s, 1000.0), dear_flush);
+      continue;
+    }
+    const FrameStats probe = scriptedFrame(s, 1000.0);
+    const FrameStats base = scriptedFrame(start, 1000.0);
+    ASSERT_GT(probe.triangles_drawn, base.triangles_drawn);
+    policy.endFrame(probe, dear_triangle);
+    EXPECT_EQ(policy.current().lookahead, start.lookahead) << "probe at K " << s.lookahead;
+    EXPECT_EQ(policy.current().temporal_coherence, start.temporal_coherence);
+    EXPECT_EQ(policy.current().method, start.method);
+    break;
+  }
+}
+
 TEST(AutoFrameChoice, LessBatchingWhereLateKnowledgeDrawsTooMuch) {
   const CullerCosts c = scripted();
   OneLeaf h;
