@@ -121,28 +121,50 @@ void AutoPolicy::endFrame(const FrameStats& stats, const CullerCosts& costs) {
   }
   // Frames are compared by their counts under one set of costs, the latest: a frame is
   // not judged by costs that its own time (a probe's first coherent frame, a hitch) has
-  // just moved while the frame it is compared with was judged by the older ones.
-  const double seconds = modelledSeconds(costs, stats);
-  if (!frame_.probe) {
-    base_frame_ = stats;
-    have_base_ = true;
-    const double settled = modelledSeconds(costs, settled_frame_);
-    if (probe_period_ > kProbePeriod &&
-        (seconds > kSceneChange * settled || seconds * kSceneChange < settled)) {
-      probe_period_ = kProbePeriod;  // the scene changed since the setting settled
-      lost_probes_ = 0;
+  // just moved while the frame it is compared with was judged by the older ones. (Not
+  // with effective()'s triangle cost: what it adds, the frame's fixed cost spread over
+  // its triangles, would charge coherence on the city for triangles it does not pay.)
+  const CullerCosts& c = costs;
+  const double seconds = modelledSeconds(c, stats);
+  if (frame_.probe) {
+    // A candidate if it models cheaper than the frame before it; adopted only if it is
+    // also cheaper than the frame after it (the current setting again). On frames far
+    // apart the view changes more than settings differ, and one comparison would adopt a
+    // probe for falling on a cheaper view.
+    if (seconds < (1.0 - kSwitchMargin) * modelledSeconds(c, base_frame_)) {
+      candidate_ = frame_;
+      candidate_->probe = false;
+      candidate_frame_ = stats;
+    } else {
+      probeLost();
     }
     return;
   }
-  if (seconds < (1.0 - kSwitchMargin) * modelledSeconds(costs, base_frame_)) {
-    current_ = frame_;
-    current_.probe = false;
-    next_neighbour_ = 0;
-    base_frame_ = stats;
-    probe_period_ = kProbePeriod;
-    lost_probes_ = 0;
-    return;
+  if (candidate_) {
+    const bool wins = modelledSeconds(c, candidate_frame_) < (1.0 - kSwitchMargin) * seconds;
+    const FrameSetting candidate = *candidate_;
+    candidate_.reset();
+    if (wins) {
+      current_ = candidate;
+      next_neighbour_ = 0;
+      base_frame_ = candidate_frame_;
+      probe_period_ = kProbePeriod;
+      lost_probes_ = 0;
+      return;
+    }
+    probeLost();
   }
+  base_frame_ = stats;
+  have_base_ = true;
+  const double settled = modelledSeconds(c, settled_frame_);
+  if (probe_period_ > kProbePeriod &&
+      (seconds > kSceneChange * settled || seconds * kSceneChange < settled)) {
+    probe_period_ = kProbePeriod;  // the scene changed since the setting settled
+    lost_probes_ = 0;
+  }
+}
+
+void AutoPolicy::probeLost() {
   if (++lost_probes_ == kNeighbours) {  // every neighbour lost in turn
     probe_period_ = std::min(kMaxProbePeriod, 2 * probe_period_);
     lost_probes_ = 0;
@@ -169,9 +191,13 @@ bool AutoPolicy::worthTesting(NodeId node, double rect_pixels, const CullerCosts
   if (!outlook_seen_) return true;
   const auto it = loads_.find(node);
   if (it == loads_.end()) return true;
+  return testPays(effective(costs), outlook_, it->second, rect_pixels);
+}
+
+CullerCosts AutoPolicy::effective(const CullerCosts& costs) const {
   CullerCosts c = costs;
   c.triangle_s = std::max(c.triangle_s, observed_triangle_s_);
-  return testPays(c, outlook_, it->second, rect_pixels);
+  return c;
 }
 
 void AutoPolicy::loadSubtrees(const Hierarchy& h) {

@@ -12,15 +12,17 @@
 // Per frame: the exact setting (grid method, lookahead K, temporal coherence) is kept
 // while it models cheapest; one frame in a probe period tries one neighbouring setting
 // (K x4 or /4, coherence flipped, the other grid variant), and the neighbour is adopted
-// when its frame models at least kSwitchMargin cheaper than the frame before it (the
-// hysteresis that keeps settings from flickering). The period starts at kProbePeriod and
-// doubles, up to kMaxProbePeriod, each time every neighbour in turn has lost (the setting
-// is a local optimum and a probe is a frame paid for nothing); it starts again at
+// when its frame models at least kSwitchMargin cheaper than the frames before and after
+// it, all three modelled with the latest costs (the hysteresis that keeps settings from
+// flickering, and from following a view that happened to be cheaper). The period starts at
+// kProbePeriod and doubles, up to kMaxProbePeriod, each time every neighbour in turn has lost (the
+// setting is a local optimum and a probe is a frame paid for nothing); it starts again at
 // kProbePeriod when a probe wins or when the frames' modelled time moves by more than
 // kSceneChange from where the period last doubled (the scene changed: look around again).
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
@@ -88,15 +90,17 @@ class AutoPolicy {
   // Seconds per drawn triangle as the frames show it: what is left of a frame's time
   // after its flushes, pixels and tests, over the triangles it drew (0 before a frame
   // that drew any). The per-node test takes the larger of this and the model's
-  // triangle_s: a prior such as NOHC's pixel-sized triangle misses the fragments of a
-  // scene's triangles, and drawing is what a test saves.
+  // triangle_s (effective()): a prior such as NOHC's pixel-sized triangle misses the
+  // fragments of a scene's triangles, and drawing is what a test saves.
   double observedTriangleSeconds() const { return observed_triangle_s_; }
+  CullerCosts effective(const CullerCosts& costs) const;
   const FrameSetting& current() const { return current_; }
   std::uint32_t probePeriod() const { return probe_period_; }
   NodeLoad load(NodeId node) const;
 
  private:
   FrameSetting neighbour(std::uint32_t which) const;
+  void probeLost();
   void loadSubtrees(const Hierarchy& hierarchy);
 
   FrameSetting current_;
@@ -108,6 +112,9 @@ class AutoPolicy {
   std::uint32_t next_neighbour_ = 0;
   bool have_base_ = false;
   FrameStats base_frame_;  // the last non-probe frame (or the adopted probe)
+  // A probe that beat the frame before it, until the frame after it has run.
+  std::optional<FrameSetting> candidate_;
+  FrameStats candidate_frame_;
   TestOutlook outlook_;
   // This frame's noteAnswer()s.
   double rect_pixels_ = 0;

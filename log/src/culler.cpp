@@ -427,7 +427,11 @@ const GridApproximation& Culler::frameApproximation() const {
 }
 
 void Culler::learnFrom(const FrameStats& frame) {
-  estimate_.update(frame);
+  // Not from auto's probes: a setting's first frame can pay once for what later frames
+  // reuse (the city's first coherent frame took 2.5x its neighbours), and the estimate,
+  // moved by that one time, judged the probe that paid it (costs clamped at their
+  // limits: flushes 16x cheaper, triangles 16x dearer).
+  if (!frame.setting.probe) estimate_.update(frame);
   if (auto_) auto_->endFrame(frame, estimate_.costs());
   if (budget_) budget_->endFrame(frame.seconds);
 }
