@@ -124,14 +124,13 @@ void AutoPolicy::endFrame(const FrameStats& stats, const CullerCosts& costs) {
   // just moved while the frame it is compared with was judged by the older ones. (Not
   // with effective()'s triangle cost: what it adds, the frame's fixed cost spread over
   // its triangles, would charge coherence on the city for triangles it does not pay.)
-  const CullerCosts& c = costs;
-  const double seconds = modelledSeconds(c, stats);
+  const double seconds = modelledSeconds(costs, stats);
   if (frame_.probe) {
     // A candidate if it models cheaper than the frame before it; adopted only if it is
     // also cheaper than the frame after it (the current setting again). On frames far
     // apart the view changes more than settings differ, and one comparison would adopt a
     // probe for falling on a cheaper view.
-    if (seconds < (1.0 - kSwitchMargin) * modelledSeconds(c, base_frame_)) {
+    if (seconds < (1.0 - kSwitchMargin) * modelledSeconds(costs, base_frame_)) {
       candidate_ = frame_;
       candidate_->probe = false;
       candidate_frame_ = stats;
@@ -141,7 +140,7 @@ void AutoPolicy::endFrame(const FrameStats& stats, const CullerCosts& costs) {
     return;
   }
   if (candidate_) {
-    const bool wins = modelledSeconds(c, candidate_frame_) < (1.0 - kSwitchMargin) * seconds;
+    const bool wins = modelledSeconds(costs, candidate_frame_) < (1.0 - kSwitchMargin) * seconds;
     const FrameSetting candidate = *candidate_;
     candidate_.reset();
     if (wins) {
@@ -156,7 +155,7 @@ void AutoPolicy::endFrame(const FrameStats& stats, const CullerCosts& costs) {
   }
   base_frame_ = stats;
   have_base_ = true;
-  const double settled = modelledSeconds(c, settled_frame_);
+  const double settled = modelledSeconds(costs, settled_frame_);
   if (probe_period_ > kProbePeriod &&
       (seconds > kSceneChange * settled || seconds * kSceneChange < settled)) {
     probe_period_ = kProbePeriod;  // the scene changed since the setting settled

@@ -14,11 +14,12 @@
 // (K x4 or /4, coherence flipped, the other grid variant), and the neighbour is adopted
 // when its frame models at least kSwitchMargin cheaper than the frames before and after
 // it, all three modelled with the latest costs (the hysteresis that keeps settings from
-// flickering, and from following a view that happened to be cheaper). The period starts at
-// kProbePeriod and doubles, up to kMaxProbePeriod, each time every neighbour in turn has lost (the
-// setting is a local optimum and a probe is a frame paid for nothing); it starts again at
-// kProbePeriod when a probe wins or when the frames' modelled time moves by more than
-// kSceneChange from where the period last doubled (the scene changed: look around again).
+// flickering, and from following a view that happened to be cheaper). The period
+// starts at kProbePeriod and doubles, up to kMaxProbePeriod, each time every neighbour
+// in turn has lost (the setting is a local optimum and a probe is a frame paid for
+// nothing); it starts again at kProbePeriod when a probe wins or when the frames'
+// modelled time moves by more than kSceneChange from where the period last doubled (the
+// scene changed: look around again).
 #pragma once
 
 #include <cstdint>
@@ -47,7 +48,8 @@ struct NodeLoad {
 };
 
 // The least occlusion probability a test is granted, so that large subtrees stay tested
-// where nothing was hidden lately and testing comes back where it pays again.
+// where nothing was hidden lately and testing comes back where it pays again. (At 0.02
+// a leaf's test still paid on the sparse forest, where nothing is hidden.)
 inline constexpr double kMinOccludedFraction = 0.005;
 
 // A test of a box whose rectangle on screen covers `rect_pixels`.
