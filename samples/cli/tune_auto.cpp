@@ -8,8 +8,10 @@
 //   5. box granularity (leaf sizes; the forest's tree parts), one scene each, runs
 //      alternating per repetition.
 // A stage is skipped where it cannot matter (no grid: no tile size; no depth read: no
-// reader). What the scene needed is read off the stages: occlusion tests pay only if a
-// grid setting beats vfc by the margin, batching only if K > 1 beats K = 1, and so on.
+// reader). What the scene needed is read off stage 1: occlusion tests pay only if a
+// grid setting beats vfc by the margin, batching only if K > 1 beats K = 1, coherence
+// only if it beats going without; stage 1 then keeps the fastest setting that uses no
+// part found not needed (pickNeeded), and stage 2 runs only where batching was needed.
 #include "cli/tune_auto.hpp"
 
 #include <nlohmann/json.hpp>
@@ -129,6 +131,54 @@ std::string choiceName(Method m, std::uint32_t k, bool tc) {
   return c.name();
 }
 
+// What the scene needed, from stage 1 (same frames, same tile and reader): occlusion
+// tests, batched reads, temporal coherence, each a verdict (needed, or null where a side
+// had no candidate).
+nlohmann::json neededParts(const Stage& first) {
+  const auto grid = [](const MethodChoice& c) {
+    return c.method && *c.method != Method::Auto && methodInfo(*c.method).grid;
+  };
+  const auto best = [&](const std::function<bool(const MethodChoice&)>& keep) {
+    return fastest(first, keep);
+  };
+  const Candidate* vfc = best([](const MethodChoice& c) { return c.method == Method::Vfc; });
+  const Candidate* any_grid = best(grid);
+  const Candidate* batched =
+      best([&](const MethodChoice& c) { return grid(c) && c.lookahead.value_or(1) > 1; });
+  const Candidate* unbatched =
+      best([&](const MethodChoice& c) { return grid(c) && c.lookahead.value_or(1) == 1; });
+  const Candidate* coherent = best([&](const MethodChoice& c) { return grid(c) && c.coherence; });
+  const Candidate* incoherent =
+      best([&](const MethodChoice& c) { return grid(c) && !c.coherence; });
+  return {verdict("occlusion tests (against frustum culling alone)", any_grid, vfc),
+          verdict("batched reads (lookahead > 1)", batched, unbatched),
+          verdict("temporal coherence", coherent, incoherent)};
+}
+
+// False only where the verdict says not needed.
+bool mayUse(const nlohmann::json& verdict) {
+  return verdict["needed"].is_null() || verdict["needed"].get<bool>();
+}
+
+// Stage 1's choice, modelling only what the scene requires: the fastest candidate that
+// uses no part the verdicts call not needed (auto, which may use every part, only where
+// all are needed). So the configuration never keeps a part its own report calls not
+// needed.
+void pickNeeded(Stage& s, const nlohmann::json& needed) {
+  const bool tests = mayUse(needed[0]), batching = mayUse(needed[1]), coherence = mayUse(needed[2]);
+  const Candidate* chosen = fastest(s, [&](const MethodChoice& c) {
+    if (!c.method || !methodInfo(*c.method).grid) return true;  // frustum culling alone
+    if (!tests) return false;
+    if (*c.method == Method::Auto) return batching && coherence;
+    return (batching || c.lookahead.value_or(1) == 1) && (coherence || !c.coherence);
+  });
+  if (chosen) {
+    s.best = std::size_t(chosen - s.candidates.data());
+  } else {
+    pickBest(s);  // no frustum-culling candidate, and every grid one uses an unneeded part
+  }
+}
+
 Stage methodStage(const WalkOptions& base) {
   Stage s{"1. method, lookahead, coherence", {}, 0};
   s.candidates.push_back({withMethod(base, "vfc")});
@@ -154,11 +204,12 @@ int runTuneAuto(const TuneAutoOptions& o) {
   // 1. Method, lookahead, coherence.
   stages.push_back(methodStage(o.walk));
   runOnScene(scene, stages.back().candidates, o.repeat, label + " methods");
-  pickBest(stages.back());
+  const nlohmann::json needed = neededParts(stages.back());
+  pickNeeded(stages.back(), needed);
   WalkOptions best = stages.back().candidates[stages.back().best].options;
 
-  // 2. Lookahead around the best grid setting's.
-  if (const auto choice = parseMethodChoice(best.method); choice->lookahead) {
+  // 2. Lookahead around the best grid setting's (where batching was needed).
+  if (const auto choice = parseMethodChoice(best.method); choice->lookahead && mayUse(needed[1])) {
     Stage s{"2. lookahead", {{best}}, 0};
     for (std::uint32_t k : {*choice->lookahead / 4, *choice->lookahead * 4}) {
       if (k < 1) continue;
@@ -252,27 +303,7 @@ int runTuneAuto(const TuneAutoOptions& o) {
     report["stages"].push_back(std::move(js));
   }
 
-  // What the scene needed, from stage 1 (same frames, same tile and reader).
-  const Stage& first = stages.front();
-  const auto grid = [](const MethodChoice& c) { return c.method && methodInfo(*c.method).grid; };
-  const Candidate* vfc =
-      fastest(first, [](const MethodChoice& c) { return c.method == Method::Vfc; });
-  const Candidate* any_grid = fastest(first, grid);
-  const Candidate* batched = fastest(first, [&](const MethodChoice& c) {
-    return grid(c) && c.method != Method::Auto && c.lookahead.value_or(1) > 1;
-  });
-  const Candidate* unbatched = fastest(first, [&](const MethodChoice& c) {
-    return grid(c) && c.method != Method::Auto && c.lookahead.value_or(1) == 1;
-  });
-  const Candidate* coherent = fastest(first, [&](const MethodChoice& c) {
-    return grid(c) && c.method != Method::Auto && c.coherence;
-  });
-  const Candidate* incoherent = fastest(first, [&](const MethodChoice& c) {
-    return grid(c) && c.method != Method::Auto && !c.coherence;
-  });
-  report["needed"] = {verdict("occlusion tests (against frustum culling alone)", any_grid, vfc),
-                      verdict("batched reads (lookahead > 1)", batched, unbatched),
-                      verdict("temporal coherence", coherent, incoherent)};
+  report["needed"] = needed;
   std::printf("what %s needed (a part pays when it is %.0f%% faster than going without):\n",
               scene.prepared.name.c_str(), 100 * kPaysMargin);
   for (const nlohmann::json& v : report["needed"]) {

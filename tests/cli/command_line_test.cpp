@@ -134,7 +134,8 @@ TEST(CommandLine, ABadTileListIsAUsageErrorNamingTheItem) {
 }
 
 // tune --auto sweeps in stages, says what the scene needed, and writes a configuration
-// file that walk then runs as written (method, lookahead, coherence, tile, reader).
+// that keeps only those parts and that walk then runs as written (method, lookahead,
+// coherence, tile, reader).
 TEST(CommandLine, TuneAutoWritesAConfigurationThatWalkRuns) {
   LOGRID_REQUIRE_GL();
   const fs::path config = scratch("auto_config.json");
@@ -153,6 +154,14 @@ TEST(CommandLine, TuneAutoWritesAConfigurationThatWalkRuns) {
   EXPECT_EQ(file["format"], "logrid-config");
   EXPECT_TRUE(file["scene"].contains("leaf"));
   const nlohmann::json& c = file["culler"];
+  // It keeps no part its own report calls not needed.
+  const nlohmann::json& needed = report["needed"];
+  const auto notNeeded = [&](std::size_t part) { return needed[part]["needed"] == false; };
+  if (notNeeded(0)) EXPECT_EQ(c["method"], "vfc");
+  if (c["method"] != "vfc") {
+    if (notNeeded(1)) EXPECT_EQ(c["lookahead"], 1);
+    if (notNeeded(2)) EXPECT_EQ(c["temporal_coherence"], false);
+  }
   ASSERT_EQ(runLogrid({"walk", "--scene", "forest", "--scale", "0.02", "--size", "64x48",
                        "--frames", "2", "--config", config.string(), "--json", walk.string()}),
             0);
