@@ -169,6 +169,8 @@ class JsonReader {
       do {
         space();
         std::string key = string();
+        // One meaning per key: readers would otherwise take the first or the last.
+        if (v->find(key)) fail("the key \"" + key + "\" twice in one object");
         expect(':');
         v->members.emplace_back(std::move(key), value(depth + 1));
       } while (eat(','));

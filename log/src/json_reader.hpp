@@ -33,7 +33,7 @@ struct JsonFileKind {
 
 // Parses one JSON value. Throws logrid::Error (ErrorCode::BadInput) for text that is not
 // JSON, naming `origin`, the line, what was wrong, and the kind's remedy. Nesting deeper
-// than 16 is refused.
+// than 16 is refused, and so is a key given twice in one object.
 std::unique_ptr<Json> parseJson(const std::string& text, const std::string& origin,
                                 const JsonFileKind& kind);
 

@@ -445,6 +445,10 @@ TEST(CostsFile, BadFilesAreRefusedWithTheReason) {
   std::string text = good_set;
   text.replace(text.find("2e-9"), 4, "\"fast\"");
   expectBad(file("{\"pbo\": " + text + "}"), "\"pixel_s\" is not a number");
+  // A source given twice (the configuration reader and this one would disagree on which
+  // counts): refused, as every key given twice in one object.
+  expectBad(file("{\"pbo\": " + good_set + ", \"pbo\": " + good_set + "}"),
+            "the key \"pbo\" twice");
 }
 
 TEST(CostsFile, AnUnreadableFileOrAMissingSourceSaysWhat) {

@@ -154,6 +154,9 @@ TEST(ConfigFile, BadFilesAreRefusedWithTheReason) {
   std::string deep;
   for (int i = 0; i < 40; ++i) deep += "[";
   bad(deep, "nested too deeply");
+  bad("{\"format\": \"logrid-config\", \"version\": 1, \"culler\": {\"tile_size\": 8, "
+      "\"tile_size\": 16}}",
+      "the key \"tile_size\" twice");
 }
 
 TEST(ConfigFile, AnUnreadableFileSaysWhichAndHowToMakeOne) {
