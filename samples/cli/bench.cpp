@@ -461,7 +461,10 @@ constexpr const char* kIntro =
     "any frame is timed; "
     "objects the ID pass shows only through fragments nearer than their own box allows "
     "(llvmpipe's depth extrapolation on edge-on sliver triangles, see "
-    "logrid/gl/object_id_oracle.hpp) are counted apart as artifacts.\n";
+    "logrid/gl/object_id_oracle.hpp) are counted apart as artifacts. The counts (objects, "
+    "triangles, pixels read, flushes) are the first repetition's; `auto`, whose culler "
+    "goes on learning across the repetitions, may run other settings in the later "
+    "ones.\n";
 
 // The methods (each with the command's reader), then log-state with each other reader.
 std::vector<Variant> methodVariants(const std::vector<std::string>& methods,
