@@ -95,7 +95,6 @@ class AutoPolicy {
   // triangle_s (effective()): a prior such as NOHC's pixel-sized triangle misses the
   // fragments of a scene's triangles, and drawing is what a test saves.
   double observedTriangleSeconds() const { return observed_triangle_s_; }
-  CullerCosts effective(const CullerCosts& costs) const;
   const FrameSetting& current() const { return current_; }
   std::uint32_t probePeriod() const { return probe_period_; }
   NodeLoad load(NodeId node) const;
@@ -103,6 +102,8 @@ class AutoPolicy {
  private:
   FrameSetting neighbour(std::uint32_t which) const;
   void probeLost();
+  // `costs` with the larger of its and the observed triangle cost (the per-node test's).
+  CullerCosts effective(const CullerCosts& costs) const;
   void loadSubtrees(const Hierarchy& hierarchy);
 
   FrameSetting current_;
