@@ -15,10 +15,10 @@
 
 #include "cli/bench_motion.hpp"
 #include "cli/commands.hpp"
+#include "cli/config_option.hpp"
 #include "cli/experiment.hpp"
 #include "cli/option_checks.hpp"
 #include "cli/plot.hpp"
-#include "cli/config_option.hpp"
 #include "cli/readers.hpp"
 #include "cli/report.hpp"
 #include "cli/tradeoff.hpp"
@@ -101,7 +101,7 @@ struct Row {
   double tiles_per_box = 0;
   double read_share = 0;
   double flushes = 0;
-  double state_queries = 0;    // GL state queries of the sources (the state guard's cost)
+  double state_queries = 0;   // GL state queries of the sources (the state guard's cost)
   double occluders = -1;      // DDO methods: occluders per frame
   double occluder_tiles = 0;  // ddo+log: tiles recorded full from their coverage per frame
   bool box_queries = false;   // a hardware-query method (MethodNeeds::queries)

@@ -8,9 +8,9 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "logrid/grid.hpp"
 #include "logrid/error.hpp"
 #include "logrid/gl/context.hpp"
+#include "logrid/grid.hpp"
 #include "logrid/zread/box_query_source.hpp"
 #include "logrid/zread/calibration.hpp"
 #include "logrid/zread/gl_sources.hpp"

@@ -143,8 +143,8 @@ TEST(CommandLine, TuneAutoWritesAConfigurationThatWalkRuns) {
   const fs::path walk = scratch("auto_walk.json");
   for (const fs::path& p : {config, tune, walk}) fs::remove(p);
   ASSERT_EQ(runLogrid({"tune", "--auto", "--scene", "forest", "--scale", "0.02", "--size", "64x48",
-                       "--frames", "2", "--repeat", "1", "--json", tune.string(),
-                       "--write-config", config.string()}),
+                       "--frames", "2", "--repeat", "1", "--json", tune.string(), "--write-config",
+                       config.string()}),
             0);
   const nlohmann::json report = readJson(tune);
   ASSERT_GE(report["stages"].size(), 2u);  // the methods, then at least the granularity
