@@ -27,31 +27,38 @@ struct PositionHash {
   }
 };
 
-[[noreturn]] void fail(std::size_t object, const std::string& what) {
+Status fail(std::size_t object, const std::string& what) {
   std::ostringstream out;
   out << "OccluderMeshes::addObject: object " << object << ": " << what;
-  throw Error(ErrorCode::InvalidArgument, out.str());
+  return Status(ErrorCode::InvalidArgument, out.str());
 }
 
 }  // namespace
 
-std::uint32_t OccluderMeshes::addObject(const float* positions, std::size_t vertex_count,
-                                        const std::uint32_t* indices, std::size_t index_count,
-                                        const Aabb* box) {
+Result<std::uint32_t> OccluderMeshes::tryAddObject(const float* positions,
+                                                   std::size_t vertex_count,
+                                                   const std::uint32_t* indices,
+                                                   std::size_t index_count, const Aabb* box) {
   const std::size_t id = objects_.size();
   if (index_count % 3 != 0) {
-    fail(id, "index count " + std::to_string(index_count) + " is not a multiple of 3");
+    return fail(id, "index count " + std::to_string(index_count) + " is not a multiple of 3");
   }
   if (triangleCount() + index_count / 3 > std::numeric_limits<std::uint32_t>::max() / 3 ||
       vertexCount() + vertex_count > std::numeric_limits<std::uint32_t>::max()) {
-    fail(id, "the set would hold more than 2^32 / 3 triangles or 2^32 vertices; split it");
+    return fail(id, "the set would hold more than 2^32 / 3 triangles or 2^32 vertices; split it");
   }
   for (std::size_t i = 0; i < index_count; ++i) {
     if (indices[i] >= vertex_count) {
-      fail(id, "index " + std::to_string(i) + " is " + std::to_string(indices[i]) +
-                   ", beyond the " + std::to_string(vertex_count) + " vertices");
+      return fail(id, "index " + std::to_string(i) + " is " + std::to_string(indices[i]) +
+                          ", beyond the " + std::to_string(vertex_count) + " vertices");
     }
   }
+  // A refused object leaves the set as it was: the vertices welded so far go again.
+  const std::size_t vertices_before = vertexCount();
+  const auto refuse = [&](const std::string& what) {
+    positions_.resize(vertices_before * 3);
+    return fail(id, what);
+  };
   OccluderObject o;
   o.first_vertex = std::uint32_t(vertexCount());
   o.first_triangle = std::uint32_t(triangleCount());
@@ -72,7 +79,7 @@ std::uint32_t OccluderMeshes::addObject(const float* positions, std::size_t vert
       std::ostringstream out;
       out << "vertex " << v << " is (" << p[0] << ", " << p[1] << ", " << p[2]
           << "); positions must be finite";
-      fail(id, out.str());
+      return refuse(out.str());
     }
     PositionKey key;
     std::memcpy(key.bits, p, sizeof key.bits);
@@ -93,7 +100,7 @@ std::uint32_t OccluderMeshes::addObject(const float* positions, std::size_t vert
   if (box && o.vertex_count > 0 &&
       (bounds.min.x < box->min.x || bounds.min.y < box->min.y || bounds.min.z < box->min.z ||
        bounds.max.x > box->max.x || bounds.max.y > box->max.y || bounds.max.z > box->max.z)) {
-    fail(id, "a vertex lies outside the box given for the object");
+    return refuse("a vertex lies outside the box given for the object");
   }
 
   // Edges shared by two or more triangles of this object form a ring through every use.
@@ -186,17 +193,18 @@ void OccluderMeshes::markClosedSurfaces(std::size_t t0, std::size_t t1) {
   }
 }
 
-void OccluderMeshes::setInsideSolid(std::uint32_t id, std::uint32_t fallback) {
+Status OccluderMeshes::trySetInsideSolid(std::uint32_t id, std::uint32_t fallback) {
   if (id >= objects_.size() || (fallback != kNoOccluder && fallback >= objects_.size()) ||
       fallback == id) {
     std::ostringstream out;
     out << "OccluderMeshes::setInsideSolid: object " << id << " with fallback " << fallback
         << " is invalid; the set has " << objects_.size()
         << " objects and an object cannot be its own fallback";
-    throw Error(ErrorCode::InvalidArgument, out.str());
+    return Status(ErrorCode::InvalidArgument, out.str());
   }
   objects_[id].inside_solid = true;
   objects_[id].fallback = fallback;
+  return {};
 }
 
 std::size_t OccluderMeshes::memoryBytes() const {

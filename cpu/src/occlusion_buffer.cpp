@@ -203,7 +203,7 @@ struct OcclusionBuffer::Impl {
   void drain();
   void clearBinIfStale(Bin& b, std::int32_t bx, std::int32_t by);
 
-  void begin(const Camera& camera);
+  Status begin(const Camera& camera);
   void draw(std::uint32_t id);
   // Brings every buffer pixel under the viewport rectangle up to date.
   void ensure(const PixelRect& rect);
@@ -238,9 +238,11 @@ struct OcclusionBuffer::Impl {
   std::uint32_t count(const PixelRect& r, float threshold);
 };
 
-void OcclusionBuffer::Impl::begin(const Camera& camera) {
-  drain();                                     // workers leave the buffer alone from here
-  projector.emplace(camera, desc.projection);  // validates the camera
+Status OcclusionBuffer::Impl::begin(const Camera& camera) {
+  drain();  // workers leave the buffer alone from here
+  Result<Projector> checked = Projector::create(camera, desc.projection);  // the camera
+  if (!checked) return checked.status();
+  projector.emplace(std::move(checked).value());
   const Mat4d& m = camera.view_projection;
   for (int i = 0; i < 16; ++i) frame.m[i] = m.m[i];
   const Mat4d render = multiply(camera.view_projection, translation(camera.render_origin));
@@ -314,6 +316,7 @@ void OcclusionBuffer::Impl::begin(const Camera& camera) {
   tri_count = 0;
   frame_triangles = 0;
   in_frame = true;
+  return {};
 }
 
 void OcclusionBuffer::Impl::draw(std::uint32_t id) {
@@ -622,12 +625,16 @@ std::uint32_t OcclusionBuffer::Impl::count(const PixelRect& r, float threshold) 
   return std::uint32_t(n);
 }
 
-OcclusionBuffer::OcclusionBuffer(const OccluderMeshes& meshes, const OcclusionBufferDesc& desc)
-    : desc_(desc) {
-  const std::string problem = validateOcclusionBufferDesc(desc);
-  if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
-  impl_ = std::make_unique<Impl>(meshes, desc);
+Result<std::unique_ptr<OcclusionBuffer>> OcclusionBuffer::create(const OccluderMeshes& meshes,
+                                                                 const OcclusionBufferDesc& desc) {
+  std::string problem = validateOcclusionBufferDesc(desc);
+  if (!problem.empty()) return Status(ErrorCode::InvalidArgument, std::move(problem));
+  return std::unique_ptr<OcclusionBuffer>(new OcclusionBuffer(Checked{}, meshes, desc));
 }
+
+OcclusionBuffer::OcclusionBuffer(Checked, const OccluderMeshes& meshes,
+                                 const OcclusionBufferDesc& desc)
+    : impl_(std::make_unique<Impl>(meshes, desc)), desc_(desc) {}
 
 OcclusionBuffer::~OcclusionBuffer() = default;
 
@@ -635,31 +642,34 @@ Isa OcclusionBuffer::isa() const { return impl_->isa; }
 
 const OcclusionBufferStats& OcclusionBuffer::stats() const { return impl_->stats; }
 
-void OcclusionBuffer::beginFrame(const Camera& camera) {
+Status OcclusionBuffer::beginFrame(const Camera& camera) {
   const auto start = Clock::now();
-  impl_->begin(camera);
+  Status begun = impl_->begin(camera);
   impl_->stats.seconds += secondsSince(start);
+  return begun;
 }
 
-void OcclusionBuffer::endFrame() {
+Status OcclusionBuffer::endFrame() {
   impl_->drain();  // the workers' counts belong to this frame
   impl_->in_frame = false;
+  return {};
 }
 
-void OcclusionBuffer::drawObject(std::uint32_t id) {
+Status OcclusionBuffer::tryDrawObject(std::uint32_t id) {
   if (!impl_->in_frame) {
-    throw Error(ErrorCode::InvalidArgument,
-                "OcclusionBuffer::drawObject: call it between beginFrame() and endFrame()");
+    return Status(ErrorCode::InvalidArgument,
+                  "OcclusionBuffer::drawObject: call it between beginFrame() and endFrame()");
   }
   if (id >= impl_->meshes.objectCount()) {
     std::ostringstream out;
     out << "OcclusionBuffer::drawObject: object " << id << " is not in the occluder meshes ("
         << impl_->meshes.objectCount() << " objects)";
-    throw Error(ErrorCode::InvalidArgument, out.str());
+    return Status(ErrorCode::InvalidArgument, out.str());
   }
   const auto start = Clock::now();
   impl_->draw(id);
   impl_->stats.seconds += secondsSince(start);
+  return {};
 }
 
 void OcclusionBuffer::submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) {

@@ -7,15 +7,26 @@
 
 namespace logrid::cpu {
 
-SoftwareDepthBuffer::SoftwareDepthBuffer(std::uint32_t width, std::uint32_t height,
-                                         DepthConvention convention)
-    : width_(width), height_(height) {
+Status SoftwareDepthBuffer::checkSize(std::uint32_t width, std::uint32_t height) {
   if (width < 1 || height < 1 || width > kMaxViewportSide || height > kMaxViewportSide) {
     std::ostringstream out;
     out << "SoftwareDepthBuffer: size " << width << "x" << height
         << " is out of range; each side must be between 1 and " << kMaxViewportSide;
-    throw Error(ErrorCode::InvalidArgument, out.str());
+    return Status(ErrorCode::InvalidArgument, out.str());
   }
+  return {};
+}
+
+Result<std::unique_ptr<SoftwareDepthBuffer>> SoftwareDepthBuffer::create(
+    std::uint32_t width, std::uint32_t height, DepthConvention convention) {
+  if (Status size = checkSize(width, height); !size) return size;
+  return std::unique_ptr<SoftwareDepthBuffer>(
+      new SoftwareDepthBuffer(Checked{}, width, height, convention));
+}
+
+SoftwareDepthBuffer::SoftwareDepthBuffer(Checked, std::uint32_t width, std::uint32_t height,
+                                         DepthConvention convention)
+    : width_(width), height_(height) {
   encoding_ = {NativeDepth::Float32, convention};
   depth_.resize(std::size_t(width) * height);
   clear();
@@ -38,15 +49,16 @@ void SoftwareDepthBuffer::fillRect(const PixelRect& rect, float depth) {
   }
 }
 
-void SoftwareDepthBuffer::beginFrame(const Camera& camera) {
+Status SoftwareDepthBuffer::beginFrame(const Camera& camera) {
   if (camera.width != width_ || camera.height != height_ ||
       camera.depth.convention != encoding_.convention) {
     std::ostringstream out;
     out << "SoftwareDepthBuffer: the camera is " << camera.width << "x" << camera.height << " "
         << toString(camera.depth.convention) << " but the buffer is " << width_ << "x" << height_
         << " " << toString(encoding_.convention) << "; create the buffer to match the camera";
-    throw Error(ErrorCode::InvalidArgument, out.str());
+    return Status(ErrorCode::InvalidArgument, out.str());
   }
+  return {};
 }
 
 void SoftwareDepthBuffer::fetch(const PixelRect* rects, std::size_t count, const void** data,

@@ -100,7 +100,7 @@ Mat4d multiply(const Mat4d& a, const Mat4d& b) { return toMat4d(toGlm(a) * toGlm
 
 Mat4d translation(const DVec3& t) { return toMat4d(glm::translate(glm::dmat4(1.0), toGlm(t))); }
 
-Mat4d lookAt(const DVec3& eye, const DVec3& target, const DVec3& up) {
+Result<Mat4d> tryLookAt(const DVec3& eye, const DVec3& target, const DVec3& up) {
   // glm::lookAtRH normalises target - eye and cross(direction, up); it returns NaNs where
   // either has no length, so that is checked first.
   const glm::dvec3 e = toGlm(eye), t = toGlm(target), u = toGlm(up);
@@ -109,9 +109,9 @@ Mat4d lookAt(const DVec3& eye, const DVec3& target, const DVec3& up) {
     return length > 0 && std::isfinite(length);
   };
   if (!usable(t - e) || !usable(glm::cross(glm::normalize(t - e), u)) || !usable(u)) {
-    throw Error(ErrorCode::InvalidArgument,
-                "lookAt: eye, target and up must be finite, eye != target, and up not "
-                "parallel to the view direction");
+    return Status(ErrorCode::InvalidArgument,
+                  "lookAt: eye, target and up must be finite, eye != target, and up not "
+                  "parallel to the view direction");
   }
   return toMat4d(glm::lookAtRH(e, t, u));
 }
@@ -130,25 +130,27 @@ NdcDepthRange ndcDepthRange(const DepthSetup& depth) {
                                                        : NdcDepthRange{low, 1.0};
 }
 
-void checkPlanes(const char* fn, double near, double far, bool perspective) {
+Status checkPlanes(const char* fn, double near, double far, bool perspective) {
   const bool near_ok = perspective ? (near > 0 && std::isfinite(near)) : std::isfinite(near);
   if (!near_ok || std::isnan(far) || !(far > near) || (!perspective && std::isinf(far))) {
     std::ostringstream out;
     out << fn << ": near " << near << " and far " << far << " are invalid; need "
         << (perspective ? "0 < near < far (far may be +inf)" : "near < far, both finite");
-    throw Error(ErrorCode::InvalidArgument, out.str());
+    return Status(ErrorCode::InvalidArgument, out.str());
   }
+  return {};
 }
 
 }  // namespace
 
-Mat4d perspective(double fovy, double aspect, double near, double far, const DepthSetup& depth) {
-  checkPlanes("perspective", near, far, true);
+Result<Mat4d> tryPerspective(double fovy, double aspect, double near, double far,
+                             const DepthSetup& depth) {
+  if (Status planes = checkPlanes("perspective", near, far, true); !planes) return planes;
   if (!(fovy > 0 && fovy < M_PI) || !(aspect > 0) || !std::isfinite(aspect)) {
     std::ostringstream out;
     out << "perspective: fovy " << fovy << " rad and aspect " << aspect
         << " are invalid; need 0 < fovy < pi and aspect > 0";
-    throw Error(ErrorCode::InvalidArgument, out.str());
+    return Status(ErrorCode::InvalidArgument, out.str());
   }
   const bool zero_to_one = depth.clip_range == ClipDepthRange::ZeroToOne;
   if (std::isinf(far)) {
@@ -170,13 +172,13 @@ Mat4d perspective(double fovy, double aspect, double near, double far, const Dep
                              : glm::perspectiveRH_NO(fovy, aspect, n, f));
 }
 
-Mat4d orthographic(double left, double right, double bottom, double top, double near, double far,
-                   const DepthSetup& depth) {
-  checkPlanes("orthographic", near, far, false);
+Result<Mat4d> tryOrthographic(double left, double right, double bottom, double top, double near,
+                              double far, const DepthSetup& depth) {
+  if (Status planes = checkPlanes("orthographic", near, far, false); !planes) return planes;
   if (!(right > left) || !(top > bottom) || !std::isfinite(right - left) ||
       !std::isfinite(top - bottom)) {
-    throw Error(ErrorCode::InvalidArgument,
-                "orthographic: need left < right and bottom < top, all finite");
+    return Status(ErrorCode::InvalidArgument,
+                  "orthographic: need left < right and bottom < top, all finite");
   }
   // As in perspective(): reversed depth swaps the planes.
   const bool reversed = depth.convention == DepthConvention::Reversed;

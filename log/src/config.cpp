@@ -18,36 +18,41 @@ using detail::Json;
 constexpr detail::JsonFileKind kConfigFile{
     "configuration file", "write one with `logrid tune --auto --write-config FILE`"};
 
+// Reads the values of a configuration; the first value it cannot read is its error
+// (those after it are left as they were).
 class ConfigReader {
  public:
   explicit ConfigReader(const std::string& origin) : origin_(origin) {}
 
-  [[noreturn]] void bad(const std::string& what) const {
-    throw Error(ErrorCode::BadInput, origin_ + ": " + what);
-  }
+  void bad(const std::string& what) { error_.note(Status(ErrorCode::BadInput, origin_ + ": " + what)); }
+  bool failed() const { return error_.failed(); }
+  Status takeError() { return error_.take(); }
 
-  const Json& object(const Json& parent, const char* key, const char* where) const {
+  // The object `key` of `parent`; an empty one if it is missing or not an object.
+  const Json& object(const Json& parent, const char* key, const char* where) {
+    static const Json kEmpty{Json::Kind::Object, false, 0, {}, {}};
     const Json* v = parent.find(key);
     if (!v || v->kind != Json::Kind::Object) {
       bad(std::string(where) + "\"" + key + "\" is missing or not an object");
+      return kEmpty;
     }
     return *v;
   }
 
-  void flag(const Json& parent, const char* key, bool& out) const {
+  void flag(const Json& parent, const char* key, bool& out) {
     const Json* v = parent.find(key);
     if (!v) return;
-    if (v->kind != Json::Kind::Bool) bad(std::string("\"") + key + "\" is not true or false");
+    if (v->kind != Json::Kind::Bool) return bad(std::string("\"") + key + "\" is not true or false");
     out = v->boolean;
   }
 
-  void count(const Json& parent, const char* key, std::uint32_t& out) const {
+  void count(const Json& parent, const char* key, std::uint32_t& out) {
     const Json* v = parent.find(key);
     if (!v) return;
     constexpr double kMax = std::numeric_limits<std::uint32_t>::max();
     if (v->kind != Json::Kind::Number || !(v->number >= 0 && v->number <= kMax) ||
         std::floor(v->number) != v->number) {
-      bad(std::string("\"") + key + "\" is not a whole number in [0, 4294967295]");
+      return bad(std::string("\"") + key + "\" is not a whole number in [0, 4294967295]");
     }
     out = std::uint32_t(v->number);
   }
@@ -55,7 +60,7 @@ class ConfigReader {
   // Parsed as a float from the number's text (one rounding: formatCullerConfig's shortest
   // text of a float reads back as that float); below a float's range it is that double
   // rounded (0 or a denormal).
-  void fraction(const Json& parent, const char* key, float& out) const {
+  void fraction(const Json& parent, const char* key, float& out) {
     const Json* v = parent.find(key);
     if (!v) return;
     float f = std::numeric_limits<float>::quiet_NaN();
@@ -64,38 +69,41 @@ class ConfigReader {
           std::from_chars(v->text.data(), v->text.data() + v->text.size(), f);
       if (r.ec == std::errc::result_out_of_range) f = float(v->number);
     }
-    if (!(f >= 0 && f <= 1)) bad(std::string("\"") + key + "\" is not a number in [0, 1]");
+    if (!(f >= 0 && f <= 1)) return bad(std::string("\"") + key + "\" is not a number in [0, 1]");
     out = f;
   }
 
-  void lookahead(const Json& parent, std::uint32_t& out) const {
+  void lookahead(const Json& parent, std::uint32_t& out) {
     const Json* v = parent.find("lookahead");
     if (v && v->kind == Json::Kind::String) {
-      if (v->text != "all") bad("\"lookahead\" is \"" + v->text + "\"; use a count or \"all\"");
+      if (v->text != "all") return bad("\"lookahead\" is \"" + v->text + "\"; use a count or \"all\"");
       out = kUnlimitedLookahead;
       return;
     }
     count(parent, "lookahead", out);
   }
 
-  void method(const Json& parent, Method& out) const {
+  void method(const Json& parent, Method& out) {
     const Json* v = parent.find("method");
     if (!v) return;
-    if (v->kind != Json::Kind::String) bad("\"method\" is not a method's name");
+    if (v->kind != Json::Kind::String) return bad("\"method\" is not a method's name");
     const std::optional<Method> m = parseMethod(v->text);
-    if (!m) bad("method \"" + v->text + "\" is unknown; use " + methodNames());
+    if (!m) return bad("method \"" + v->text + "\" is unknown; use " + methodNames());
     out = *m;
   }
 
  private:
   const std::string& origin_;
+  FirstError error_;
 };
 
 }  // namespace
 
-CullerConfig parseCullerConfig(const std::string& text, const std::string& origin) {
-  const std::unique_ptr<Json> doc = detail::parseJson(text, origin, kConfigFile);
-  const ConfigReader r(origin);
+Result<CullerConfig> tryParseCullerConfig(const std::string& text, const std::string& origin) {
+  Result<std::unique_ptr<Json>> parsed = detail::parseJson(text, origin, kConfigFile);
+  if (!parsed) return parsed.status();
+  const Json* doc = parsed->get();
+  ConfigReader r(origin);
   if (doc->kind != Json::Kind::Object) r.bad("a configuration file is one JSON object");
   const Json* format = doc->find("format");
   if (!format || format->kind != Json::Kind::String || format->text != "logrid-config") {
@@ -105,6 +113,7 @@ CullerConfig parseCullerConfig(const std::string& text, const std::string& origi
   if (!version || version->kind != Json::Kind::Number || version->number != 1) {
     r.bad("\"version\" is not 1, the only version this logrid reads");
   }
+  if (r.failed()) return r.takeError();
   CullerConfig config;
   if (const Json* source = doc->find("source")) {
     if (source->kind != Json::Kind::String) r.bad("\"source\" is not a depth source's name");
@@ -123,13 +132,17 @@ CullerConfig parseCullerConfig(const std::string& text, const std::string& origi
     r.fraction(a, "full_free_fraction", d.approximation.full_free_fraction);
     r.count(a, "row_stride", d.approximation.row_stride);
   }
+  if (r.failed()) return r.takeError();
   const std::string problem = validateCullerDesc(d);
   if (!problem.empty()) r.bad(problem);
+  if (r.failed()) return r.takeError();
   return config;
 }
 
-CullerConfig loadCullerConfig(const std::string& path) {
-  return parseCullerConfig(detail::readTextFile(path, kConfigFile), path);
+Result<CullerConfig> tryLoadCullerConfig(const std::string& path) {
+  Result<std::string> text = detail::readTextFile(path, kConfigFile);
+  if (!text) return text.status();
+  return tryParseCullerConfig(*text, path);
 }
 
 std::string formatCullerConfig(const CullerConfig& config) {

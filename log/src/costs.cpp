@@ -30,8 +30,8 @@ constexpr CostField kFields[] = {
     {"draw_s", &CullerCosts::draw_s},         {"query_s", &CullerCosts::query_s},
 };
 
-[[noreturn]] void bad(const std::string& origin, const std::string& what) {
-  throw Error(ErrorCode::BadInput, origin + ": " + what);
+Status bad(const std::string& origin, const std::string& what) {
+  return Status(ErrorCode::BadInput, origin + ": " + what);
 }
 
 }  // namespace
@@ -49,18 +49,20 @@ std::string validateCullerCosts(const CullerCosts& costs) {
   return {};
 }
 
-CullerCostsFile parseCullerCosts(const std::string& text, const std::string& origin) {
-  const std::unique_ptr<Json> doc = detail::parseJson(text, origin, kCostsFile);
-  if (doc->kind != Json::Kind::Object) bad(origin, "a costs file is one JSON object");
+Result<CullerCostsFile> tryParseCullerCosts(const std::string& text, const std::string& origin) {
+  Result<std::unique_ptr<Json>> parsed = detail::parseJson(text, origin, kCostsFile);
+  if (!parsed) return parsed.status();
+  const Json* doc = parsed->get();
+  if (doc->kind != Json::Kind::Object) return bad(origin, "a costs file is one JSON object");
   const Json* format = doc->find("format");
   if (!format || format->kind != Json::Kind::String || format->text != "logrid-costs") {
-    bad(origin,
-        "\"format\" is not \"logrid-costs\"; write the file with `logrid calibrate "
-        "--costs FILE`");
+    return bad(origin,
+               "\"format\" is not \"logrid-costs\"; write the file with `logrid calibrate "
+               "--costs FILE`");
   }
   const Json* version = doc->find("version");
   if (!version || version->kind != Json::Kind::Number || version->number != 1) {
-    bad(origin, "\"version\" is not 1, the only version this logrid reads");
+    return bad(origin, "\"version\" is not 1, the only version this logrid reads");
   }
   CullerCostsFile file;
   if (const Json* machine = doc->find("machine")) {
@@ -68,39 +70,43 @@ CullerCostsFile parseCullerCosts(const std::string& text, const std::string& ori
   }
   const Json* sources = doc->find("sources");
   if (!sources || sources->kind != Json::Kind::Object || sources->members.empty()) {
-    bad(origin, "\"sources\" is missing or holds no depth source");
+    return bad(origin, "\"sources\" is missing or holds no depth source");
   }
   for (const auto& [name, set] : sources->members) {
-    if (set->kind != Json::Kind::Object) bad(origin, "source \"" + name + "\" is not an object");
+    if (set->kind != Json::Kind::Object) {
+      return bad(origin, "source \"" + name + "\" is not an object");
+    }
     CullerCosts costs;
     for (const CostField& f : kFields) {
       const Json* v = set->find(f.name);
-      if (!v) bad(origin, "source \"" + name + "\" has no \"" + f.name + "\"");
+      if (!v) return bad(origin, "source \"" + name + "\" has no \"" + f.name + "\"");
       if (v->kind != Json::Kind::Number) {
-        bad(origin, "source \"" + name + "\": \"" + f.name + "\" is not a number");
+        return bad(origin, "source \"" + name + "\": \"" + f.name + "\" is not a number");
       }
       costs.*f.member = v->number;
     }
     const std::string problem = validateCullerCosts(costs);
-    if (!problem.empty()) bad(origin, "source \"" + name + "\": " + problem);
+    if (!problem.empty()) return bad(origin, "source \"" + name + "\": " + problem);
     file.sources[name] = costs;
   }
   return file;
 }
 
-CullerCostsFile loadCullerCostsFile(const std::string& path) {
-  return parseCullerCosts(detail::readTextFile(path, kCostsFile), path);
+Result<CullerCostsFile> tryLoadCullerCostsFile(const std::string& path) {
+  Result<std::string> text = detail::readTextFile(path, kCostsFile);
+  if (!text) return text.status();
+  return tryParseCullerCosts(*text, path);
 }
 
-CullerCosts loadCullerCosts(const std::string& path, const std::string& source) {
-  const CullerCostsFile file = loadCullerCostsFile(path);
-  const auto it = file.sources.find(source);
-  if (it == file.sources.end()) {
+Result<CullerCosts> tryLoadCullerCosts(const std::string& path, const std::string& source) {
+  Result<CullerCostsFile> file = tryLoadCullerCostsFile(path);
+  if (!file) return file.status();
+  const auto it = file->sources.find(source);
+  if (it == file->sources.end()) {
     std::string names;
-    for (const auto& s : file.sources) names += (names.empty() ? "" : ", ") + s.first;
-    throw Error(ErrorCode::BadInput, path + ": no costs for depth source \"" + source +
-                                         "\"; the file has " + names +
-                                         " (calibrate measures every source)");
+    for (const auto& s : file->sources) names += (names.empty() ? "" : ", ") + s.first;
+    return bad(path, "no costs for depth source \"" + source + "\"; the file has " + names +
+                         " (calibrate measures every source)");
   }
   return it->second;
 }

@@ -88,9 +88,13 @@ std::string validateCullerDesc(const CullerDesc& desc) {
   return {};
 }
 
-Culler::Culler(const CullerDesc& desc) : desc_(desc), estimate_(desc.costs) {
-  const std::string problem = validateCullerDesc(desc);
-  if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
+Result<Culler> Culler::create(const CullerDesc& desc) {
+  std::string problem = validateCullerDesc(desc);
+  if (!problem.empty()) return Status(ErrorCode::InvalidArgument, std::move(problem));
+  return Culler(Checked{}, desc);
+}
+
+Culler::Culler(Checked, const CullerDesc& desc) : desc_(desc), estimate_(desc.costs) {
   method_ = &detail::methodDef(desc_.method);
   if (desc_.method == Method::Auto) {
     // auto runs log-state or log-zfar, one grid tester each (exact: no approximation).
@@ -146,10 +150,11 @@ bool overlaps(const PixelRect& a, const PixelRect& b) {
 }
 
 // "culler: method M <what> ...; pass <how>" for a source the method needs.
-void require(bool given, const MethodInfo& info, const char* what, const char* how) {
-  if (given) return;
-  throw Error(ErrorCode::InvalidArgument, std::string("culler: method ") + info.name + " " + what +
-                                              "; pass " + how + " in the frame's CullSources");
+Status require(bool given, const MethodInfo& info, const char* what, const char* how) {
+  if (given) return {};
+  return Status(ErrorCode::InvalidArgument, std::string("culler: method ") + info.name + " " +
+                                                what + "; pass " + how +
+                                                " in the frame's CullSources");
 }
 
 // Abandons the culler's frame when an exception leaves the scope it guards.
@@ -176,93 +181,75 @@ class SourceAccess {
     if (depth_) depth_->beginAccess();
     if (queries_) queries_->beginAccess();
   }
-  // Ends access; throws what a source's endAccess() throws.
-  void end() {
+  // Ends both windows; the first error of their requests (the queries' first).
+  Status end() {
     DepthSource* depth = std::exchange(depth_, nullptr);
     OcclusionQueries* queries = std::exchange(queries_, nullptr);
-    if (queries) {
-      try {
-        queries->endAccess();
-      } catch (...) {
-        if (depth) endQuietly(*depth);  // its window ends too
-        throw;
-      }
-    }
-    if (depth) depth->endAccess();
+    Status status = queries ? queries->endAccess() : Status{};
+    Status depth_status = depth ? depth->endAccess() : Status{};
+    return status ? depth_status : status;
   }
+  // An exception left nextBatch() (thrown by an application's hierarchy or source): the
+  // windows end, and what they report is dropped for the exception.
   ~SourceAccess() {
-    if (queries_) endQuietly(*queries_);
-    if (depth_) endQuietly(*depth_);
+    if (queries_) (void)queries_->endAccess();
+    if (depth_) (void)depth_->endAccess();
   }
   SourceAccess(const SourceAccess&) = delete;
   SourceAccess& operator=(const SourceAccess&) = delete;
 
  private:
-  template <typename Source>
-  static void endQuietly(Source& source) noexcept {
-    try {
-      source.endAccess();
-    } catch (...) {  // an exception is already on its way out of nextBatch()
-    }
-  }
   DepthSource* depth_;
   OcclusionQueries* queries_;
 };
 
 }  // namespace
 
-void Culler::prepare(const Camera& camera, const CullSources& sources) {
+Status Culler::prepare(const Camera& camera, const CullSources& sources) {
   // The method as the application named it (auto's needs are those of what it runs).
   const MethodInfo& info = methodInfo(desc_.method);
-  require(!info.needs.queries || sources.queries, info,
-          "tests boxes with hardware occlusion queries",
-          "an OcclusionQueries (e.g. zread::BoxQuerySource)");
-  require(!info.needs.depth || sources.depth, info, "reads the depth buffer", "a DepthSource");
-  require(!info.needs.occluders || sources.occluders, info, "begins with an occluder pre-pass",
-          "an OccluderSource (e.g. ddo::OccluderPass)");
-  if (info.needs.depth_values && !sources.depth->traits().reads_depth) {
-    throw Error(ErrorCode::InvalidArgument, std::string("culler: method ") + info.name +
-                                                " needs a depth source that reads depth values; '" +
-                                                sources.depth->traits().name +
-                                                "' only answers counts");
+  for (const Status& given :
+       {require(!info.needs.queries || sources.queries, info,
+                "tests boxes with hardware occlusion queries",
+                "an OcclusionQueries (e.g. zread::BoxQuerySource)"),
+        require(!info.needs.depth || sources.depth, info, "reads the depth buffer",
+                "a DepthSource"),
+        require(!info.needs.occluders || sources.occluders, info,
+                "begins with an occluder pre-pass", "an OccluderSource (e.g. ddo::OccluderPass)")}) {
+    if (!given) return given;
   }
-  projector_ = std::make_unique<Projector>(camera, desc_.projection);  // validates the camera
+  if (info.needs.depth_values && !sources.depth->traits().reads_depth) {
+    return Status(ErrorCode::InvalidArgument, std::string("culler: method ") + info.name +
+                                                  " needs a depth source that reads depth values; '" +
+                                                  sources.depth->traits().name +
+                                                  "' only answers counts");
+  }
+  Result<Projector> projector = Projector::create(camera, desc_.projection);  // the camera
+  if (!projector) return projector.status();
+  projector_ = std::make_unique<Projector>(std::move(projector).value());
   // Only what the method uses: a source it does not need is neither begun nor counted.
   sources_ = {info.needs.depth ? sources.depth : nullptr,
               info.needs.queries ? sources.queries : nullptr,
               info.needs.occluders ? sources.occluders : nullptr};
   const GridApproximation& approximation = frameApproximation();
   if (budget_) tester_->setApproximation(approximation);
-  tester_->beginFrame(camera, projector_->clearKey(), sources_);
+  if (Status tester = tester_->beginFrame(camera, projector_->clearKey(), sources_); !tester) {
+    return tester;
+  }
   // Counting tests of the grid are sequential (grid.hpp); so are methods whose tests
   // read nothing worth batching.
   const bool counting_grid = approximation.visible_pixels > 0 && info.grid;
   lookahead_ = info.takes.lookahead && !counting_grid ? desc_.lookahead : 1;
   if (auto_) lookahead_ = setting_.lookahead;
+  return {};
 }
 
-FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy, DepthSource& depth,
-                             const DrawCallback& draw, const std::vector<DrawnArea>& drawn_before) {
-  return cullFrame(camera, hierarchy, CullSources{&depth}, draw, drawn_before);
-}
-
-FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy,
-                             const CullSources& sources, const DrawCallback& draw,
-                             const std::vector<DrawnArea>& drawn_before) {
-  beginFrame(camera, hierarchy, sources, drawn_before);
-  const AbandonOnThrow guard([this] { abandonFrame(); });  // e.g. thrown by `draw`
-  for (DrawBatch batch = nextBatch(); !batch.empty(); batch = nextBatch()) {
-    for (ObjectId id : batch) draw(id);
-  }
-  return endFrame();
-}
-
-void Culler::beginFrame(const Camera& camera, const Hierarchy& hierarchy,
-                        const CullSources& sources, const std::vector<DrawnArea>& drawn_before) {
+Status Culler::tryBeginFrame(const Camera& camera, const Hierarchy& hierarchy,
+                             const CullSources& sources, const std::vector<DrawnArea>& drawn_before) {
   if (in_frame_) {
-    throw Error(ErrorCode::InvalidArgument,
-                "Culler::beginFrame: the last frame was not ended; call nextBatch() until it "
-                "returns an empty batch, then endFrame()");
+    return Status(ErrorCode::InvalidArgument,
+                  "Culler::beginFrame: the last frame was not ended; call nextBatch() until it "
+                  "returns an empty batch, then endFrame()");
   }
   if (unreported_) {  // not reported: taken at its culled pass's time
     learnFrom(*unreported_);
@@ -271,13 +258,17 @@ void Culler::beginFrame(const Camera& camera, const Hierarchy& hierarchy,
   start_ = std::chrono::steady_clock::now();
   if (auto_) chooseSetting(hierarchy);
   const MethodInfo& info = method_->info;
-  prepare(camera, sources);
+  if (Status prepared = prepare(camera, sources); !prepared) return prepared;
   in_frame_ = true;
   const AbandonOnThrow guard([this] { abandonFrame(); });
   DepthSource* depth = sources_.depth;
   OcclusionQueries* queries = sources_.queries;
-  if (depth) depth->beginFrame(camera);
-  if (queries) queries->beginQueryFrame(camera);
+  if (depth) {
+    if (Status begun = depth->beginFrame(camera); !begun) return failFrame(begun);
+  }
+  if (queries) {
+    if (Status begun = queries->beginQueryFrame(camera); !begun) return failFrame(begun);
+  }
   depth_before_ = depth ? depth->counters() : ReadCounters{};
   queries_before_ = queries ? queries->queryCounters() : QueryCounters{};
   hierarchy_ = &hierarchy;
@@ -310,8 +301,10 @@ void Culler::beginFrame(const Camera& camera, const Hierarchy& hierarchy,
     // The occluder pre-pass: selected for this camera, drawn first where the method
     // reads them from the depth buffer (out of order, like drawn_before).
     occluder_areas_.clear();
-    stats_.occluders = sources_.occluders->beginFrame(
+    Result<std::uint64_t> occluders = sources_.occluders->beginFrame(
         camera, desc_.projection, info.occluders == OccluderUse::Drawn, occluder_areas_);
+    if (!occluders) return failFrame(occluders.status());
+    stats_.occluders = *occluders;
     for (const DrawnArea& area : occluder_areas_) noteDrawnWith(area, false);
     // What the CPU knows of them: tiles a quad covers entirely are full, read or not.
     if (info.occluders == OccluderUse::Drawn) {
@@ -351,10 +344,16 @@ void Culler::beginFrame(const Camera& camera, const Hierarchy& hierarchy,
     const NodeId root = hierarchy.root();
     if (root != kNoNode) pushTest(root, projector_->project(hierarchy.bounds(root)));
   }
+  return {};
 }
 
-DrawBatch Culler::nextBatch() {
-  requireFrame("nextBatch");
+Status Culler::failFrame(Status status) {
+  abandonFrame();
+  return status;
+}
+
+Result<DrawBatch> Culler::tryNextBatch() {
+  if (Status in_frame = requireFrame("nextBatch"); !in_frame) return in_frame;
   const AbandonOnThrow guard([this] { abandonFrame(); });
   // The last batch is drawn: what waited for it can go on.
   batch_.clear();
@@ -363,25 +362,28 @@ DrawBatch Culler::nextBatch() {
   SourceAccess access(sources_);
   if (query_frame_) query_frame_->flushDeferred();
   advance();
-  access.end();
+  // A request that failed was answered as if nothing were drawn over it (visible), and
+  // its source reports the error here.
+  if (Status accessed = access.end(); !accessed) return failFrame(accessed);
   if (!batch_.empty()) ++stats_.draw_batches;
-  return {batch_.data(), batch_.size()};
+  return DrawBatch{batch_.data(), batch_.size()};
 }
 
-FrameStats Culler::endFrame() {
-  requireFrame("endFrame");
+Result<FrameStats> Culler::tryEndFrame() {
+  if (Status in_frame = requireFrame("endFrame"); !in_frame) return in_frame;
   if (phase_ != Phase::Done || !batch_.empty()) {
-    abandonFrame();
-    throw Error(ErrorCode::InvalidArgument,
-                "Culler::endFrame: the frame is not done; call nextBatch() until it returns an "
-                "empty batch (the frame is abandoned)");
+    return failFrame(Status(ErrorCode::InvalidArgument,
+                            "Culler::endFrame: the frame is not done; call nextBatch() until it "
+                            "returns an empty batch (the frame is abandoned)"));
   }
   DepthSource* depth = sources_.depth;
   OcclusionQueries* queries = sources_.queries;
   {
     const AbandonOnThrow guard([this] { abandonFrame(); });
-    if (depth) depth->endFrame();
-    if (queries) queries->endQueryFrame();
+    Status ended = depth ? depth->endFrame() : Status{};
+    Status queries_ended = queries ? queries->endQueryFrame() : Status{};
+    if (!ended) return failFrame(ended);
+    if (!queries_ended) return failFrame(queries_ended);
   }
   // Next frame's coherent set: the nodes with objects this frame found visible.
   if (record_visible_) {
@@ -436,25 +438,26 @@ void Culler::learnFrom(const FrameStats& frame) {
   if (budget_) budget_->endFrame(frame.seconds);
 }
 
-void Culler::reportFrameTime(double seconds) {
+Status Culler::tryReportFrameTime(double seconds) {
   if (!(std::isfinite(seconds) && seconds >= 0)) {
     std::ostringstream out;
     out << "Culler::reportFrameTime: " << seconds
         << " s is not a frame time; pass the seconds the whole frame took (finite, >= 0)";
-    throw Error(ErrorCode::InvalidArgument, out.str());
+    return Status(ErrorCode::InvalidArgument, out.str());
   }
-  if (desc_.frame_clock != FrameClock::ReportedFrame) return;
+  if (desc_.frame_clock != FrameClock::ReportedFrame) return {};
   if (in_frame_ || !unreported_) {
-    throw Error(ErrorCode::InvalidArgument,
-                in_frame_ ? "Culler::reportFrameTime: called inside a frame; report a frame's "
-                            "time after its endFrame()"
-                          : "Culler::reportFrameTime: no frame ended since the last report; "
-                            "report each frame once, after its endFrame()");
+    return Status(ErrorCode::InvalidArgument,
+                  in_frame_ ? "Culler::reportFrameTime: called inside a frame; report a frame's "
+                              "time after its endFrame()"
+                            : "Culler::reportFrameTime: no frame ended since the last report; "
+                              "report each frame once, after its endFrame()");
   }
   FrameStats frame = *unreported_;
   unreported_.reset();
   frame.seconds = seconds;
   learnFrom(frame);
+  return {};
 }
 
 void Culler::abandonFrame() {
@@ -815,39 +818,42 @@ void Culler::noteDrawnWith(const DrawnArea& area, bool ordered) {
   if (tester_->readsAfterDraw()) after_draw_.push_back(r);
 }
 
-void Culler::requireFrame(const char* who) const {
-  if (!in_frame_) {
-    throw Error(
-        ErrorCode::InvalidArgument,
-        std::string("Culler::") + who + ": call it only from inside cullFrame()'s draw callback");
-  }
+Status Culler::requireFrame(const char* who) const {
+  if (in_frame_) return {};
+  return Status(ErrorCode::InvalidArgument, std::string("Culler::") + who +
+                                                ": call it only inside a frame (between "
+                                                "beginFrame() and endFrame(), or from "
+                                                "cullFrame()'s draw callback)");
 }
 
-void Culler::noteDrawn(const DrawnArea& area) {
-  requireFrame("noteDrawn");
+Status Culler::tryNoteDrawn(const DrawnArea& area) {
+  if (Status in_frame = requireFrame("noteDrawn"); !in_frame) return in_frame;
   noteDrawnWith(area, false);
+  return {};
 }
 
-void Culler::noteDrawn(const Aabb& box) {
-  requireFrame("noteDrawn");
+Status Culler::tryNoteDrawn(const Aabb& box) {
+  if (Status in_frame = requireFrame("noteDrawn"); !in_frame) return in_frame;
   const BoxProjection p = projector_->project(box);
-  if (p.cls == ProjectionClass::Outside) return;  // draws no pixel
+  if (p.cls == ProjectionClass::Outside) return {};  // draws no pixel
   noteDrawnWith({p.rect, p.cls == ProjectionClass::Inside ? p.far_key + p.margin
                                                           : std::numeric_limits<float>::infinity()},
                 false);
+  return {};
 }
 
-void Culler::noteDepthCleared() {
-  requireFrame("noteDepthCleared");
-  noteDepthCleared(windowDepth(projector_->camera().depth.convention, projector_->clearKey()));
+Status Culler::tryNoteDepthCleared() {
+  if (Status in_frame = requireFrame("noteDepthCleared"); !in_frame) return in_frame;
+  return tryNoteDepthCleared(
+      windowDepth(projector_->camera().depth.convention, projector_->clearKey()));
 }
 
-void Culler::noteDepthCleared(float window_depth) {
-  requireFrame("noteDepthCleared");
+Status Culler::tryNoteDepthCleared(float window_depth) {
+  if (Status in_frame = requireFrame("noteDepthCleared"); !in_frame) return in_frame;
   if (!(window_depth >= 0.0f && window_depth <= 1.0f)) {
-    throw Error(ErrorCode::InvalidArgument, "Culler::noteDepthCleared: window depth " +
-                                                std::to_string(window_depth) +
-                                                " is outside [0, 1], which glClearDepth clamps to");
+    return Status(ErrorCode::InvalidArgument,
+                  "Culler::noteDepthCleared: window depth " + std::to_string(window_depth) +
+                      " is outside [0, 1], which glClearDepth clamps to");
   }
   const float key = depthKey(projector_->camera().depth.convention, window_depth);
   tester_->noteCleared(key);
@@ -865,6 +871,7 @@ void Culler::noteDepthCleared(float window_depth) {
   }
   culled_undrawn_.clear();
   if (query_frame_) query_frame_->reconsiderCulled(*schedule_);
+  return {};
 }
 
 void Culler::forgetCoherence() {
@@ -872,8 +879,8 @@ void Culler::forgetCoherence() {
   if (schedule_) schedule_->forget();
 }
 
-BoxProjection Culler::project(const Aabb& box) const {
-  requireFrame("project");
+Result<BoxProjection> Culler::tryProject(const Aabb& box) const {
+  if (Status in_frame = requireFrame("project"); !in_frame) return in_frame;
   return projector_->project(box);
 }
 

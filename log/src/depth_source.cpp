@@ -1,6 +1,17 @@
 #include "logrid/depth_source.hpp"
 
+#include <limits>
+
 namespace logrid {
+
+AreaAnswer DepthSource::conservativeAnswer(const AreaRequest& request) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  const auto pixels = static_cast<std::uint32_t>(request.rect.area());
+  AreaAnswer answer;
+  answer.depth = {-kInf, kInf, pixels};
+  answer.count = pixels;
+  return answer;
+}
 
 void DepthSource::summarize(const PixelRect* rects, std::size_t count, AreaDepth* out) {
   scratch_requests_.resize(count);

@@ -50,10 +50,15 @@ std::string validateGridDesc(const GridDesc& desc, const GridApproximation& appr
   return out.str();
 }
 
-OcclusionGrid::OcclusionGrid(const GridDesc& desc, const GridApproximation& approximation)
+Result<OcclusionGrid> OcclusionGrid::create(const GridDesc& desc,
+                                            const GridApproximation& approximation) {
+  std::string problem = validateGridDesc(desc, approximation);
+  if (!problem.empty()) return Status(ErrorCode::InvalidArgument, std::move(problem));
+  return OcclusionGrid(Checked{}, desc, approximation);
+}
+
+OcclusionGrid::OcclusionGrid(Checked, const GridDesc& desc, const GridApproximation& approximation)
     : desc_(desc), approx_(approximation) {
-  const std::string problem = validateGridDesc(desc, approximation);
-  if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
   const std::uint64_t ts = desc.tile_size;
   tiles_x_ = static_cast<std::uint32_t>((desc.width + ts - 1) / ts);
   tiles_y_ = static_cast<std::uint32_t>((desc.height + ts - 1) / ts);

@@ -17,19 +17,24 @@ class JsonReader {
   JsonReader(const std::string& text, const std::string& origin, const JsonFileKind& kind)
       : s_(text), origin_(origin), kind_(kind) {}
 
-  std::unique_ptr<Json> document() {
+  Result<std::unique_ptr<Json>> document() {
     auto v = value(0);
     space();
     if (i_ != s_.size()) fail("text after the end of the JSON value");
+    if (error_.failed()) return error_.take();
     return v;
   }
 
  private:
-  [[noreturn]] void fail(const std::string& what) const {
+  // Keeps the first error and moves to the end of the text, where every step stops (each
+  // caller returns after it).
+  void fail(const std::string& what) {
     std::size_t line = 1;
     for (std::size_t k = 0; k < i_ && k < s_.size(); ++k) line += s_[k] == '\n';
-    throw Error(ErrorCode::BadInput, origin_ + ": not a " + kind_.what + " (line " +
-                                         std::to_string(line) + ": " + what + "); " + kind_.remedy);
+    error_.note(Status(ErrorCode::BadInput, origin_ + ": not a " + kind_.what + " (line " +
+                                                std::to_string(line) + ": " + what + "); " +
+                                                kind_.remedy));
+    i_ = s_.size();
   }
   void space() {
     while (i_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[i_]))) ++i_;
@@ -52,14 +57,20 @@ class JsonReader {
     expect('"');
     std::string out;
     for (;;) {
-      if (i_ >= s_.size()) fail("a string without its closing quote");
+      if (i_ >= s_.size()) {
+        fail("a string without its closing quote");
+        return out;
+      }
       const char c = s_[i_++];
       if (c == '"') return out;
       if (c != '\\') {
         out += c;
         continue;
       }
-      if (i_ >= s_.size()) fail("a string without its closing quote");
+      if (i_ >= s_.size()) {
+        fail("a string without its closing quote");
+        return out;
+      }
       const char e = s_[i_++];
       switch (e) {
         case '"':
@@ -71,12 +82,15 @@ class JsonReader {
         case 'r': out += '\r'; break;
         case 't': out += '\t'; break;
         case 'u': appendUtf8(out, codePoint()); break;
-        default: fail(std::string("an unknown escape \\") + e + " in a string");
+        default: fail(std::string("an unknown escape \\") + e + " in a string"); return out;
       }
     }
   }
   unsigned hex4() {
-    if (i_ + 4 > s_.size()) fail("a short \\u escape");
+    if (i_ + 4 > s_.size()) {
+      fail("a short \\u escape");
+      return 0;
+    }
     unsigned v = 0;
     for (int k = 0; k < 4; ++k) {
       const char h = s_[i_++];
@@ -89,6 +103,7 @@ class JsonReader {
         v |= unsigned(h - 'A' + 10);
       } else {
         fail("a \\u escape that is not four hexadecimal digits");
+        return 0;
       }
     }
     return v;
@@ -138,15 +153,22 @@ class JsonReader {
     } else if (!digits()) {
       i_ = begin;
       fail("expected a value");
+      return;
     }
     if (i_ < s_.size() && s_[i_] == '.') {
       ++i_;
-      if (!digits()) fail("a number without digits after its '.'");
+      if (!digits()) {
+        fail("a number without digits after its '.'");
+        return;
+      }
     }
     if (i_ < s_.size() && (s_[i_] == 'e' || s_[i_] == 'E')) {
       ++i_;
       if (i_ < s_.size() && (s_[i_] == '+' || s_[i_] == '-')) ++i_;
-      if (!digits()) fail("a number without digits in its exponent");
+      if (!digits()) {
+        fail("a number without digits in its exponent");
+        return;
+      }
     }
     v.kind = Json::Kind::Number;
     v.text = s_.substr(begin, i_ - begin);
@@ -156,11 +178,18 @@ class JsonReader {
       fail("the number " + v.text + " is beyond a double's range");
     }
   }
+  // After a failure: a null value, and the text is at its end.
   std::unique_ptr<Json> value(int depth) {
-    if (depth > 16) fail("nested too deeply");
-    space();
-    if (i_ >= s_.size()) fail("the text ends where a value was expected");
     auto v = std::make_unique<Json>();
+    if (depth > 16) {
+      fail("nested too deeply");
+      return v;
+    }
+    space();
+    if (i_ >= s_.size()) {
+      fail("the text ends where a value was expected");
+      return v;
+    }
     const char c = s_[i_];
     if (c == '{') {
       ++i_;
@@ -170,7 +199,10 @@ class JsonReader {
         space();
         std::string key = string();
         // One meaning per key: readers would otherwise take the first or the last.
-        if (v->find(key)) fail("the key \"" + key + "\" twice in one object");
+        if (v->find(key)) {
+          fail("the key \"" + key + "\" twice in one object");
+          return v;
+        }
         expect(':');
         v->members.emplace_back(std::move(key), value(depth + 1));
       } while (eat(','));
@@ -202,6 +234,7 @@ class JsonReader {
   const std::string& origin_;
   const JsonFileKind& kind_;
   std::size_t i_ = 0;
+  FirstError error_;
 };
 
 }  // namespace
@@ -213,16 +246,16 @@ const Json* Json::find(const std::string& key) const {
   return nullptr;
 }
 
-std::unique_ptr<Json> parseJson(const std::string& text, const std::string& origin,
-                                const JsonFileKind& kind) {
+Result<std::unique_ptr<Json>> parseJson(const std::string& text, const std::string& origin,
+                                        const JsonFileKind& kind) {
   return JsonReader(text, origin, kind).document();
 }
 
-std::string readTextFile(const std::string& path, const JsonFileKind& kind) {
+Result<std::string> readTextFile(const std::string& path, const JsonFileKind& kind) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {
-    throw Error(ErrorCode::Environment, std::string(kind.what) + " " + path +
-                                            " cannot be read; check the path, or " + kind.remedy);
+    return Status(ErrorCode::Environment, std::string(kind.what) + " " + path +
+                                              " cannot be read; check the path, or " + kind.remedy);
   }
   std::ostringstream text;
   text << in.rdbuf();

@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "logrid/error.hpp"
+
 namespace logrid::detail {
 
 // A JSON value. Arrays are parsed (so that a file may hold them) but not kept: none of
@@ -31,15 +33,15 @@ struct JsonFileKind {
   const char* remedy;
 };
 
-// Parses one JSON value. Throws logrid::Error (ErrorCode::BadInput) for text that is not
-// JSON, naming `origin`, the line, what was wrong, and the kind's remedy. Nesting deeper
-// than 16 is refused, and so is a key given twice in one object.
-std::unique_ptr<Json> parseJson(const std::string& text, const std::string& origin,
-                                const JsonFileKind& kind);
+// Parses one JSON value; ErrorCode::BadInput for text that is not JSON, naming `origin`,
+// the line, what was wrong, and the kind's remedy. Nesting deeper than 16 is refused, and
+// so is a key given twice in one object.
+Result<std::unique_ptr<Json>> parseJson(const std::string& text, const std::string& origin,
+                                        const JsonFileKind& kind);
 
-// A file's whole text; throws logrid::Error (ErrorCode::Environment) naming the path and
-// the kind's remedy if it cannot be read.
-std::string readTextFile(const std::string& path, const JsonFileKind& kind);
+// A file's whole text; ErrorCode::Environment naming the path and the kind's remedy if it
+// cannot be read.
+Result<std::string> readTextFile(const std::string& path, const JsonFileKind& kind);
 
 // `text` as a JSON string's contents: quotes, backslashes and control characters
 // escaped, so that parseJson reads back exactly `text`.

@@ -1,7 +1,9 @@
 #include "logrid/pixel_source.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <chrono>
+#include <limits>
 
 #include "logrid/elapsed.hpp"
 
@@ -52,7 +54,9 @@ void PixelSource::answerPending() {
     const AreaRequest& q = pending_[i];
     const std::int32_t w = q.rect.x1 - q.rect.x0, h = q.rect.y1 - q.rect.y0;
     AreaAnswer& a = *pending_answers_[i];
-    if (q.ask == AreaAsk::Summary) {
+    if (!data_[i]) {  // fetch() failed and said why (fail())
+      a = conservativeAnswer(q);
+    } else if (q.ask == AreaAsk::Summary) {
       a.depth = summarizeDepth(encoding_, data_[i], w, h, strides_[i]);
     } else {
       a.count = countDepthAtOrBeyond(encoding_, data_[i], w, h, strides_[i], q.threshold);
@@ -80,6 +84,11 @@ void PixelSource::readKeys(const PixelRect& rect, float* keys) {
   const auto* data = static_cast<const unsigned char*>(data_[0]);
   const std::size_t bytes = nativeDepthBytes(encoding_.native);
   const std::int32_t w = rect.x1 - rect.x0, h = rect.y1 - rect.y0;
+  if (!data) {  // fetch() failed and said why: nothing drawn, as far as anyone knows
+    std::fill_n(keys, std::size_t(w) * std::size_t(h), std::numeric_limits<float>::infinity());
+    counters_.seconds += secondsSince(start);
+    return;
+  }
   for (std::int32_t y = 0; y < h; ++y) {
     const unsigned char* row = data + std::size_t(y) * strides_[0] * bytes;
     for (std::int32_t x = 0; x < w; ++x) {

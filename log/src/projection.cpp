@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include "rounding.hpp"
 
@@ -48,12 +49,15 @@ std::string validateProjectionSettings(const ProjectionSettings& settings) {
   return out.str();
 }
 
-Projector::Projector(const Camera& camera, const ProjectionSettings& settings)
+Result<Projector> Projector::create(const Camera& camera, const ProjectionSettings& settings) {
+  std::string problem = validateCamera(camera);
+  if (problem.empty()) problem = validateProjectionSettings(settings);
+  if (!problem.empty()) return Status(ErrorCode::InvalidArgument, std::move(problem));
+  return Projector(Checked{}, camera, settings);
+}
+
+Projector::Projector(Checked, const Camera& camera, const ProjectionSettings& settings)
     : camera_(camera), settings_(settings) {
-  const std::string problem = validateCamera(camera);
-  if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
-  const std::string bad_settings = validateProjectionSettings(settings);
-  if (!bad_settings.empty()) throw Error(ErrorCode::InvalidArgument, bad_settings);
 
   origin_ = camera.render_origin;
   const Mat4d render = multiply(camera.view_projection, translation(origin_));

@@ -27,15 +27,18 @@ class GridTester final : public BoxTester {
   GridTester(const CullerDesc& desc, GridVariant variant, GridRefresh refresh)
       : desc_(desc), variant_(variant), refresh_(refresh) {}
 
-  void beginFrame(const Camera& camera, float clear_key, const CullSources& sources) override {
+  Status beginFrame(const Camera& camera, float clear_key, const CullSources& sources) override {
     source_ = sources.depth;
     assert(source_ && "GridTester: the culler checks that the method's depth source is given");
     const GridDesc want{camera.width, camera.height, desc_.tile_size, variant_};
     if (!grid_ || grid_->desc().width != want.width || grid_->desc().height != want.height) {
-      grid_.emplace(want, desc_.approximation);
+      Result<OcclusionGrid> grid = OcclusionGrid::create(want, desc_.approximation);
+      if (!grid) return grid.status();
+      grid_.emplace(std::move(grid).value());
     }
     grid_->reset(clear_key);
     batch_.clear();
+    return {};
   }
   void setApproximation(const GridApproximation& a) override {
     const GridApproximation& now = desc_.approximation;
@@ -97,11 +100,11 @@ class GridTester final : public BoxTester {
 // each draw; tests read nothing.
 class PyramidTester final : public BoxTester {
  public:
-  void beginFrame(const Camera& camera, float clear_key, const CullSources& sources) override {
+  Status beginFrame(const Camera& camera, float clear_key, const CullSources& sources) override {
     assert(sources.depth && "PyramidTester: the culler checks that the method's depth source is given");
     source_ = dynamic_cast<KeyReader*>(sources.depth);
     if (!source_) {
-      throw Error(ErrorCode::InvalidArgument,
+      return Status(ErrorCode::InvalidArgument,
                   std::string("culler: method hzb builds its pyramid from the keys of whole areas; "
                               "the depth source '") +
                       sources.depth->traits().name +
@@ -114,6 +117,7 @@ class PyramidTester final : public BoxTester {
       height_ = camera.height;
     }
     pyramid_->reset(clear_key);
+    return {};
   }
   Visibility test(const PixelRect& rect, float threshold, GridTestCounts& counts) override {
     return pyramid_->test(rect, threshold, counts.tiles_tested);
@@ -135,10 +139,11 @@ class RectCountTester final : public BoxTester {
  public:
   explicit RectCountTester(std::uint32_t visible_pixels) : visible_pixels_(visible_pixels) {}
 
-  void beginFrame(const Camera&, float, const CullSources& sources) override {
+  Status beginFrame(const Camera&, float, const CullSources& sources) override {
     source_ = sources.depth;
     assert(source_ && "RectCountTester: the culler checks that the method's depth source is given");
     clearBatch();
+    return {};
   }
   bool mayRead(const PixelRect&, float) override { return true; }
   Visibility test(const PixelRect& rect, float threshold, GridTestCounts& counts) override {
@@ -182,9 +187,10 @@ class RectCountTester final : public BoxTester {
 // box behind them at every pixel is hidden by the scene; draws and clears change nothing.
 class OccluderMapTester final : public BoxTester {
  public:
-  void beginFrame(const Camera&, float, const CullSources& sources) override {
+  Status beginFrame(const Camera&, float, const CullSources& sources) override {
     occluders_ = sources.occluders;
     assert(occluders_ && "OccluderMapTester: the culler checks that the occluders are given");
+    return {};
   }
   Visibility test(const PixelRect& rect, float threshold, GridTestCounts& counts) override {
     ++counts.tiles_tested;
@@ -200,7 +206,7 @@ class OccluderMapTester final : public BoxTester {
 // vfc and the query schedules: the culler never calls test() for them.
 class NoTester final : public BoxTester {
  public:
-  void beginFrame(const Camera&, float, const CullSources&) override {}
+  Status beginFrame(const Camera&, float, const CullSources&) override { return {}; }
   Visibility test(const PixelRect&, float, GridTestCounts&) override { return Visibility::Visible; }
   void noteDrawn(const PixelRect&) override {}
   void noteCleared(float) override {}

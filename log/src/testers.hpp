@@ -19,8 +19,9 @@ class BoxTester {
   virtual ~BoxTester() = default;
 
   // A new frame whose depth buffer is cleared to `clear_key`, with the frame's sources
-  // (those the method needs are there: MethodInfo::needs).
-  virtual void beginFrame(const Camera& camera, float clear_key, const CullSources& sources) = 0;
+  // (those the method needs are there: MethodInfo::needs); an error if the tester cannot
+  // work with them (the culler's frame then does not begin).
+  virtual Status beginFrame(const Camera& camera, float clear_key, const CullSources& sources) = 0;
   // The approximate knobs of the next frames (CullerDesc::budget_ms); before beginFrame.
   // Only the grid's testers take them.
   virtual void setApproximation(const GridApproximation& approximation) { (void)approximation; }

@@ -25,7 +25,7 @@ NativeDepth nativeDepth(DepthFormat format) {
   return NativeDepth::Float32;
 }
 
-void checkDepthAttachment(const char* who, GLuint framebuffer, const Camera& camera) {
+Status checkDepthAttachment(const char* who, GLuint framebuffer, const Camera& camera) {
   const GLenum attachment = framebuffer ? GL_DEPTH_ATTACHMENT : GL_DEPTH;
   GLint bits = 0, type = 0;
   glGetNamedFramebufferAttachmentParameteriv(framebuffer, attachment,
@@ -44,8 +44,9 @@ void checkDepthAttachment(const char* who, GLuint framebuffer, const Camera& cam
             : type == GL_UNSIGNED_NORMALIZED ? "unorm"
                                              : "unknown")
         << " depth attachment; set Camera::depth.format to match the buffer";
-    throw Error(ErrorCode::InvalidArgument, out.str());
+    return Status(ErrorCode::InvalidArgument, out.str());
   }
+  return {};
 }
 
 }  // namespace logrid::zread::detail

@@ -8,6 +8,7 @@
 
 #include "logrid/camera.hpp"
 #include "logrid/depth_kernels.hpp"
+#include "logrid/error.hpp"
 
 namespace logrid::zread::detail {
 
@@ -16,8 +17,8 @@ GLenum nativeType(DepthFormat format);
 NativeDepth nativeDepth(DepthFormat format);
 inline std::size_t bytesOf(GLenum type) { return type == GL_UNSIGNED_SHORT ? 2 : 4; }
 
-// Throws logrid::Error unless the framebuffer's depth attachment has the format the
+// An error (InvalidArgument) unless the framebuffer's depth attachment has the format the
 // camera says: the depth margin depends on it, so a mismatch would be silently wrong.
-void checkDepthAttachment(const char* who, GLuint framebuffer, const Camera& camera);
+Status checkDepthAttachment(const char* who, GLuint framebuffer, const Camera& camera);
 
 }  // namespace logrid::zread::detail

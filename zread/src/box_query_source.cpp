@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "attachment.hpp"
 #include "logrid/elapsed.hpp"
@@ -69,24 +70,35 @@ BoxQuerySource::BoxQuerySource(std::uint32_t framebuffer, QueryTarget target,
     : framebuffer_(framebuffer),
       target_(target == QueryTarget::SamplesPassed ? GL_SAMPLES_PASSED
                                                    : GL_ANY_SAMPLES_PASSED_CONSERVATIVE),
-      box_program_(std::make_unique<Program>("BoxQuerySource boxes", kBoxVertex, kEmptyFragment)),
-      rect_program_(
-          std::make_unique<Program>("BoxQuerySource rectangles", kRectVertex, kRectFragment)),
-      u_boxes_(box_program_->uniform("u_boxes")),
-      u_depth_(rect_program_->uniform("u_depth")),
-      guard_(state, &query_counters_.state_queries) {
+      guard_(state, &query_counters_.state_queries, &failure_) {
+  Result<std::unique_ptr<Program>> boxes =
+      Program::create("BoxQuerySource boxes", kBoxVertex, kEmptyFragment);
+  Result<std::unique_ptr<Program>> rects =
+      Program::create("BoxQuerySource rectangles", kRectVertex, kRectFragment);
+  if (!boxes || !rects) {
+    unusable_ = boxes ? rects.status() : boxes.status();
+    return;
+  }
+  box_program_ = std::move(boxes).value();
+  rect_program_ = std::move(rects).value();
+  u_boxes_ = box_program_->uniform("u_boxes");
+  u_depth_ = rect_program_->uniform("u_depth");
   glCreateVertexArrays(1, &vao_);
 }
 
 BoxQuerySource::~BoxQuerySource() {
   if (!pool_.empty()) glDeleteQueries(GLsizei(pool_.size()), pool_.data());
-  glDeleteVertexArrays(1, &vao_);
+  if (vao_) glDeleteVertexArrays(1, &vao_);
 }
 
-void BoxQuerySource::beginQueryFrame(const Camera& camera) {
-  detail::checkDepthAttachment("BoxQuerySource", framebuffer_, camera);
+Status BoxQuerySource::beginQueryFrame(const Camera& camera) {
+  if (!unusable_.ok()) return unusable_;
+  if (Status format = detail::checkDepthAttachment("BoxQuerySource", framebuffer_, camera);
+      !format) {
+    return format;
+  }
   if (inFlight() != 0) {
-    throw Error(ErrorCode::Runtime, "BoxQuerySource: queries of the last frame were never read");
+    return Status(ErrorCode::Runtime, "BoxQuerySource: queries of the last frame were never read");
   }
   camera_ = camera;
   const DVec3 origin{roundToFloat(camera.render_origin.x), roundToFloat(camera.render_origin.y),
@@ -107,23 +119,35 @@ void BoxQuerySource::beginQueryFrame(const Camera& camera) {
   depth_func_ = reversed ? GL_GEQUAL : GL_LEQUAL;
   clip_depth_mode_ = zero_to_one ? GL_ZERO_TO_ONE : GL_NEGATIVE_ONE_TO_ONE;
   began_ = true;
+  return {};
 }
 
-void BoxQuerySource::endQueryFrame() {
+Status BoxQuerySource::endQueryFrame() {
   if (inFlight() != 0) {
-    throw Error(ErrorCode::Runtime, "BoxQuerySource: a query of this frame was never read");
+    return Status(ErrorCode::Runtime, "BoxQuerySource: a query of this frame was never read");
   }
+  return {};
 }
 
-void BoxQuerySource::preparePass(GlStateGuard::Scope& scope, std::uint32_t program) {
+bool BoxQuerySource::preparePass(GlStateGuard::Scope& scope, std::uint32_t program) {
   // Depth test with the convention's function, no writes; the boxes' clip space is the
   // camera's (lower-left origin, its depth mode). The scissor box is the whole viewport
   // until scissor() moves it.
-  scope.prepareDraw(framebuffer_, std::int32_t(camera_.width), std::int32_t(camera_.height),
-                    depth_func_, false);
+  if (!scope.prepareDraw(framebuffer_, std::int32_t(camera_.width),
+                         std::int32_t(camera_.height), depth_func_, false)) {
+    return false;
+  }
   scope.clipControl(GL_LOWER_LEFT, clip_depth_mode_);
   glUseProgram(program);
   glBindVertexArray(vao_);
+  return true;
+}
+
+QueryHandle BoxQuerySource::failedQuery(Status error) {
+  fail(std::move(error));
+  const QueryHandle h = acquire();
+  open_[h] = kFailedQuery;
+  return h;
 }
 
 QueryHandle BoxQuerySource::acquire() {
@@ -138,18 +162,23 @@ QueryHandle BoxQuerySource::acquire() {
   }
   const QueryHandle h = free_.back();
   free_.pop_back();
-  open_[h] = 1;
+  open_[h] = kOpenQuery;
   return h;
 }
 
 QueryHandle BoxQuerySource::issueBoxes(const QueryBox* boxes, std::size_t count) {
-  if (!began_)
-    throw Error(ErrorCode::InvalidArgument, "BoxQuerySource: call beginQueryFrame() first");
+  if (!began_) {
+    return failedQuery(
+        Status(ErrorCode::InvalidArgument, "BoxQuerySource: call beginQueryFrame() first"));
+  }
   const auto start = std::chrono::steady_clock::now();
   GlStateGuard::Scope scope(guard_, "BoxQuerySource::issueBoxes");
   const QueryHandle h = acquire();
   {
-    preparePass(scope, box_program_->handle());
+    if (!preparePass(scope, box_program_->handle())) {
+      open_[h] = kFailedQuery;
+      return h;
+    }
     glBeginQuery(target_, pool_[h]);
     for (std::size_t first = 0; first < count; first += kBoxesPerDraw) {
       const std::size_t n = std::min<std::size_t>(kBoxesPerDraw, count - first);
@@ -164,7 +193,7 @@ QueryHandle BoxQuerySource::issueBoxes(const QueryBox* boxes, std::size_t count)
       glDrawArraysInstanced(GL_TRIANGLES, 0, 36, GLsizei(n));
     }
     glEndQuery(target_);
-    scope.check("the box queries");
+    if (!scope.check("the box queries")) open_[h] = kFailedQuery;
   }
   pending_work_ = true;
   ++query_counters_.queries;
@@ -174,15 +203,20 @@ QueryHandle BoxQuerySource::issueBoxes(const QueryBox* boxes, std::size_t count)
 }
 
 QueryHandle BoxQuerySource::issueRects(const RectQuery* rects, std::size_t count) {
-  if (!began_)
-    throw Error(ErrorCode::InvalidArgument, "BoxQuerySource: call beginQueryFrame() first");
+  if (!began_) {
+    return failedQuery(
+        Status(ErrorCode::InvalidArgument, "BoxQuerySource: call beginQueryFrame() first"));
+  }
   const auto start = std::chrono::steady_clock::now();
   GlStateGuard::Scope scope(guard_, "BoxQuerySource::issueRects");
   const QueryHandle h = acquire();
   const bool reversed = camera_.depth.convention == DepthConvention::Reversed;
   const float far_key = clearKey(camera_.depth);
   {
-    preparePass(scope, rect_program_->handle());
+    if (!preparePass(scope, rect_program_->handle())) {
+      open_[h] = kFailedQuery;
+      return h;
+    }
     glBeginQuery(target_, pool_[h]);
     for (std::size_t i = 0; i < count; ++i) {
       const float t = rects[i].threshold;
@@ -198,7 +232,7 @@ QueryHandle BoxQuerySource::issueRects(const RectQuery* rects, std::size_t count
       glDrawArrays(GL_TRIANGLES, 0, 3);
     }
     glEndQuery(target_);
-    scope.check("the rectangle queries");
+    if (!scope.check("the rectangle queries")) open_[h] = kFailedQuery;
   }
   pending_work_ = true;
   ++query_counters_.queries;
@@ -216,9 +250,11 @@ void BoxQuerySource::syncCounted() {
 
 bool BoxQuerySource::ready(QueryHandle h) {
   if (h >= open_.size() || !open_[h]) {
-    throw Error(ErrorCode::InvalidArgument, "BoxQuerySource::ready: handle " + std::to_string(h) +
-                                                " was not issued or was read already");
+    fail(Status(ErrorCode::InvalidArgument, "BoxQuerySource::ready: handle " + std::to_string(h) +
+                                                " was not issued or was read already"));
+    return true;
   }
+  if (open_[h] == kFailedQuery) return true;
   const auto start = std::chrono::steady_clock::now();
   GLuint available = 0;
   glGetQueryObjectuiv(pool_[h], GL_QUERY_RESULT_AVAILABLE, &available);
@@ -229,9 +265,17 @@ bool BoxQuerySource::ready(QueryHandle h) {
 }
 
 std::uint32_t BoxQuerySource::result(QueryHandle h) {
+  constexpr std::uint32_t kVisible = std::numeric_limits<std::uint32_t>::max();
   if (h >= open_.size() || !open_[h]) {
-    throw Error(ErrorCode::InvalidArgument, "BoxQuerySource::result: handle " + std::to_string(h) +
-                                                " was not issued or was read already");
+    fail(Status(ErrorCode::InvalidArgument, "BoxQuerySource::result: handle " +
+                                                std::to_string(h) +
+                                                " was not issued or was read already"));
+    return kVisible;
+  }
+  if (open_[h] == kFailedQuery) {  // its error is noted: "visible"
+    open_[h] = 0;
+    free_.push_back(h);
+    return kVisible;
   }
   const auto start = std::chrono::steady_clock::now();
   GLuint available = 0;

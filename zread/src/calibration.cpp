@@ -6,6 +6,7 @@
 #include <chrono>
 #include <functional>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <vector>
 
@@ -78,8 +79,22 @@ class SavedState {
 // A framebuffer, two meshes and the objects the measurement draws with.
 class Bench {
  public:
-  explicit Bench(std::uint32_t size)
-      : size_(GLsizei(size)), program_("calibration", kVertex, kFragment) {
+  static Result<std::unique_ptr<Bench>> create(std::uint32_t size) {
+    Result<std::unique_ptr<Program>> program = Program::create("calibration", kVertex, kFragment);
+    if (!program) return program.status();
+    std::unique_ptr<Bench> bench(new Bench(size, std::move(program).value()));
+    if (glCheckNamedFramebufferStatus(bench->fbo_, GL_DRAW_FRAMEBUFFER) !=
+        GL_FRAMEBUFFER_COMPLETE) {
+      return Status(ErrorCode::Environment,
+                    "calibration: the driver cannot render to an RGBA8 + 32F depth framebuffer "
+                    "of " + std::to_string(size) + " pixels square");
+    }
+    return bench;
+  }
+
+ private:
+  Bench(std::uint32_t size, std::unique_ptr<Program> program)
+      : size_(GLsizei(size)), program_(std::move(program)) {
     glCreateFramebuffers(1, &fbo_);
     glCreateRenderbuffers(1, &color_);
     glCreateRenderbuffers(1, &depth_);
@@ -87,11 +102,6 @@ class Bench {
     glNamedRenderbufferStorage(depth_, GL_DEPTH_COMPONENT32F, size_, size_);
     glNamedFramebufferRenderbuffer(fbo_, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color_);
     glNamedFramebufferRenderbuffer(fbo_, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_);
-    if (glCheckNamedFramebufferStatus(fbo_, GL_DRAW_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-      throw Error(ErrorCode::Environment,
-                  "calibration: the driver cannot render to an RGBA8 + 32F depth framebuffer of " +
-                      std::to_string(size) + " pixels square");
-    }
     // O-: one quad (two triangles) of side `pixel` in NDC at z = 0; O+: many triangles
     // inside one pixel, the same triangle over and over.
     const float px = 1.0f / float(size);
@@ -111,6 +121,8 @@ class Bench {
     queries_.resize(kQueries);
     glCreateQueries(GL_SAMPLES_PASSED, GLsizei(kQueries), queries_.data());
   }
+
+ public:
   ~Bench() {
     glDeleteQueries(GLsizei(queries_.size()), queries_.data());
     glDeleteVertexArrays(1, &vao_);
@@ -135,9 +147,9 @@ class Bench {
     glDepthMask(GL_TRUE);
     glDepthFunc(depth_func);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    program_.use();
+    program_->use();
     const float identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-    glUniformMatrix4fv(program_.uniform("u_vp"), 1, GL_FALSE, identity);
+    glUniformMatrix4fv(program_->uniform("u_vp"), 1, GL_FALSE, identity);
     glBindVertexArray(vao_);
   }
   void pixelQuad() { glDrawArrays(GL_TRIANGLES, 0, 6); }
@@ -147,7 +159,7 @@ class Bench {
 
  private:
   GLsizei size_;
-  Program program_;
+  std::unique_ptr<Program> program_;
   GLuint fbo_ = 0, color_ = 0, depth_ = 0, buffer_ = 0, vao_ = 0;
   std::vector<GLuint> queries_;
 };
@@ -175,15 +187,17 @@ std::string rendererName() {
   return r ? reinterpret_cast<const char*>(r) : "unknown";
 }
 
-HardwareParameters measureHardwareParameters(const CalibrationDesc& desc) {
+Result<HardwareParameters> tryMeasureHardwareParameters(const CalibrationDesc& desc) {
   if (desc.size < 16 || desc.size > 4096 || desc.repeats < 1) {
-    throw Error(ErrorCode::InvalidArgument,
-                "calibration: size " + std::to_string(desc.size) + " and repeats " +
-                    std::to_string(desc.repeats) +
-                    " are invalid; use a size from 16 to 4096 pixels and 1 or more repeats");
+    return Status(ErrorCode::InvalidArgument,
+                  "calibration: size " + std::to_string(desc.size) + " and repeats " +
+                      std::to_string(desc.repeats) +
+                      " are invalid; use a size from 16 to 4096 pixels and 1 or more repeats");
   }
   const SavedState saved;
-  Bench bench(desc.size);
+  Result<std::unique_ptr<Bench>> made = Bench::create(desc.size);
+  if (!made) return made.status();
+  Bench& bench = **made;
   const std::uint32_t n = desc.repeats;
   const double pixels = double(desc.size) * desc.size;
   HardwareParameters p;
@@ -255,9 +269,12 @@ HardwareParameters measureHardwareParameters(const CalibrationDesc& desc) {
     for (int i = 0; i < count; ++i) handles.push_back(queries.issueBoxes(&box, 1));
     for (QueryHandle h : handles) queries.result(h);
   };
+  // The query source is checked once; in the timed runs it serves the same camera.
+  bench.prepare(GL_LESS);
+  if (Status begun = queries.beginQueryFrame(camera); !begun) return begun;
   const auto prepare_queries = [&] {
     bench.prepare(GL_LESS);
-    queries.beginQueryFrame(camera);
+    (void)queries.beginQueryFrame(camera);
   };
   constexpr int kQueries = 500;
   timed(1, 1, prepare_queries, [&] { queryMany(large, 4); });  // warm-up
@@ -283,20 +300,21 @@ HardwareParameters measureHardwareParameters(const CalibrationDesc& desc) {
   std::nth_element(latencies.begin(), latencies.begin() + std::ptrdiff_t(latencies.size() / 2),
                    latencies.end());
   p.query_latency = latencies[latencies.size() / 2];
-  queries.endQueryFrame();
+  if (Status ended = queries.endQueryFrame(); !ended) return ended;
+  if (Status queried = queries.takeError(); !queried) return queried;
   glFinish();
   return p;
 }
 
-HardwareParameters hardwareParameters() {
+Result<HardwareParameters> tryHardwareParameters() {
   static std::mutex mutex;
   static std::map<std::string, HardwareParameters> measured;
   const std::string renderer = rendererName();
   const std::lock_guard<std::mutex> lock(mutex);
   const auto it = measured.find(renderer);
   if (it != measured.end()) return it->second;
-  const HardwareParameters p = measureHardwareParameters();
-  measured.emplace(renderer, p);
+  const Result<HardwareParameters> p = tryMeasureHardwareParameters();
+  if (p) measured.emplace(renderer, *p);
   return p;
 }
 

@@ -12,16 +12,17 @@ namespace logrid::zread::detail {
 
 inline constexpr GLuint64 kWaitNanoseconds = 10'000'000'000ull;  // 10 s: a hung renderer
 
-// Waits for `fence` (a GLsync; nothing when null), deletes it and sets it to null. Throws
-// Error(Runtime) "<waiting_for> failed or took over 10 s" when the wait fails or times out.
-inline void waitFence(void*& fence, const std::string& waiting_for) {
-  if (!fence) return;
+// Waits for `fence` (a GLsync; nothing when null), deletes it and sets it to null. An
+// error (Runtime) "<waiting_for> failed or took over 10 s" when the wait fails or times out.
+inline Status waitFence(void*& fence, const std::string& waiting_for) {
+  if (!fence) return {};
   const GLenum result = glClientWaitSync(static_cast<GLsync>(fence), 0, kWaitNanoseconds);
   glDeleteSync(static_cast<GLsync>(fence));
   fence = nullptr;
   if (result == GL_TIMEOUT_EXPIRED || result == GL_WAIT_FAILED) {
-    throw Error(ErrorCode::Runtime, waiting_for + " failed or took over 10 s");
+    return Status(ErrorCode::Runtime, waiting_for + " failed or took over 10 s");
   }
+  return {};
 }
 
 }  // namespace logrid::zread::detail

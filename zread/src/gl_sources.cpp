@@ -6,6 +6,8 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -24,10 +26,12 @@ using detail::nativeType;
 namespace {
 
 // The checks of beginFrame() common to every source; returns the depth attachment.
-DepthAttachment checkFramebuffer(const char* who, GLuint framebuffer, const Camera& camera) {
-  checkDepthAttachment(who, framebuffer, camera);
-  const DepthAttachment a = describeDepthAttachment(who, framebuffer);
-  checkMultisample(who, a, camera);
+Result<DepthAttachment> checkFramebuffer(const char* who, GLuint framebuffer,
+                                         const Camera& camera) {
+  if (Status format = checkDepthAttachment(who, framebuffer, camera); !format) return format;
+  Result<DepthAttachment> a = tryDescribeDepthAttachment(who, framebuffer);
+  if (!a) return a;
+  if (Status samples = tryCheckMultisample(who, *a, camera); !samples) return samples;
   return a;
 }
 
@@ -38,14 +42,26 @@ DepthFormat readFormat(const DepthAttachment& a, const Camera& camera) {
 }
 
 // The framebuffer to read `rects` from: the application's, or the resolve of its
-// multisampled depth (the farthest sample of each pixel).
-GLuint readableFramebuffer(GlStateGuard::Scope& scope, std::unique_ptr<MultisampleResolver>& r,
-                           const DepthAttachment& a, DepthConvention convention,
-                           const PixelRect* rects, std::size_t count) {
+// multisampled depth (the farthest sample of each pixel); nothing once the scope failed.
+std::optional<GLuint> readableFramebuffer(GlStateGuard::Scope& scope,
+                                          std::unique_ptr<MultisampleResolver>& r,
+                                          const DepthAttachment& a, DepthConvention convention,
+                                          const PixelRect* rects, std::size_t count) {
+  if (!scope.ok()) return std::nullopt;
   if (a.samples == 0) return a.framebuffer;
-  if (!r) r = std::make_unique<MultisampleResolver>();
+  if (!r) {
+    Result<std::unique_ptr<MultisampleResolver>> made = MultisampleResolver::create();
+    if (!made) {
+      scope.fail(made.status());
+      return std::nullopt;
+    }
+    r = std::move(made).value();
+  }
   return r->resolve(scope, a, convention, rects, count);
 }
+
+// The reads of `count` rectangles that failed: answered as if nothing were drawn.
+void failAll(const void** data, std::size_t count) { std::fill_n(data, count, nullptr); }
 
 }  // namespace
 
@@ -54,12 +70,15 @@ GLuint readableFramebuffer(GlStateGuard::Scope& scope, std::unique_ptr<Multisamp
 // ---------------------------------------------------------------------------
 
 ReadPixelsSource::ReadPixelsSource(std::uint32_t framebuffer, GlStatePolicy state)
-    : framebuffer_(framebuffer), guard_(state, &counters_.state_queries) {}
+    : framebuffer_(framebuffer), guard_(state, &counters_.state_queries, &failure_) {}
 
-void ReadPixelsSource::beginFrame(const Camera& camera) {
-  attachment_ = checkFramebuffer("ReadPixelsSource", framebuffer_, camera);
+Status ReadPixelsSource::beginFrame(const Camera& camera) {
+  Result<DepthAttachment> a = checkFramebuffer("ReadPixelsSource", framebuffer_, camera);
+  if (!a) return a.status();
+  attachment_ = *a;
   encoding_ = {nativeDepth(readFormat(attachment_, camera)), camera.depth.convention};
   type_ = nativeType(readFormat(attachment_, camera));
+  return {};
 }
 
 void ReadPixelsSource::fetch(const PixelRect* rects, std::size_t count, const void** data,
@@ -69,8 +88,9 @@ void ReadPixelsSource::fetch(const PixelRect* rects, std::size_t count, const vo
   for (std::size_t i = 0; i < count; ++i) total += std::size_t(rects[i].area()) * bytes;
   if (scratch_.size() < total) scratch_.resize(total);
   GlStateGuard::Scope scope(guard_, "ReadPixelsSource");
-  scope.prepareRead(
-      readableFramebuffer(scope, resolver_, attachment_, encoding_.convention, rects, count), 0);
+  const std::optional<GLuint> read =
+      readableFramebuffer(scope, resolver_, attachment_, encoding_.convention, rects, count);
+  if (!read || !scope.prepareRead(*read, 0)) return failAll(data, count);
   std::size_t offset = 0;
   for (std::size_t i = 0; i < count; ++i) {
     const PixelRect& r = rects[i];
@@ -80,7 +100,7 @@ void ReadPixelsSource::fetch(const PixelRect* rects, std::size_t count, const vo
     strides[i] = std::size_t(r.x1 - r.x0);
     offset += std::size_t(r.area()) * bytes;
   }
-  scope.check("glReadPixels");
+  if (!scope.check("glReadPixels")) failAll(data, count);
 }
 
 // ---------------------------------------------------------------------------
@@ -95,7 +115,7 @@ std::size_t aligned(std::size_t bytes) { return (bytes + kAlign - 1) & ~(kAlign 
 }  // namespace
 
 PboSource::PboSource(std::uint32_t framebuffer, GlStatePolicy state)
-    : framebuffer_(framebuffer), guard_(state, &counters_.state_queries) {}
+    : framebuffer_(framebuffer), guard_(state, &counters_.state_queries, &failure_) {}
 
 PboSource::~PboSource() {
   for (Slot& s : slots_) release(s);
@@ -107,20 +127,24 @@ void PboSource::release(Slot& slot) {
   slot = {};
 }
 
-void PboSource::beginFrame(const Camera& camera) {
-  attachment_ = checkFramebuffer("PboSource", framebuffer_, camera);
+Status PboSource::beginFrame(const Camera& camera) {
+  Result<DepthAttachment> a = checkFramebuffer("PboSource", framebuffer_, camera);
+  if (!a) return a.status();
+  attachment_ = *a;
   encoding_ = {nativeDepth(readFormat(attachment_, camera)), camera.depth.convention};
   type_ = nativeType(readFormat(attachment_, camera));
+  return {};
 }
 
-void PboSource::endFrame() {
+Status PboSource::endFrame() {
   // Nothing may stay in flight across frames (the culler collects every batch).
   for (const Slot& s : slots_) {
-    if (s.fence) throw Error(ErrorCode::Runtime, "PboSource: a batch was never collected");
+    if (s.fence) return Status(ErrorCode::Runtime, "PboSource: a batch was never collected");
   }
+  return {};
 }
 
-PboSource::Slot& PboSource::freeSlot(std::size_t bytes) {
+PboSource::Slot* PboSource::freeSlot(std::size_t bytes) {
   // Slots are handed out in turn; one still in flight is skipped and the ring grows.
   std::size_t index = slots_.size();
   for (std::size_t k = 0; k < slots_.size(); ++k) {
@@ -144,23 +168,29 @@ PboSource::Slot& PboSource::freeSlot(std::size_t bytes) {
     if (!slot.mapped) {
       const std::size_t capacity = slot.capacity;
       release(slot);
-      throw Error(ErrorCode::Runtime, "PboSource: could not map a pixel-buffer object of " +
-                                          std::to_string(capacity) + " bytes");
+      fail(Status(ErrorCode::Runtime, "PboSource: could not map a pixel-buffer object of " +
+                                          std::to_string(capacity) + " bytes"));
+      return nullptr;
     }
   }
-  return slot;
+  return &slot;
 }
 
 void PboSource::issue(const PixelRect* rects, std::size_t count) {
   const std::size_t bytes = bytesOf(type_);
   std::size_t total = 0;
   for (std::size_t i = 0; i < count; ++i) total += aligned(std::size_t(rects[i].area()) * bytes);
-  Slot& slot = freeSlot(total);
-  const std::size_t slot_index = std::size_t(&slot - slots_.data());
+  Slot* free = freeSlot(total);
   GlStateGuard::Scope scope(guard_, "PboSource");
-  scope.prepareRead(
-      readableFramebuffer(scope, resolver_, attachment_, encoding_.convention, rects, count),
-      slot.buffer);
+  const std::optional<GLuint> read =
+      free ? readableFramebuffer(scope, resolver_, attachment_, encoding_.convention, rects, count)
+           : std::nullopt;
+  if (!read || !scope.prepareRead(*read, free->buffer)) {
+    issued_.insert(issued_.end(), count, Issued{kFailed, 0});
+    return;
+  }
+  Slot& slot = *free;
+  const std::size_t slot_index = std::size_t(&slot - slots_.data());
   std::size_t offset = 0;
   for (std::size_t i = 0; i < count; ++i) {
     const PixelRect& r = rects[i];
@@ -169,7 +199,9 @@ void PboSource::issue(const PixelRect* rects, std::size_t count) {
     issued_.push_back({slot_index, offset});
     offset += aligned(std::size_t(r.area()) * bytes);
   }
-  scope.check("glReadPixels into a pixel-buffer object");
+  if (!scope.check("glReadPixels into a pixel-buffer object")) {
+    for (std::size_t i = issued_.size() - count; i < issued_.size(); ++i) issued_[i].slot = kFailed;
+  }
   slot.fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
   glFlush();  // the fence must reach the renderer, or waiting on it could wait forever
 }
@@ -177,13 +209,19 @@ void PboSource::issue(const PixelRect* rects, std::size_t count) {
 void PboSource::fetch(const PixelRect* rects, std::size_t count, const void** data,
                       std::size_t* strides) {
   if (issued_.size() != count) {
-    throw Error(ErrorCode::Runtime, "PboSource: fetch of rectangles that were not issued");
+    fail(Status(ErrorCode::Runtime, "PboSource: fetch of rectangles that were not issued"));
+    issued_.clear();
+    return failAll(data, count);
   }
   GlStateGuard::Scope scope(guard_, "PboSource");
-  for (Slot& slot : slots_) detail::waitFence(slot.fence, "PboSource: waiting for depth reads");
-  scope.check("glClientWaitSync");
+  for (Slot& slot : slots_) {
+    Status waited = detail::waitFence(slot.fence, "PboSource: waiting for depth reads");
+    if (!waited) scope.fail(std::move(waited));
+  }
+  const bool waited = scope.check("glClientWaitSync");
   for (std::size_t i = 0; i < count; ++i) {
-    data[i] = slots_[issued_[i].slot].mapped + issued_[i].offset;
+    const Issued& at = issued_[i];
+    data[i] = waited && at.slot != kFailed ? slots_[at.slot].mapped + at.offset : nullptr;
     strides[i] = std::size_t(rects[i].x1 - rects[i].x0);
   }
   issued_.clear();
@@ -212,40 +250,54 @@ void main() { gl_FragDepth = u_depth; }
 }  // namespace
 
 QuerySource::QuerySource(std::uint32_t framebuffer, GlStatePolicy state)
-    : framebuffer_(framebuffer),
-      guard_(state, &counters_.state_queries),
-      program_(std::make_unique<Program>("QuerySource", kQueryVertex, kQueryFragment)),
-      depth_uniform_(program_->uniform("u_depth")) {
+    : framebuffer_(framebuffer), guard_(state, &counters_.state_queries, &failure_) {
+  Result<std::unique_ptr<Program>> program =
+      Program::create("QuerySource", kQueryVertex, kQueryFragment);
+  if (!program) {
+    unusable_ = program.status();
+    return;
+  }
+  program_ = std::move(program).value();
+  depth_uniform_ = program_->uniform("u_depth");
   glCreateVertexArrays(1, &vao_);
 }
 
 QuerySource::~QuerySource() {
   if (!queries_.empty()) glDeleteQueries(GLsizei(queries_.size()), queries_.data());
-  glDeleteVertexArrays(1, &vao_);
+  if (vao_) glDeleteVertexArrays(1, &vao_);
 }
 
-void QuerySource::beginFrame(const Camera& camera) {
-  checkFramebuffer("QuerySource", framebuffer_, camera);
+Status QuerySource::beginFrame(const Camera& camera) {
+  if (!unusable_.ok()) return unusable_;
+  if (Result<DepthAttachment> a = checkFramebuffer("QuerySource", framebuffer_, camera); !a) {
+    return a.status();
+  }
   depth_ = camera.depth;
   width_ = std::int32_t(camera.width);
   height_ = std::int32_t(camera.height);
-  if (!pending_.empty())
-    throw Error(ErrorCode::Runtime, "QuerySource: a batch was never collected");
+  if (!pending_.empty()) return Status(ErrorCode::Runtime, "QuerySource: a batch was never collected");
+  return {};
 }
 
-namespace {
-[[noreturn]] void refuseDepthValues() {
-  throw Error(ErrorCode::Unsupported,
-              "QuerySource: occlusion queries cannot read depth values; use a pixel-reading "
-              "source (readpixels, pbo, reduce, software) for this method");
+void QuerySource::answerConservatively(const AreaRequest* requests, std::size_t count,
+                                       AreaAnswer* answers) {
+  for (std::size_t i = 0; i < count; ++i) answers[i] = conservativeAnswer(requests[i]);
 }
-}  // namespace
 
 void QuerySource::submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) {
   if (count == 0) return;
   const auto start = std::chrono::steady_clock::now();
   for (std::size_t i = 0; i < count; ++i) {
-    if (requests[i].ask != AreaAsk::Count) refuseDepthValues();
+    if (requests[i].ask != AreaAsk::Count) {
+      fail(Status(ErrorCode::Unsupported,
+                  "QuerySource: occlusion queries cannot read depth values; use a "
+                  "pixel-reading source (readpixels, pbo, reduce, software) for this method"));
+      return answerConservatively(requests, count, answers);
+    }
+  }
+  if (!unusable_.ok()) {
+    fail(unusable_);
+    return answerConservatively(requests, count, answers);
   }
   const std::size_t first_free = pending_.size();
   if (queries_.size() < first_free + count) {
@@ -257,16 +309,19 @@ void QuerySource::submit(const AreaRequest* requests, std::size_t count, AreaAns
   GLint active = 0;
   glGetQueryiv(GL_SAMPLES_PASSED, GL_CURRENT_QUERY, &active);
   if (active) {
-    throw Error(ErrorCode::InvalidArgument,
+    fail(Status(ErrorCode::InvalidArgument,
                 "QuerySource: the application's GL_SAMPLES_PASSED query " + std::to_string(active) +
                     " is active, and GL allows one per target; end it before culling, or use "
-                    "another reader");
+                    "another reader"));
+    return answerConservatively(requests, count, answers);
   }
   const bool reversed = depth_.convention == DepthConvention::Reversed;
   const float far_key = clearKey(depth_), near_key = nearPlaneKey(depth_);
   GlStateGuard::Scope scope(guard_, "QuerySource");
   // Pass where the stored key >= threshold: standard stored >= d, reversed stored <= d.
-  scope.prepareDraw(framebuffer_, width_, height_, reversed ? GL_GEQUAL : GL_LEQUAL, false);
+  if (!scope.prepareDraw(framebuffer_, width_, height_, reversed ? GL_GEQUAL : GL_LEQUAL, false)) {
+    return answerConservatively(requests, count, answers);
+  }
   program_->use();
   glBindVertexArray(vao_);
   std::size_t issued = 0;
@@ -299,7 +354,10 @@ void QuerySource::submit(const AreaRequest* requests, std::size_t count, AreaAns
     ++issued;
   }
 
-  scope.check("the occlusion queries");
+  if (!scope.check("the occlusion queries")) {
+    pending_.resize(first_free);
+    answerConservatively(requests, count, answers);
+  }
 
   counters_.queries += issued;
   counters_.reads += count;
@@ -313,10 +371,13 @@ void QuerySource::collect() {
   GlStateGuard::Scope scope(guard_, "QuerySource");
   for (const Pending& p : pending_) {
     GLuint samples = 0;
-    glGetQueryObjectuiv(queries_[p.query], GL_QUERY_RESULT, &samples);
+    if (scope.ok()) glGetQueryObjectuiv(queries_[p.query], GL_QUERY_RESULT, &samples);
     p.answer->count = samples;
   }
-  scope.check("glGetQueryObjectuiv");
+  if (!scope.check("glGetQueryObjectuiv")) {
+    // Every pixel of the rectangle counted: never "hidden".
+    for (const Pending& p : pending_) p.answer->count = std::numeric_limits<std::uint32_t>::max();
+  }
   counters_.bytes += pending_.size() * sizeof(GLuint);
   pending_.clear();
   if (drawn_since_query_) {

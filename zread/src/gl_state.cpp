@@ -91,8 +91,10 @@ namespace {
 thread_local GlStateGuard* t_open_window = nullptr;
 }  // namespace
 
-GlStateGuard::GlStateGuard(GlStatePolicy policy, std::uint64_t* query_counter)
-    : policy_(policy), queries_(query_counter ? query_counter : &own_queries_) {
+GlStateGuard::GlStateGuard(GlStatePolicy policy, std::uint64_t* query_counter, FirstError* errors)
+    : policy_(policy),
+      queries_(query_counter ? query_counter : &own_queries_),
+      errors_(errors ? errors : &own_errors_) {
   glGetIntegerv(GL_MAX_CLIP_DISTANCES, &clip_distances_);
   glGetIntegerv(GL_MAX_DRAW_BUFFERS, &draw_buffers_);
   glGetIntegerv(GL_MAX_SAMPLE_MASK_WORDS, &sample_mask_words_);
@@ -104,7 +106,8 @@ GlStateGuard::GlStateGuard(GlStatePolicy policy, std::uint64_t* query_counter)
         << " sample-mask words; logrid saves at most " << kMaxClipDistances << ", "
         << kMaxDrawBuffers << " and " << kMaxSampleMaskWords
         << " (raise GlStateGuard::kMax* and rebuild)";
-    throw Error(ErrorCode::Unsupported, out.str());
+    unusable_ = Status(ErrorCode::Unsupported, out.str());
+    return;
   }
   depth_bounds_ = epoxy_has_gl_extension("GL_EXT_depth_bounds_test");
   representative_fragment_ = epoxy_has_gl_extension("GL_NV_representative_fragment_test");
@@ -131,9 +134,10 @@ GlStateGuard::~GlStateGuard() {
 
 void GlStateGuard::beginAccess() { access_ = true; }
 
-void GlStateGuard::endAccess() {
+Status GlStateGuard::endAccess() {
   access_ = false;
   closeWindow(true);
+  return takeError();
 }
 
 void GlStateGuard::closeWindow(bool check) {
@@ -144,25 +148,25 @@ void GlStateGuard::closeWindow(bool check) {
   if (!window || !check) return;
   const std::string errors = drainErrors(*queries_);
   if (!errors.empty()) {
-    throw Error(ErrorCode::Runtime, call + " (or a later GL call of logrid's in the same batch) "
-                                           "failed with " + errors +
-                                           "; the depth values could not be read (a debug "
-                                           "context's messages say more)");
+    errors_->note(Status(ErrorCode::Runtime,
+                         call + " (or a later GL call of logrid's in the same batch) failed with " +
+                             errors +
+                             "; the depth values could not be read (a debug context's messages "
+                             "say more)"));
   }
 }
 
-namespace {
 // Closes the access window of a guard other than `guard`, so that saves and restores of
 // two guards nest (gl_state.hpp).
-void closeOtherWindow(GlStateGuard& guard) {
+void GlStateGuard::closeOtherWindow(GlStateGuard& guard) {
   if (t_open_window && t_open_window != &guard) {
     GlStateGuard* other = t_open_window;
     const bool access = other->inAccess();
-    other->endAccess();
+    other->access_ = false;
+    other->closeWindow(true);  // its errors wait for its own endAccess() or takeError()
     if (access) other->beginAccess();  // its next scope opens a new window
   }
 }
-}  // namespace
 
 GlStateGuard::Scope::Scope(GlStateGuard& guard, const char* who) : guard_(guard), who_(who) {
   closeOtherWindow(guard);
@@ -182,22 +186,31 @@ GlStateGuard::Scope::Scope(GlStateGuard& guard, const char* who, Window) : guard
 }
 
 void GlStateGuard::Scope::open() {
+  if (!guard_.unusable_.ok()) return fail(guard_.unusable_);
   if (!saving()) return;  // ApplicationManaged: the application promises no pending error
   const std::string pending = drainErrors(*guard_.queries_);
   if (!pending.empty()) {
-    throw Error(ErrorCode::Runtime,
+    fail(Status(ErrorCode::Runtime,
                 std::string(who_) + ": a GL error (" + pending +
                     ") was pending before logrid's depth source ran, from an earlier GL call "
                     "of the application; find it with glGetError() or a debug context before "
-                    "culling (logrid cannot tell it from its own errors)");
+                    "culling (logrid cannot tell it from its own errors)"));
   }
+}
+
+bool GlStateGuard::Scope::ok() const { return window_ ? window_->ok() : !failed_; }
+
+void GlStateGuard::Scope::fail(Status error) {
+  if (window_) return window_->fail(std::move(error));
+  failed_ = true;
+  guard_.errors_->note(std::move(error));
 }
 
 GlStateGuard::Scope::~Scope() {
   if (!window_) restore();
 }
 
-bool GlStateGuard::Scope::conditionalRenderingActive(std::uint32_t probe_query) {
+Result<bool> GlStateGuard::Scope::conditionalRenderingActive(std::uint32_t probe_query) {
   // GL has no query for conditional rendering, but BeginConditionalRender fails with
   // GL_INVALID_OPERATION while it is active (GL 4.5 §10.9) and otherwise begins it on
   // the probe, which is ended at once: nothing is drawn in between, so nothing changes.
@@ -207,55 +220,65 @@ bool GlStateGuard::Scope::conditionalRenderingActive(std::uint32_t probe_query) 
   const GLenum e = glGetError();
   if (e == GL_INVALID_OPERATION) return true;
   if (e != GL_NO_ERROR) {
-    throw Error(ErrorCode::Runtime, "GlStateGuard: the conditional-rendering probe failed with " +
-                                        errorName(e) + "; the driver does not follow GL 4.5 here");
+    return Status(ErrorCode::Runtime, "GlStateGuard: the conditional-rendering probe failed with " +
+                                          errorName(e) + "; the driver does not follow GL 4.5 here");
   }
   glEndConditionalRender();
   return false;
 }
 
-void GlStateGuard::Scope::refuseUnsavable() {
-  if (!saving()) return;  // ApplicationManaged: the application promises neither
+bool GlStateGuard::Scope::refuseUnsavable() {
+  if (!saving()) return true;  // ApplicationManaged: the application promises neither
   // The probe needs no error pending: in a window, check the deferred ones first.
   if (!guard_.unchecked_.empty()) {
     const std::string errors = drainErrors(*guard_.queries_);
     if (!errors.empty()) {
-      throw Error(ErrorCode::Runtime, guard_.unchecked_ + " failed with " + errors +
+      fail(Status(ErrorCode::Runtime, guard_.unchecked_ + " failed with " + errors +
                                           "; the depth values could not be read (a debug "
-                                          "context's messages say more)");
+                                          "context's messages say more)"));
+      return false;
     }
     guard_.unchecked_.clear();
   }
   ++*guard_.queries_;  // the probe's glGetError
-  if (conditionalRenderingActive(guard_.probe_query_)) {
-    throw Error(ErrorCode::InvalidArgument,
+  const Result<bool> conditional = conditionalRenderingActive(guard_.probe_query_);
+  if (!conditional) {
+    fail(conditional.status());
+    return false;
+  }
+  if (*conditional) {
+    fail(Status(ErrorCode::InvalidArgument,
                 std::string(who_) +
                     ": conditional rendering is active (glBeginConditionalRender without "
                     "glEndConditionalRender), so the depth source's own draws could be "
                     "discarded and GL offers no way to save and restore it; end conditional "
                     "rendering before culling, or begin it only inside the draw callback "
-                    "around the application's own draws");
+                    "around the application's own draws"));
+    return false;
   }
   GLint feedback = 0, active = 0, paused = 0;
   LOGRID_STATE_QUERY(glGetIntegerv(GL_TRANSFORM_FEEDBACK_BINDING, &feedback));
   LOGRID_STATE_QUERY(glGetTransformFeedbackiv(GLuint(feedback), GL_TRANSFORM_FEEDBACK_ACTIVE, &active));
   LOGRID_STATE_QUERY(glGetTransformFeedbackiv(GLuint(feedback), GL_TRANSFORM_FEEDBACK_PAUSED, &paused));
   if (active && !paused) {
-    throw Error(ErrorCode::InvalidArgument,
+    fail(Status(ErrorCode::InvalidArgument,
                 std::string(who_) +
                     ": transform feedback is active and not paused, so GL forbids the depth "
                     "source to change programs; pause it (glPauseTransformFeedback) or end "
-                    "it before culling");
+                    "it before culling"));
+    return false;
   }
+  return true;
 }
 
-void GlStateGuard::Scope::prepareDraw(std::uint32_t framebuffer, std::int32_t width,
+bool GlStateGuard::Scope::prepareDraw(std::uint32_t framebuffer, std::int32_t width,
                                       std::int32_t height, std::uint32_t depth_func,
                                       bool depth_write, bool color_write) {
   if (window_) return window_->prepareDraw(framebuffer, width, height, depth_func, depth_write,
                                            color_write);
+  if (failed_) return false;
   if (!draw_saved_ && saving()) {
-    refuseUnsavable();
+    if (!refuseUnsavable()) return false;
     DrawState& s = draw_;
     s.cull_face = enabled(GL_CULL_FACE);
     s.depth_test = enabled(GL_DEPTH_TEST);
@@ -340,15 +363,18 @@ void GlStateGuard::Scope::prepareDraw(std::uint32_t framebuffer, std::int32_t wi
   if (guard_.scissor_exclusive_) glDisable(GL_SCISSOR_TEST_EXCLUSIVE_NV);
   const GLboolean c = color_write ? GL_TRUE : GL_FALSE;
   for (int i = 0; i < guard_.draw_buffers_; ++i) glColorMaski(GLuint(i), c, c, c, c);
+  return true;
 }
 
 void GlStateGuard::Scope::scissor(const PixelRect& rect) {
   if (window_) return window_->scissor(rect);
+  if (failed_) return;
   glScissorIndexed(0, rect.x0, rect.y0, rect.x1 - rect.x0, rect.y1 - rect.y0);
 }
 
 void GlStateGuard::Scope::clipControl(std::uint32_t origin, std::uint32_t depth_mode) {
   if (window_) return window_->clipControl(origin, depth_mode);
+  if (failed_) return;
   if (!clip_saved_ && saving()) {
     clip_origin_ = integer(GL_CLIP_ORIGIN);
     clip_depth_mode_ = integer(GL_CLIP_DEPTH_MODE);
@@ -357,18 +383,21 @@ void GlStateGuard::Scope::clipControl(std::uint32_t origin, std::uint32_t depth_
   glClipControl(origin, depth_mode);
 }
 
-void GlStateGuard::Scope::prepareProgram() {
+bool GlStateGuard::Scope::prepareProgram() {
   if (window_) return window_->prepareProgram();
-  if (program_saved_ || !saving()) return;
-  if (!draw_saved_) refuseUnsavable();
+  if (failed_) return false;
+  if (program_saved_ || !saving()) return true;
+  if (!draw_saved_ && !refuseUnsavable()) return false;
   program_.program = integer(GL_CURRENT_PROGRAM);
   program_.pipeline = integer(GL_PROGRAM_PIPELINE_BINDING);
   program_.vertex_array = integer(GL_VERTEX_ARRAY_BINDING);
   program_saved_ = true;
+  return true;
 }
 
-void GlStateGuard::Scope::prepareRead(std::uint32_t framebuffer, std::uint32_t pack_buffer) {
+bool GlStateGuard::Scope::prepareRead(std::uint32_t framebuffer, std::uint32_t pack_buffer) {
   if (window_) return window_->prepareRead(framebuffer, pack_buffer);
+  if (failed_) return false;
   if (!read_saved_ && saving()) {
     ReadState& s = read_;
     s.read_framebuffer = integer(GL_READ_FRAMEBUFFER_BINDING);
@@ -392,26 +421,29 @@ void GlStateGuard::Scope::prepareRead(std::uint32_t framebuffer, std::uint32_t p
   glPixelStorei(GL_PACK_SKIP_PIXELS, 0);
   glPixelStorei(GL_PACK_SKIP_ROWS, 0);
   glPixelStorei(GL_PACK_SWAP_BYTES, GL_FALSE);
+  return true;
 }
 
-void GlStateGuard::Scope::bindTexture(std::uint32_t unit, std::uint32_t target,
+bool GlStateGuard::Scope::bindTexture(std::uint32_t unit, std::uint32_t target,
                                       std::uint32_t texture) {
   if (window_) return window_->bindTexture(unit, target, texture);
+  if (failed_) return false;
   const GLenum binding = textureBinding(target);
   bool unit_taken = false;
   for (int i = 0; i < textures_saved_; ++i) {
     const TextureState& t = textures_[i];
-    if (t.unit == unit && t.target == target && t.texture == texture) return;  // bound already
+    if (t.unit == unit && t.target == target && t.texture == texture) return true;  // bound already
     unit_taken |= t.unit == unit;
   }
   if (binding == 0 || textures_saved_ == kMaxTextures || unit_taken) {
-    throw Error(
+    fail(Status(
         ErrorCode::InvalidArgument,
         std::string(who_) + ": bindTexture: " +
             (binding == 0 ? "unknown texture target " + errorName(target)
              : unit_taken
                  ? "texture unit " + std::to_string(unit) + " is already bound in this scope"
-                 : "more than " + std::to_string(kMaxTextures) + " textures in one scope"));
+                 : "more than " + std::to_string(kMaxTextures) + " textures in one scope")));
+    return false;
   }
   TextureState unsaved;  // ApplicationManaged: nothing is saved
   TextureState& s = saving() ? textures_[textures_saved_] : unsaved;
@@ -450,19 +482,22 @@ void GlStateGuard::Scope::bindTexture(std::uint32_t unit, std::uint32_t target,
     glTextureParameteri(texture, GL_TEXTURE_BASE_LEVEL, 0);
     glTextureParameteri(texture, GL_TEXTURE_MAX_LEVEL, 1000);
   }
+  return true;
 }
 
-void GlStateGuard::Scope::bindStorageBuffer(std::uint32_t index, std::uint32_t buffer,
+bool GlStateGuard::Scope::bindStorageBuffer(std::uint32_t index, std::uint32_t buffer,
                                             std::int64_t offset, std::int64_t size) {
   if (window_) return window_->bindStorageBuffer(index, buffer, offset, size);
+  if (failed_) return false;
   int slot = storage_saved_;
   for (int i = 0; i < storage_saved_; ++i) {
     if (storage_[i].index == index) slot = i;
   }
   if (slot == kMaxStorageBuffers) {
-    throw Error(ErrorCode::InvalidArgument, std::string(who_) + ": bindStorageBuffer: more than " +
+    fail(Status(ErrorCode::InvalidArgument, std::string(who_) + ": bindStorageBuffer: more than " +
                                                 std::to_string(kMaxStorageBuffers) +
-                                                " binding points in one scope");
+                                                " binding points in one scope"));
+    return false;
   }
   if (slot == storage_saved_ && saving()) {
     StorageState& s = storage_[slot];
@@ -478,19 +513,23 @@ void GlStateGuard::Scope::bindStorageBuffer(std::uint32_t index, std::uint32_t b
   } else {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, index, buffer);
   }
+  return true;
 }
 
-void GlStateGuard::Scope::check(const char* call) {
+bool GlStateGuard::Scope::check(const char* call) {
   if (window_) {
     if (guard_.unchecked_.empty()) guard_.unchecked_ = std::string(who_) + ": " + call;
-    return;
+    return window_->ok();
   }
+  if (failed_) return false;
   const std::string errors = drainErrors(*guard_.queries_);
   if (!errors.empty()) {
-    throw Error(ErrorCode::Runtime, std::string(who_) + ": " + call + " failed with " + errors +
+    fail(Status(ErrorCode::Runtime, std::string(who_) + ": " + call + " failed with " + errors +
                                         "; the depth values could not be read (a debug "
-                                        "context's messages say more)");
+                                        "context's messages say more)"));
+    return false;
   }
+  return true;
 }
 
 void GlStateGuard::Scope::restore() {

@@ -45,7 +45,7 @@ std::string hex(GLenum e) {
 
 }  // namespace
 
-DepthAttachment describeDepthAttachment(const char* who, std::uint32_t framebuffer) {
+Result<DepthAttachment> tryDescribeDepthAttachment(const char* who, std::uint32_t framebuffer) {
   DepthAttachment a;
   a.framebuffer = framebuffer;
   const GLenum point = framebuffer ? GL_DEPTH_ATTACHMENT : GL_DEPTH;
@@ -54,8 +54,8 @@ DepthAttachment describeDepthAttachment(const char* who, std::uint32_t framebuff
                                              GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
   a.object_type = GLenum(type);
   if (type == GL_NONE) {
-    throw Error(ErrorCode::InvalidArgument,
-                std::string(who) + ": framebuffer " + std::to_string(framebuffer) +
+    return Status(ErrorCode::InvalidArgument,
+                  std::string(who) + ": framebuffer " + std::to_string(framebuffer) +
                     " has no depth attachment; logrid reads the depth buffer the application "
                     "draws into, so attach one (depth texture or renderbuffer)");
   }
@@ -96,10 +96,10 @@ DepthAttachment describeDepthAttachment(const char* who, std::uint32_t framebuff
   return a;
 }
 
-void checkMultisample(const char* who, const DepthAttachment& a, const Camera& camera) {
-  if (a.samples == 0) return;
+Status tryCheckMultisample(const char* who, const DepthAttachment& a, const Camera& camera) {
+  if (a.samples == 0) return {};
   if (a.object_type == GL_FRAMEBUFFER_DEFAULT) {
-    throw Error(ErrorCode::Unsupported,
+    return Status(ErrorCode::Unsupported,
                 std::string(who) + ": the default framebuffer is multisampled (" +
                     std::to_string(a.samples) +
                     " samples); its samples cannot be read one by one, so logrid cannot take "
@@ -108,19 +108,20 @@ void checkMultisample(const char* who, const DepthAttachment& a, const Camera& c
                     "window afterwards");
   }
   if (!camera.multisample) {
-    throw Error(ErrorCode::InvalidArgument,
+    return Status(ErrorCode::InvalidArgument,
                 std::string(who) + ": framebuffer " + std::to_string(a.framebuffer) + " has " +
                     std::to_string(a.samples) +
                     " depth samples per pixel but Camera::multisample is false; set it, so "
                     "that a box counts every pixel it touches (samples lie away from pixel "
                     "centres)");
   }
+  return {};
 }
 
 struct MultisampleResolver::Impl {
-  Program program{"MultisampleResolver", kResolveVertex, kResolveFragment};
-  GLint samples_uniform = program.uniform("u_samples");
-  GLint largest_uniform = program.uniform("u_farthest_is_largest");
+  std::unique_ptr<Program> program;
+  GLint samples_uniform = -1;
+  GLint largest_uniform = -1;
   GLuint vao = 0;
   // The resolved depth.
   GLuint fbo = 0, resolved = 0;
@@ -130,12 +131,14 @@ struct MultisampleResolver::Impl {
   GLenum copy_format = 0;
   GLint copy_samples = 0, copy_width = 0, copy_height = 0;
 
-  Impl() {
+  explicit Impl(std::unique_ptr<Program> resolve) : program(std::move(resolve)) {
+    samples_uniform = program->uniform("u_samples");
+    largest_uniform = program->uniform("u_farthest_is_largest");
     glCreateVertexArrays(1, &vao);
     glCreateFramebuffers(1, &fbo);
     glNamedFramebufferDrawBuffer(fbo, GL_NONE);
     glNamedFramebufferReadBuffer(fbo, GL_NONE);
-    glProgramUniform1i(program.handle(), program.uniform("u_depth"), GLint(kTextureUnit));
+    glProgramUniform1i(program->handle(), program->uniform("u_depth"), GLint(kTextureUnit));
   }
   ~Impl() {
     glDeleteVertexArrays(1, &vao);
@@ -178,39 +181,59 @@ struct MultisampleResolver::Impl {
   }
 };
 
-MultisampleResolver::MultisampleResolver() : impl_(std::make_unique<Impl>()) {}
+Result<std::unique_ptr<MultisampleResolver>> MultisampleResolver::create() {
+  std::unique_ptr<MultisampleResolver> resolver(new MultisampleResolver(Unbuilt{}));
+  if (Status built = resolver->build(); !built) return built;
+  return resolver;
+}
+
+Status MultisampleResolver::build() {
+  Result<std::unique_ptr<Program>> program =
+      Program::create("MultisampleResolver", kResolveVertex, kResolveFragment);
+  if (!program) return program.status();
+  impl_ = std::make_unique<Impl>(std::move(program).value());
+  return {};
+}
+
+MultisampleResolver::MultisampleResolver(Unbuilt) {}
 MultisampleResolver::~MultisampleResolver() = default;
 
-std::uint32_t MultisampleResolver::depthTexture() const { return impl_->resolved; }
+std::uint32_t MultisampleResolver::depthTexture() const { return impl_ ? impl_->resolved : 0; }
 
-std::uint32_t MultisampleResolver::resolve(GlStateGuard::Scope& scope, const DepthAttachment& a,
-                                           DepthConvention convention, const PixelRect* rects,
-                                           std::size_t count) {
+std::optional<std::uint32_t> MultisampleResolver::resolve(GlStateGuard::Scope& scope,
+                                                          const DepthAttachment& a,
+                                                          DepthConvention convention,
+                                                          const PixelRect* rects,
+                                                          std::size_t count) {
   Impl& s = *impl_;
   if (a.samples == 0 || a.object_type == GL_FRAMEBUFFER_DEFAULT ||
       (a.object_type == GL_TEXTURE && a.target != GL_TEXTURE_2D_MULTISAMPLE &&
        a.target != GL_TEXTURE_2D_MULTISAMPLE_ARRAY)) {
-    throw Error(ErrorCode::Unsupported,
-                "MultisampleResolver: cannot resolve a depth attachment of object type " +
-                    hex(a.object_type) + ", target " + hex(a.target) + " and " +
-                    std::to_string(a.samples) +
-                    " samples; attach a multisampled depth texture or renderbuffer");
+    scope.fail(Status(ErrorCode::Unsupported,
+                      "MultisampleResolver: cannot resolve a depth attachment of object type " +
+                          hex(a.object_type) + ", target " + hex(a.target) + " and " +
+                          std::to_string(a.samples) +
+                          " samples; attach a multisampled depth texture or renderbuffer"));
+    return std::nullopt;
   }
+  if (!scope.ok()) return std::nullopt;
   s.size(a.width, a.height);
   const GLuint texture = s.source(a, rects, count);
-  scope.check("glCopyImageSubData (multisampled depth to texture)");
-  scope.prepareDraw(s.fbo, a.width, a.height, GL_ALWAYS, true);
-  scope.bindTexture(kTextureUnit, GL_TEXTURE_2D_MULTISAMPLE, texture);
-  s.program.use();
+  if (!scope.check("glCopyImageSubData (multisampled depth to texture)") ||
+      !scope.prepareDraw(s.fbo, a.width, a.height, GL_ALWAYS, true) ||
+      !scope.bindTexture(kTextureUnit, GL_TEXTURE_2D_MULTISAMPLE, texture)) {
+    return std::nullopt;
+  }
+  s.program->use();
   glBindVertexArray(s.vao);
-  glProgramUniform1i(s.program.handle(), s.samples_uniform, a.samples);
-  glProgramUniform1i(s.program.handle(), s.largest_uniform,
+  glProgramUniform1i(s.program->handle(), s.samples_uniform, a.samples);
+  glProgramUniform1i(s.program->handle(), s.largest_uniform,
                      convention == DepthConvention::Standard ? 1 : 0);
   for (std::size_t i = 0; i < count; ++i) {
     scope.scissor(rects[i]);
     glDrawArrays(GL_TRIANGLES, 0, 3);
   }
-  scope.check("the multisample depth resolve");
+  if (!scope.check("the multisample depth resolve")) return std::nullopt;
   return s.fbo;
 }
 

@@ -2,6 +2,7 @@
 
 #include <epoxy/gl.h>
 
+#include <cassert>
 #include <initializer_list>
 
 #include "logrid/error.hpp"
@@ -18,7 +19,7 @@ const char* stageName(GLenum stage) {
   return "?";
 }
 
-GLuint compileStage(const std::string& name, GLenum stage, const char* source) {
+Result<GLuint> compileStage(const std::string& name, GLenum stage, const char* source) {
   const GLuint shader = glCreateShader(stage);
   glShaderSource(shader, 1, &source, nullptr);
   glCompileShader(shader);
@@ -28,32 +29,47 @@ GLuint compileStage(const std::string& name, GLenum stage, const char* source) {
     char log[2048] = {};
     glGetShaderInfoLog(shader, sizeof log, nullptr, log);
     glDeleteShader(shader);
-    throw Error(ErrorCode::Runtime,
-                "program '" + name + "': " + stageName(stage) + " shader does not compile: " + log);
+    return Status(ErrorCode::Runtime, "program '" + name + "': " + stageName(stage) +
+                                          " shader does not compile: " + log);
   }
   return shader;
 }
 
 }  // namespace
 
-Program::Program(const std::string& name, const char* vertex_source, const char* fragment_source)
-    : name_(name) {
-  const GLuint vs = compileStage(name, GL_VERTEX_SHADER, vertex_source);
-  GLuint fs = 0;
-  try {
-    fs = compileStage(name, GL_FRAGMENT_SHADER, fragment_source);
-  } catch (...) {
-    glDeleteShader(vs);
-    throw;
+Result<std::unique_ptr<Program>> Program::create(const std::string& name,
+                                                 const char* vertex_source,
+                                                 const char* fragment_source) {
+  std::unique_ptr<Program> program(new Program(name));
+  if (Status built = program->build(vertex_source, fragment_source); !built) return built;
+  return program;
+}
+
+Result<std::unique_ptr<Program>> Program::create(const std::string& name,
+                                                 const char* compute_source) {
+  std::unique_ptr<Program> program(new Program(name));
+  if (Status built = program->build(compute_source); !built) return built;
+  return program;
+}
+
+Status Program::build(const char* vertex_source, const char* fragment_source) {
+  const Result<GLuint> vs = compileStage(name_, GL_VERTEX_SHADER, vertex_source);
+  if (!vs) return vs.status();
+  const Result<GLuint> fs = compileStage(name_, GL_FRAGMENT_SHADER, fragment_source);
+  if (!fs) {
+    glDeleteShader(*vs);
+    return fs.status();
   }
-  link({vs, fs});
+  return link({*vs, *fs});
 }
 
-Program::Program(const std::string& name, const char* compute_source) : name_(name) {
-  link({compileStage(name, GL_COMPUTE_SHADER, compute_source)});
+Status Program::build(const char* compute_source) {
+  const Result<GLuint> cs = compileStage(name_, GL_COMPUTE_SHADER, compute_source);
+  if (!cs) return cs.status();
+  return link({*cs});
 }
 
-void Program::link(std::initializer_list<std::uint32_t> shaders) {
+Status Program::link(std::initializer_list<std::uint32_t> shaders) {
   program_ = glCreateProgram();
   for (GLuint s : shaders) glAttachShader(program_, s);
   glLinkProgram(program_);
@@ -64,8 +80,10 @@ void Program::link(std::initializer_list<std::uint32_t> shaders) {
     char log[2048] = {};
     glGetProgramInfoLog(program_, sizeof log, nullptr, log);
     glDeleteProgram(program_);
-    throw Error(ErrorCode::Runtime, "program '" + name_ + "' does not link: " + log);
+    program_ = 0;
+    return Status(ErrorCode::Runtime, "program '" + name_ + "' does not link: " + log);
   }
+  return {};
 }
 
 Program::~Program() {
@@ -76,10 +94,7 @@ void Program::use() const { glUseProgram(program_); }
 
 std::int32_t Program::uniform(const char* uniform_name) const {
   const GLint location = glGetUniformLocation(program_, uniform_name);
-  if (location < 0) {
-    throw Error(ErrorCode::InvalidArgument,
-                "program '" + name_ + "' has no active uniform '" + uniform_name + "'");
-  }
+  assert(location >= 0 && "Program::uniform: not an active uniform of the program");
   return location;
 }
 

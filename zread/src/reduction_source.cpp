@@ -129,15 +129,18 @@ Bindings bindings() {
 }  // namespace
 
 ReductionSource::ReductionSource(std::uint32_t framebuffer, Kernel kernel, GlStatePolicy state)
-    : framebuffer_(framebuffer), kernel_(kernel), guard_(state, &counters_.state_queries) {
+    : framebuffer_(framebuffer),
+      kernel_(kernel),
+      guard_(state, &counters_.state_queries, &failure_) {
   GLint major = 0, minor = 0;
   glGetIntegerv(GL_MAJOR_VERSION, &major);
   glGetIntegerv(GL_MINOR_VERSION, &minor);
   if (major * 10 + minor < 43) {
-    throw Error(ErrorCode::Unsupported,
-                "ReductionSource: compute shaders need OpenGL 4.3, the context has " +
-                    std::to_string(major) + "." + std::to_string(minor) +
-                    "; use the readpixels or pbo source");
+    unusable_ = Status(ErrorCode::Unsupported,
+                       "ReductionSource: compute shaders need OpenGL 4.3, the context has " +
+                           std::to_string(major) + "." + std::to_string(minor) +
+                           "; use the readpixels or pbo source");
+    return;
   }
   if (kernel_ == Kernel::Auto) {
     const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
@@ -151,7 +154,12 @@ ReductionSource::ReductionSource(std::uint32_t framebuffer, Kernel kernel, GlSta
   const std::string source = kernel_ == Kernel::PerRequest
                                  ? perRequestKernel(int(b.requests), int(b.answers))
                                  : perWorkgroupKernel(int(b.requests), int(b.answers));
-  program_ = std::make_unique<Program>("ReductionSource", source.c_str());
+  Result<std::unique_ptr<Program>> program = Program::create("ReductionSource", source.c_str());
+  if (!program) {
+    unusable_ = program.status();
+    return;
+  }
+  program_ = std::move(program).value();
   glProgramUniform1i(program_->handle(), program_->uniform("u_depth"), GLint(b.unit));
 }
 
@@ -166,10 +174,18 @@ void ReductionSource::release(Slot& slot) {
   slot = {};
 }
 
-void ReductionSource::beginFrame(const Camera& camera) {
-  detail::checkDepthAttachment("ReductionSource", framebuffer_, camera);
-  attachment_ = describeDepthAttachment("ReductionSource", framebuffer_);
-  checkMultisample("ReductionSource", attachment_, camera);
+Status ReductionSource::beginFrame(const Camera& camera) {
+  if (!unusable_.ok()) return unusable_;
+  if (Status format = detail::checkDepthAttachment("ReductionSource", framebuffer_, camera);
+      !format) {
+    return format;
+  }
+  Result<DepthAttachment> attachment = tryDescribeDepthAttachment("ReductionSource", framebuffer_);
+  if (!attachment) return attachment.status();
+  attachment_ = *attachment;
+  if (Status samples = tryCheckMultisample("ReductionSource", attachment_, camera); !samples) {
+    return samples;
+  }
   const DepthAttachment& a = attachment_;
   GLint level = 0, layered = 0;
   if (framebuffer_ != 0 && a.object_type == GL_TEXTURE) {
@@ -189,25 +205,24 @@ void ReductionSource::beginFrame(const Camera& camera) {
             : a.object_type == GL_RENDERBUFFER ? "a single-sample renderbuffer"
                                                : "this attachment")
         << "); attach a GL_TEXTURE_2D depth texture or use the readpixels or pbo source";
-    throw Error(ErrorCode::Unsupported, out.str());
+    return Status(ErrorCode::Unsupported, out.str());
   }
   texture_ = a.samples ? 0 : a.name;
   texture_level_ = a.samples ? 0 : level;
   depth_ = camera.depth;
   width_ = camera.width;
   height_ = camera.height;
-  for (const Slot& s : slots_) {
-    if (s.fence) throw Error(ErrorCode::Runtime, "ReductionSource: a batch was never collected");
-  }
+  return endFrame();
 }
 
-void ReductionSource::endFrame() {
+Status ReductionSource::endFrame() {
   for (const Slot& s : slots_) {
-    if (s.fence) throw Error(ErrorCode::Runtime, "ReductionSource: a batch was never collected");
+    if (s.fence) return Status(ErrorCode::Runtime, "ReductionSource: a batch was never collected");
   }
+  return {};
 }
 
-ReductionSource::Slot& ReductionSource::freeSlot(std::size_t count) {
+ReductionSource::Slot* ReductionSource::freeSlot(std::size_t count) {
   Slot* slot = nullptr;
   for (Slot& s : slots_) {
     if (!s.fence) {
@@ -230,16 +245,23 @@ ReductionSource::Slot& ReductionSource::freeSlot(std::size_t count) {
         slot->answers, 0, GLsizeiptr(slot->capacity * sizeof(GpuAnswer)), flags));
     if (!slot->mapped) {
       release(*slot);
-      throw Error(ErrorCode::Runtime, "ReductionSource: could not map the answer buffer");
+      fail(Status(ErrorCode::Runtime, "ReductionSource: could not map the answer buffer"));
+      return nullptr;
     }
   }
-  return *slot;
+  return slot;
 }
 
 void ReductionSource::submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) {
   if (count == 0) return;
   const auto start = std::chrono::steady_clock::now();
-  Slot& slot = freeSlot(count);
+  if (!unusable_.ok()) fail(unusable_);
+  Slot* free = unusable_.ok() ? freeSlot(count) : nullptr;
+  if (!free) {
+    for (std::size_t i = 0; i < count; ++i) answers[i] = conservativeAnswer(requests[i]);
+    return;
+  }
+  Slot& slot = *free;
   const bool reversed = depth_.convention == DepthConvention::Reversed;
   const bool exact = depth_.format == DepthFormat::D32F;
   upload_.resize(count * sizeof(GpuRequest));
@@ -259,7 +281,10 @@ void ReductionSource::submit(const AreaRequest* requests, std::size_t count, Are
     counters_.pixels += std::uint64_t(q.rect.area());
   }
   glNamedBufferSubData(slot.requests, 0, GLsizeiptr(upload_.size()), upload_.data());
-  dispatch(slot, requests, count);
+  if (!dispatch(slot, requests, count)) {
+    for (std::size_t i = 0; i < count; ++i) answers[i] = conservativeAnswer(requests[i]);
+    slot.out.clear();
+  }
   ++counters_.batches;
   counters_.reads += count;
   if (drawn_since_read_) {
@@ -269,25 +294,35 @@ void ReductionSource::submit(const AreaRequest* requests, std::size_t count, Are
   counters_.seconds += secondsSince(start);
 }
 
-void ReductionSource::dispatch(Slot& slot, const AreaRequest* requests, std::size_t count) {
+bool ReductionSource::dispatch(Slot& slot, const AreaRequest* requests, std::size_t count) {
   const Bindings b = bindings();
   {
     GlStateGuard::Scope scope(guard_, "ReductionSource");
     // A multisampled buffer: resolve the requested rectangles (farthest sample) first.
     GLuint texture = texture_;
     GLint level = texture_level_;
-    if (attachment_.samples) {
+    if (attachment_.samples && scope.ok()) {
       rects_.clear();
       for (std::size_t i = 0; i < count; ++i) rects_.push_back(requests[i].rect);
-      if (!resolver_) resolver_ = std::make_unique<MultisampleResolver>();
-      resolver_->resolve(scope, attachment_, depth_.convention, rects_.data(), rects_.size());
-      texture = resolver_->depthTexture();
+      if (!resolver_) {
+        Result<std::unique_ptr<MultisampleResolver>> made = MultisampleResolver::create();
+        if (!made) scope.fail(made.status());
+        if (made) resolver_ = std::move(made).value();
+      }
+      if (resolver_ &&
+          !resolver_->resolve(scope, attachment_, depth_.convention, rects_.data(), rects_.size())) {
+        return false;
+      }
+      texture = resolver_ ? resolver_->depthTexture() : 0;
       level = 0;
     }
-    scope.prepareProgram();
-    scope.bindTexture(b.unit, GL_TEXTURE_2D, texture);
-    scope.bindStorageBuffer(b.requests, slot.requests, 0, GLsizeiptr(count * sizeof(GpuRequest)));
-    scope.bindStorageBuffer(b.answers, slot.answers, 0, GLsizeiptr(count * sizeof(GpuAnswer)));
+    if (!scope.prepareProgram() || !scope.bindTexture(b.unit, GL_TEXTURE_2D, texture) ||
+        !scope.bindStorageBuffer(b.requests, slot.requests, 0,
+                                 GLsizeiptr(count * sizeof(GpuRequest))) ||
+        !scope.bindStorageBuffer(b.answers, slot.answers, 0,
+                                 GLsizeiptr(count * sizeof(GpuAnswer)))) {
+      return false;
+    }
     program_->use();
     glProgramUniform1ui(program_->handle(), program_->uniform("u_count"), GLuint(count));
     glProgramUniform1f(program_->handle(), program_->uniform("u_clear"),
@@ -300,10 +335,11 @@ void ReductionSource::dispatch(Slot& slot, const AreaRequest* requests, std::siz
       glDispatchCompute(GLuint(x), GLuint((count + 65534) / 65535), 1);
     }
     glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
-    scope.check("glDispatchCompute");
+    if (!scope.check("glDispatchCompute")) return false;
   }
   slot.fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
   glFlush();  // the fence must reach the renderer, or waiting on it could wait forever
+  return true;
 }
 
 void ReductionSource::collect() {
@@ -312,12 +348,15 @@ void ReductionSource::collect() {
   const bool exact = depth_.format == DepthFormat::D32F;
   for (Slot& slot : slots_) {
     if (!slot.fence) continue;
-    detail::waitFence(slot.fence, "ReductionSource: waiting for the reduction");
+    Status waited = detail::waitFence(slot.fence, "ReductionSource: waiting for the reduction");
+    if (!waited) fail(std::move(waited));
     for (std::size_t i = 0; i < slot.out.size(); ++i) {
       GpuAnswer g;
       std::memcpy(&g, slot.mapped + i * sizeof(GpuAnswer), sizeof g);
       AreaAnswer& a = *slot.out[i];
-      if (slot.asked[i].ask == AreaAsk::Summary) {
+      if (failure_.failed()) {
+        a = conservativeAnswer(slot.asked[i]);
+      } else if (slot.asked[i].ask == AreaAsk::Summary) {
         float lo = reversed ? -g.hi : g.lo, hi = reversed ? -g.lo : g.hi;
         if (!exact) lo = down(lo), hi = up(hi);
         a.depth = {lo, hi, g.free_pixels};
@@ -338,8 +377,13 @@ void ReductionSource::readKeys(const PixelRect& rect, float* keys) {
   camera.height = height_;
   camera.depth = depth_;
   camera.multisample = attachment_.samples > 0;
-  pixels.beginFrame(camera);
+  if (Status begun = pixels.beginFrame(camera); !begun) {
+    fail(std::move(begun));
+    std::fill_n(keys, std::size_t(rect.area()), std::numeric_limits<float>::infinity());
+    return;
+  }
   pixels.readKeys(rect, keys);
+  if (Status read = pixels.takeError(); !read) fail(std::move(read));
   const ReadCounters& c = pixels.counters();
   counters_.reads += c.reads;
   counters_.pixels += c.pixels;

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "logrid/error.hpp"
 #include "logrid/types.hpp"
 
 namespace logrid {
@@ -56,15 +57,36 @@ std::string validateCamera(const Camera& camera);
 
 Mat4d multiply(const Mat4d& a, const Mat4d& b);
 Mat4d translation(const DVec3& offset);
+// The three that can fail come in both forms (error.hpp): tryX() returns the matrix or
+// the error (ErrorCode::InvalidArgument naming the values), X() throws it.
+//
 // Right-handed view matrix looking from eye towards target (the camera looks down -z).
+Result<Mat4d> tryLookAt(const DVec3& eye, const DVec3& target, const DVec3& up);
 Mat4d lookAt(const DVec3& eye, const DVec3& target, const DVec3& up);
 // Right-handed perspective projection. fovy in radians, near > 0. far may be +infinity
 // (only meaningful for the reversed convention, where it is the usual choice). The
 // matrix maps near to the convention's near depth and far to its far depth.
+Result<Mat4d> tryPerspective(double fovy, double aspect, double near, double far,
+                             const DepthSetup& depth);
 Mat4d perspective(double fovy, double aspect, double near, double far, const DepthSetup& depth);
 // Right-handed orthographic projection; near and far are distances along -z.
+Result<Mat4d> tryOrthographic(double left, double right, double bottom, double top, double near,
+                              double far, const DepthSetup& depth);
 Mat4d orthographic(double left, double right, double bottom, double top, double near, double far,
                    const DepthSetup& depth);
+#if LOGRID_HAS_EXCEPTIONS
+inline Mat4d lookAt(const DVec3& eye, const DVec3& target, const DVec3& up) {
+  return detail::orThrow(tryLookAt(eye, target, up));
+}
+inline Mat4d perspective(double fovy, double aspect, double near, double far,
+                         const DepthSetup& depth) {
+  return detail::orThrow(tryPerspective(fovy, aspect, near, far, depth));
+}
+inline Mat4d orthographic(double left, double right, double bottom, double top, double near,
+                          double far, const DepthSetup& depth) {
+  return detail::orThrow(tryOrthographic(left, right, bottom, top, near, far, depth));
+}
+#endif
 
 // The key of the cleared buffer (the farthest key) and of the near plane.
 float clearKey(const DepthSetup& depth);

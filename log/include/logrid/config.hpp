@@ -17,6 +17,7 @@
 
 #include <string>
 
+#include "logrid/error.hpp"
 #include "logrid/culler.hpp"
 
 namespace logrid {
@@ -28,14 +29,26 @@ struct CullerConfig {
   std::string source;
 };
 
-// Parses a configuration file's text; `origin` names it in messages. Throws logrid::Error
-// (ErrorCode::BadInput) for text that is not such a file (not JSON, another format or
-// version, a value of the wrong type), an unknown method, or a value out of range
-// (validateCullerDesc); the message names the origin and the key.
+// Parses a configuration file's text; `origin` names it in messages. ErrorCode::BadInput
+// for text that is not such a file (not JSON, another format or version, a value of the
+// wrong type), an unknown method, or a value out of range (validateCullerDesc); the
+// message names the origin and the key. Both forms (error.hpp).
+Result<CullerConfig> tryParseCullerConfig(const std::string& text,
+                                          const std::string& origin = "config");
 CullerConfig parseCullerConfig(const std::string& text, const std::string& origin = "config");
 // Reads and parses a configuration file (ErrorCode::Environment if it cannot be read).
+Result<CullerConfig> tryLoadCullerConfig(const std::string& path);
 CullerConfig loadCullerConfig(const std::string& path);
 // The file's text: format, version, source, culler; parseCullerConfig reads back `config`.
 std::string formatCullerConfig(const CullerConfig& config);
+
+#if LOGRID_HAS_EXCEPTIONS
+inline CullerConfig parseCullerConfig(const std::string& text, const std::string& origin) {
+  return detail::orThrow(tryParseCullerConfig(text, origin));
+}
+inline CullerConfig loadCullerConfig(const std::string& path) {
+  return detail::orThrow(tryLoadCullerConfig(path));
+}
+#endif
 
 }  // namespace logrid

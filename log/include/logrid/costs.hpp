@@ -26,6 +26,7 @@
 #include <map>
 #include <string>
 
+#include "logrid/error.hpp"
 #include "logrid/stats.hpp"
 
 namespace logrid {
@@ -50,18 +51,34 @@ struct CullerCostsFile {
   std::map<std::string, CullerCosts> sources;
 };
 
-// Parses a costs file's text; `origin` names it in messages. Throws logrid::Error
-// (ErrorCode::BadInput) for text that is not such a file: not JSON, another format or
-// version, no sources, a cost missing, not a number or out of range; the message names
-// the origin, the source and the field.
+// Parses a costs file's text; `origin` names it in messages. ErrorCode::BadInput for text
+// that is not such a file: not JSON, another format or version, no sources, a cost
+// missing, not a number or out of range; the message names the origin, the source and
+// the field. Both forms (error.hpp), as the two below.
+Result<CullerCostsFile> tryParseCullerCosts(const std::string& text,
+                                            const std::string& origin = "costs");
 CullerCostsFile parseCullerCosts(const std::string& text, const std::string& origin = "costs");
 // Reads and parses a costs file (ErrorCode::Environment if it cannot be read).
+Result<CullerCostsFile> tryLoadCullerCostsFile(const std::string& path);
 CullerCostsFile loadCullerCostsFile(const std::string& path);
-// The costs of one source from a file; throws logrid::Error naming the sources the file
+// The costs of one source from a file; ErrorCode::BadInput naming the sources the file
 // has if `source` is not among them.
+Result<CullerCosts> tryLoadCullerCosts(const std::string& path, const std::string& source);
 CullerCosts loadCullerCosts(const std::string& path, const std::string& source);
 // The file's text, which parseCullerCosts reads back as `file` (every cost to the bit).
 std::string formatCullerCosts(const CullerCostsFile& file);
+
+#if LOGRID_HAS_EXCEPTIONS
+inline CullerCostsFile parseCullerCosts(const std::string& text, const std::string& origin) {
+  return detail::orThrow(tryParseCullerCosts(text, origin));
+}
+inline CullerCostsFile loadCullerCostsFile(const std::string& path) {
+  return detail::orThrow(tryLoadCullerCostsFile(path));
+}
+inline CullerCosts loadCullerCosts(const std::string& path, const std::string& source) {
+  return detail::orThrow(tryLoadCullerCosts(path, source));
+}
+#endif
 
 // An online estimate of the costs from a culler's own frames (Culler::costEstimate):
 // each frame's wall time is explained as flushes x flush_s + pixels x pixel_s + boxes

@@ -81,6 +81,7 @@
 #include "logrid/camera.hpp"
 #include "logrid/costs.hpp"
 #include "logrid/depth_source.hpp"
+#include "logrid/error.hpp"
 #include "logrid/grid_settings.hpp"
 #include "logrid/hierarchy.hpp"
 #include "logrid/method.hpp"
@@ -218,7 +219,12 @@ class DrawBatch {
 
 class Culler {
  public:
-  // Throws logrid::Error if validateCullerDesc() finds a problem.
+  // Every call that can fail comes in two forms (error.hpp): the result form (create(),
+  // tryX()) returns a Status or a Result; the throwing form (the constructor, X())
+  // throws logrid::Error with the same code and message, where exceptions are enabled.
+  //
+  // The culler for `desc`, or validateCullerDesc()'s problem (InvalidArgument).
+  static Result<Culler> create(const CullerDesc& desc = {});
   explicit Culler(const CullerDesc& desc = {});
   ~Culler();
   Culler(Culler&&) noexcept;
@@ -243,13 +249,18 @@ class Culler {
   // depth reads and queries of the frame happen inside nextBatch(), never between.
   // Between batches the application may announce what else it drew (noteDrawn()) and a
   // depth clear (noteDepthCleared()). `hierarchy` and the sources must live until
-  // endFrame(). Throws logrid::Error as cullFrame() does; an exception ends the frame.
+  // endFrame(). They fail as cullFrame() does; an error ends the frame (nothing of it is
+  // left to draw, and the next beginFrame() starts afresh).
+  Status tryBeginFrame(const Camera& camera, const Hierarchy& hierarchy,
+                       const CullSources& sources, const std::vector<DrawnArea>& drawn_before = {});
+  Result<DrawBatch> tryNextBatch();
+  // Ends the frame once nextBatch() returned an empty batch, and returns what it did
+  // (FrameStats::seconds: from beginFrame() to here, the application's drawing included).
+  // Fails (and abandons the frame) if the traversal is not done.
+  Result<FrameStats> tryEndFrame();
   void beginFrame(const Camera& camera, const Hierarchy& hierarchy, const CullSources& sources,
                   const std::vector<DrawnArea>& drawn_before = {});
   DrawBatch nextBatch();
-  // Ends the frame once nextBatch() returned an empty batch, and returns what it did
-  // (FrameStats::seconds: from beginFrame() to here, the application's drawing included).
-  // Throws logrid::Error (and abandons the frame) if the traversal is not done.
   FrameStats endFrame();
   // Ends a frame early (the application gave up on it, e.g. after an error of its own):
   // what was not handed out is not drawn, and the next beginFrame() starts afresh. Does
@@ -261,10 +272,15 @@ class Culler {
   // Culls and draws one frame: `draw` is called for each object of each batch, in order.
   // `drawn_before`: what the application drew into the depth buffer after clearing it
   // and before this call (e.g. occluders drawn first); the grid starts with those tiles
-  // outdated. Throws logrid::Error for an invalid camera (validateCamera), a source the
+  // outdated. Fails (InvalidArgument) for an invalid camera (validateCamera), a source the
   // method needs but was not given (MethodInfo::needs), a depth source that cannot serve
-  // the camera or does not read the depth values the method needs; boxes with NaN or
-  // inverted bounds are drawn and counted in FrameStats::invalid_boxes.
+  // the camera or does not read the depth values the method needs, and with a source's
+  // own error (a renderer error: Runtime); boxes with NaN or inverted bounds are drawn
+  // and counted in FrameStats::invalid_boxes. An exception thrown by `draw` abandons the
+  // frame and leaves cullFrame().
+  Result<FrameStats> tryCullFrame(const Camera& camera, const Hierarchy& hierarchy,
+                                  const CullSources& sources, const DrawCallback& draw,
+                                  const std::vector<DrawnArea>& drawn_before = {});
   FrameStats cullFrame(const Camera& camera, const Hierarchy& hierarchy, const CullSources& sources,
                        const DrawCallback& draw, const std::vector<DrawnArea>& drawn_before = {});
   // The same for the methods that need a depth source and nothing else.
@@ -272,18 +288,24 @@ class Culler {
                        const DrawCallback& draw, const std::vector<DrawnArea>& drawn_before = {});
 
   // During a frame (from the draw callback, or between batches of the pull form; outside
-  // a frame they throw logrid::Error): the application drew something more than the
+  // a frame they fail with InvalidArgument): the application drew something more than the
   // culler's objects, over `area` (e.g. a decal or a particle beside them), or over the
   // pixels of a world-space box.
+  Status tryNoteDrawn(const DrawnArea& area);
+  Status tryNoteDrawn(const Aabb& box);
   void noteDrawn(const DrawnArea& area);
   void noteDrawn(const Aabb& box);
   // ... or it cleared the depth buffer: to the convention's clear value, or to another
-  // window depth (as glClearDepth takes it). A clear in the middle of a batch is safe:
-  // what the batch holds counts as drawn after it.
+  // window depth (as glClearDepth takes it; outside [0, 1] fails). A clear in the middle
+  // of a batch is safe: what the batch holds counts as drawn after it.
+  Status tryNoteDepthCleared();
+  Status tryNoteDepthCleared(float window_depth);
   void noteDepthCleared();
   void noteDepthCleared(float window_depth);
 
-  // The projection of a world-space box for this frame's camera (during a frame).
+  // The projection of a world-space box for this frame's camera (during a frame; outside
+  // one it fails with InvalidArgument).
+  Result<BoxProjection> tryProject(const Aabb& box) const;
   BoxProjection project(const Aabb& box) const;
 
   // The grid of the last frame (nullptr for methods without one), for overlays.
@@ -296,8 +318,9 @@ class Culler {
   // The whole time of the frame that ended last, as the application measured it, for
   // CullerDesc::frame_clock = ReportedFrame (ignored with CulledPass); call it once after
   // endFrame() and before the next beginFrame(). A frame not reported by then is taken
-  // at its culled pass's time. Throws logrid::Error for a time that is negative or not
+  // at its culled pass's time. Fails (InvalidArgument) for a time that is negative or not
   // finite, and with ReportedFrame for a frame reported twice or none ended.
+  Status tryReportFrameTime(double seconds);
   void reportFrameTime(double seconds);
 
   // The online cost estimate (costs.hpp), from CullerDesc::costs and every frame ended.
@@ -312,7 +335,13 @@ class Culler {
   };
   // Where the frame's traversal stands between two batches.
   enum class Phase : std::uint8_t { Coherent, CoherentRefresh, Traverse, Schedule, Done };
-  void prepare(const Camera& camera, const CullSources& sources);
+  struct Checked {};  // the desc was validated
+  Culler(Checked, const CullerDesc& desc);
+  // beginFrame's steps up to the sources' frames: the method's checks, the projector, the
+  // tester.
+  Status prepare(const Camera& camera, const CullSources& sources);
+  // Abandons the frame, and returns the error that ended it.
+  Status failFrame(Status status);
   // Runs the frame until the batch must be drawn before going on, or the frame is done.
   void advance();
   // The approximate knobs this frame runs with: the budget's rung, or CullerDesc's.
@@ -351,7 +380,7 @@ class Culler {
   // rounding); else remembered in unordered_.
   void noteDrawnWith(const DrawnArea& area, bool ordered);
   // Throws unless called during a frame.
-  void requireFrame(const char* who) const;
+  Status requireFrame(const char* who) const;
 
   // For `auto`: this frame's setting chosen, with the method (log-state or log-zfar)
   // and tester it runs.
@@ -421,5 +450,55 @@ class Culler {
   std::uint64_t schedule_revision_ = 0;
   std::uint64_t clear_epoch_ = 0;
 };
+
+inline Result<FrameStats> Culler::tryCullFrame(const Camera& camera, const Hierarchy& hierarchy,
+                                               const CullSources& sources, const DrawCallback& draw,
+                                               const std::vector<DrawnArea>& drawn_before) {
+  if (Status begun = tryBeginFrame(camera, hierarchy, sources, drawn_before); !begun) return begun;
+  // Abandons the frame if `draw` throws (after endFrame() it does nothing).
+  struct Abandon {
+    Culler& culler;
+    ~Abandon() { culler.abandonFrame(); }
+  } abandon{*this};
+  for (;;) {
+    Result<DrawBatch> batch = tryNextBatch();
+    if (!batch) return batch.status();
+    if (batch->empty()) return tryEndFrame();
+    for (ObjectId id : *batch) draw(id);
+  }
+}
+
+#if LOGRID_HAS_EXCEPTIONS
+inline Culler::Culler(const CullerDesc& desc) : Culler(detail::orThrow(create(desc))) {}
+inline void Culler::beginFrame(const Camera& camera, const Hierarchy& hierarchy,
+                               const CullSources& sources,
+                               const std::vector<DrawnArea>& drawn_before) {
+  detail::orThrow(tryBeginFrame(camera, hierarchy, sources, drawn_before));
+}
+inline DrawBatch Culler::nextBatch() { return detail::orThrow(tryNextBatch()); }
+inline FrameStats Culler::endFrame() { return detail::orThrow(tryEndFrame()); }
+inline FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy,
+                                    const CullSources& sources, const DrawCallback& draw,
+                                    const std::vector<DrawnArea>& drawn_before) {
+  return detail::orThrow(tryCullFrame(camera, hierarchy, sources, draw, drawn_before));
+}
+inline FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy,
+                                    DepthSource& depth, const DrawCallback& draw,
+                                    const std::vector<DrawnArea>& drawn_before) {
+  return cullFrame(camera, hierarchy, CullSources{&depth}, draw, drawn_before);
+}
+inline void Culler::noteDrawn(const DrawnArea& area) { detail::orThrow(tryNoteDrawn(area)); }
+inline void Culler::noteDrawn(const Aabb& box) { detail::orThrow(tryNoteDrawn(box)); }
+inline void Culler::noteDepthCleared() { detail::orThrow(tryNoteDepthCleared()); }
+inline void Culler::noteDepthCleared(float window_depth) {
+  detail::orThrow(tryNoteDepthCleared(window_depth));
+}
+inline void Culler::reportFrameTime(double seconds) {
+  detail::orThrow(tryReportFrameTime(seconds));
+}
+inline BoxProjection Culler::project(const Aabb& box) const {
+  return detail::orThrow(tryProject(box));
+}
+#endif
 
 }  // namespace logrid

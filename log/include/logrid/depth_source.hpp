@@ -25,6 +25,12 @@
 //            threshold depth. A count may exceed the exact one (a query source counts
 //            pixels up to one quantisation step in front of the threshold), never fall
 //            short of it.
+// Errors (error.hpp): beginFrame(), endFrame() and endAccess() return a Status. A request
+// that fails (a renderer error, a buffer that cannot be mapped) is answered as if nothing
+// were drawn over its pixels — a Summary with min_key -inf, max_key +inf and every pixel
+// free, a Count of every pixel: never "hidden" — and its error is kept (fail()) until
+// takeError(); endAccess() takes it by default, so that the culler reports it at the end
+// of the Culler::nextBatch() that made the request, and abandons the frame.
 // Answers describe the buffer as it was when submit() was called. Within a frame the
 // application draws only with a depth test that keeps the nearer fragment, so keys only
 // shrink: a farthest key and a count stay upper bounds however much is drawn between
@@ -36,6 +42,7 @@
 #include <vector>
 
 #include "logrid/camera.hpp"
+#include "logrid/error.hpp"
 #include "logrid/types.hpp"
 
 namespace logrid {
@@ -89,11 +96,11 @@ class DepthSource {
   virtual DepthSourceTraits traits() const = 0;
 
   // Called at the start of each culled frame, after the application cleared its depth
-  // buffer and before it draws anything. Throws logrid::Error if the source cannot
-  // serve this camera (size or depth set-up differ from the buffer it reads).
-  virtual void beginFrame(const Camera& camera) = 0;
+  // buffer and before it draws anything. An error if the source cannot serve this camera
+  // (size or depth set-up differ from the buffer it reads).
+  virtual Status beginFrame(const Camera& camera) = 0;
   // Called at the end of each culled frame; nothing is pending by then.
-  virtual void endFrame() {}
+  virtual Status endFrame() { return {}; }
   // The culler (or the application, through Culler::noteDrawn) drew something since the
   // last request: the next read waits for it.
   virtual void noteDraw() {}
@@ -101,11 +108,11 @@ class DepthSource {
   // The culler brackets the requests of each Culler::nextBatch() with these: in between,
   // nothing but the culler's sources uses the renderer. A GL source saves the
   // application's state once at its first request and restores it in endAccess() instead
-  // of around each request (zread/gl_state.hpp, "Access windows"). endAccess() may throw
-  // logrid::Error for a renderer error of the window's requests; it is called (with its
-  // exception ignored) also when an exception leaves nextBatch().
+  // of around each request (zread/gl_state.hpp, "Access windows"). endAccess() returns
+  // the first error of the window's requests (by default takeError()); it is called also
+  // when an exception (the application's own) leaves nextBatch(), its Status dropped.
   virtual void beginAccess() {}
-  virtual void endAccess() {}
+  virtual Status endAccess() { return takeError(); }
 
   // Asks `count` requests. answers[i] answers requests[i]; it is written no later than
   // the next collect() and must stay valid until then. Preconditions: every rect is
@@ -120,9 +127,17 @@ class DepthSource {
                        std::uint32_t* out);
 
   const ReadCounters& counters() const { return counters_; }
+  // The first error of a request since the last takeError(), and clears it (ok if none).
+  Status takeError() { return failure_.take(); }
 
  protected:
+  // Keeps the first error of a request for takeError(); the request is answered as if
+  // nothing were drawn over it (conservativeAnswer()).
+  void fail(Status error) { failure_.note(std::move(error)); }
+  static AreaAnswer conservativeAnswer(const AreaRequest& request);
+
   ReadCounters counters_;
+  FirstError failure_;
 
  private:
   std::vector<AreaRequest> scratch_requests_;

@@ -85,6 +85,20 @@ class [[nodiscard]] Result {
   Status status_;
 };
 
+// The first error of calls that cannot return one (a depth source's requests: they are
+// answered conservatively, and the error is reported later), kept until it is taken.
+class FirstError {
+ public:
+  void note(Status error) {
+    if (first_.ok()) first_ = std::move(error);
+  }
+  bool failed() const noexcept { return !first_.ok(); }
+  Status take() { return std::exchange(first_, Status{}); }
+
+ private:
+  Status first_;
+};
+
 #if LOGRID_HAS_EXCEPTIONS
 // The throwing form's exception.
 class Error : public std::runtime_error {

@@ -44,6 +44,7 @@
 #include "logrid/coverage.hpp"
 #include "logrid/depth_source.hpp"
 #include "logrid/grid_settings.hpp"
+#include "logrid/error.hpp"
 #include "logrid/stats.hpp"
 #include "logrid/types.hpp"
 
@@ -108,7 +109,11 @@ class GridBatch {
 
 class OcclusionGrid {
  public:
-  // Throws logrid::Error if validateGridDesc() finds a problem.
+  // The result form (error.hpp): the grid, or validateGridDesc()'s problem
+  // (ErrorCode::InvalidArgument).
+  static Result<OcclusionGrid> create(const GridDesc& desc,
+                                      const GridApproximation& approximation = {});
+  // The throwing form: throws logrid::Error where create() fails.
   explicit OcclusionGrid(const GridDesc& desc, const GridApproximation& approximation = {});
 
   const GridDesc& desc() const { return desc_; }
@@ -175,6 +180,9 @@ class OcclusionGrid {
   Visibility resolve(const GridBatch& batch, std::size_t index) const;
 
  private:
+  struct Checked {};  // the desc and approximation were validated
+  OcclusionGrid(Checked, const GridDesc& desc, const GridApproximation& approximation);
+
   enum class Decision : std::uint8_t { Occluded, Visible, Undecided };
   Decision decideFromRecord(std::size_t index, bool internal, float threshold) const;
   // The tiles a pixel rectangle touches, and the internal ones (inside it whole).
@@ -263,5 +271,10 @@ class OcclusionGrid {
   std::vector<std::uint8_t> wanted_;      // refreshOutdated(rects): tiles under the rects
   GridBatch refresh_;                     // refreshOutdated()
 };
+
+#if LOGRID_HAS_EXCEPTIONS
+inline OcclusionGrid::OcclusionGrid(const GridDesc& desc, const GridApproximation& approximation)
+    : OcclusionGrid(detail::orThrow(create(desc, approximation))) {}
+#endif
 
 }  // namespace logrid

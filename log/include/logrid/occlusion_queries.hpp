@@ -34,6 +34,7 @@
 #include <cstdint>
 
 #include "logrid/camera.hpp"
+#include "logrid/error.hpp"
 #include "logrid/projection.hpp"
 #include "logrid/types.hpp"
 
@@ -65,17 +66,22 @@ class OcclusionQueries {
 
   virtual const char* queryName() const = 0;
   // Called at the start of each culled frame with the culler's camera, after the
-  // application cleared its depth buffer. Throws logrid::Error if the source cannot
-  // serve this camera (a size or depth set-up that differs from its buffer's).
-  virtual void beginQueryFrame(const Camera& camera) = 0;
+  // application cleared its depth buffer. An error if the source cannot serve this camera
+  // (a size or depth set-up that differs from its buffer's).
+  virtual Status beginQueryFrame(const Camera& camera) = 0;
   // Called at the end of each culled frame; every handle has been read by then.
-  virtual void endQueryFrame() {}
+  virtual Status endQueryFrame() { return {}; }
   // Something was drawn since the last query call (counts flushes; nothing else).
   virtual void noteDraw() {}
   // Bracket each Culler::nextBatch()'s queries, as DepthSource::beginAccess() and
-  // endAccess() do its reads.
+  // endAccess() do its reads; endAccess() returns the window's first error (by default
+  // takeError()).
   virtual void beginAccess() {}
-  virtual void endAccess() {}
+  virtual Status endAccess() { return takeError(); }
+
+  // A call below that fails (a renderer error, a handle that is not in flight) answers
+  // "visible" (ready() true, result() the largest count) and keeps its error (fail())
+  // until takeError(), as a depth source's requests do (depth_source.hpp).
 
   // Issues one query over `count` >= 1 boxes (see above).
   virtual QueryHandle issueBoxes(const QueryBox* boxes, std::size_t count) = 0;
@@ -87,9 +93,14 @@ class OcclusionQueries {
   virtual std::uint32_t result(QueryHandle handle) = 0;
 
   const QueryCounters& queryCounters() const { return query_counters_; }
+  // The first error of a call since the last takeError(), and clears it (ok if none).
+  Status takeError() { return failure_.take(); }
 
  protected:
+  void fail(Status error) { failure_.note(std::move(error)); }
+
   QueryCounters query_counters_;
+  FirstError failure_;
 };
 
 }  // namespace logrid

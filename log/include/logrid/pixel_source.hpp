@@ -7,10 +7,11 @@
 // A subclass implements:
 //   traits()      its name; reads_depth true (it reads values); asynchronous if it
 //                 implements issue() and waits in fetch();
-//   beginFrame()  checks that its buffer matches the camera (size, depth set-up; throw
-//                 logrid::Error naming the value if not) and sets encoding_: the native
-//                 type of its values and the depth convention;
-//   fetch()       makes the native values of each rectangle available (below);
+//   beginFrame()  checks that its buffer matches the camera (size, depth set-up; an
+//                 error naming the value if not) and sets encoding_: the native type of
+//                 its values and the depth convention;
+//   fetch()       makes the native values of each rectangle available (below), or, where
+//                 it cannot, says why with fail() and leaves the rectangle's data null;
 //   issue()       optional: starts reading rectangles that fetch() will wait for.
 // A synchronous subclass answers inside submit(); an asynchronous one issues in submit()
 // and fetches every rectangle issued since the last collect() in collect(), so that the
@@ -48,7 +49,9 @@ class PixelSource : public DepthSource, public KeyReader {
   // Makes the native depth values of every rectangle available: data[i] points at rect
   // i's values, rows bottom-up, strides[i] values apart, valid until the next issue() or
   // fetch(). An asynchronous source receives exactly the rectangles issued since the
-  // last fetch, in order, and waits for them here.
+  // last fetch, in order, and waits for them here. A rectangle whose values cannot be
+  // had (a renderer error) gets null data and fail() says why: it is answered as if
+  // nothing were drawn over it.
   virtual void fetch(const PixelRect* rects, std::size_t count, const void** data,
                      std::size_t* strides) = 0;
 

@@ -117,6 +117,7 @@
 #include <string>
 
 #include "logrid/camera.hpp"
+#include "logrid/error.hpp"
 #include "logrid/types.hpp"
 
 namespace logrid {
@@ -179,11 +180,15 @@ struct QueryBox {
   float depth_bias = 0;  // key units (>= 0) every fragment of the faces is moved nearer by
 };
 
-// Projects boxes for one camera. Construction validates the camera (throws
-// logrid::Error with the validation message) and precomputes per-frame constants;
-// project() is then a pure function, safe to call from several threads.
+// Projects boxes for one camera. Construction validates the camera and the settings
+// (ErrorCode::InvalidArgument with validateCamera()'s or validateProjectionSettings()'s
+// message) and precomputes per-frame constants; project() is then a pure function, safe
+// to call from several threads.
 class Projector {
  public:
+  // The result form (error.hpp): the projector, or the problem.
+  static Result<Projector> create(const Camera& camera, const ProjectionSettings& settings = {});
+  // The throwing form: throws logrid::Error where create() fails.
   explicit Projector(const Camera& camera, const ProjectionSettings& settings = {});
 
   BoxProjection project(const Aabb& box) const;
@@ -210,6 +215,9 @@ class Projector {
   }
 
  private:
+  struct Checked {};  // the camera and settings were validated
+  Projector(Checked, const Camera& camera, const ProjectionSettings& settings);
+
   // What queryBox() needs beyond the projection: the pixel widening of the footprint
   // and the range of clip w over the box's corners.
   struct Extent {
@@ -276,5 +284,10 @@ class Projector {
   float clear_key_;
   float near_key_;
 };
+
+#if LOGRID_HAS_EXCEPTIONS
+inline Projector::Projector(const Camera& camera, const ProjectionSettings& settings)
+    : Projector(detail::orThrow(create(camera, settings))) {}
+#endif
 
 }  // namespace logrid

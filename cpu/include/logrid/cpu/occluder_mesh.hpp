@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "logrid/error.hpp"
 #include "logrid/types.hpp"
 
 namespace logrid::cpu {
@@ -49,16 +50,22 @@ struct OccluderObject {
 
 class OccluderMeshes {
  public:
+  // Both forms of each (logrid/error.hpp).
   // Appends an object: `vertex_count` positions (xyz) and `index_count` indices into
-  // them (three per triangle). Returns its index. Throws logrid::Error(InvalidArgument)
-  // naming the object and the value for an index count that is not a multiple of 3, an
-  // index out of range, a non-finite position, or more than 2^32 - 1 triangles in all.
+  // them (three per triangle). Returns its index, or an error (InvalidArgument) naming
+  // the object and the value for an index count that is not a multiple of 3, an index out
+  // of range, a non-finite position, a vertex outside `box`, or more than 2^32 - 1
+  // triangles in all; a refused object leaves the set as it was.
   // `box`: as OccluderObject::box; pass nullptr to use the bounds of the positions.
+  Result<std::uint32_t> tryAddObject(const float* positions, std::size_t vertex_count,
+                                     const std::uint32_t* indices, std::size_t index_count,
+                                     const Aabb* box = nullptr);
   std::uint32_t addObject(const float* positions, std::size_t vertex_count,
                           const std::uint32_t* indices, std::size_t index_count,
                           const Aabb* box = nullptr);
-  // Marks object `id` as a model inside its real geometry, with an optional fallback.
-  // Throws logrid::Error(InvalidArgument) for an unknown id or fallback.
+  // Marks object `id` as a model inside its real geometry, with an optional fallback; an
+  // error (InvalidArgument) for an unknown id or fallback.
+  Status trySetInsideSolid(std::uint32_t id, std::uint32_t fallback);
   void setInsideSolid(std::uint32_t id, std::uint32_t fallback);
 
   std::size_t objectCount() const { return objects_.size(); }
@@ -92,5 +99,16 @@ class OccluderMeshes {
   std::vector<std::uint8_t> closed_;
   std::vector<OccluderObject> objects_;
 };
+
+#if LOGRID_HAS_EXCEPTIONS
+inline std::uint32_t OccluderMeshes::addObject(const float* positions, std::size_t vertex_count,
+                                               const std::uint32_t* indices,
+                                               std::size_t index_count, const Aabb* box) {
+  return detail::orThrow(tryAddObject(positions, vertex_count, indices, index_count, box));
+}
+inline void OccluderMeshes::setInsideSolid(std::uint32_t id, std::uint32_t fallback) {
+  detail::orThrow(trySetInsideSolid(id, fallback));
+}
+#endif
 
 }  // namespace logrid::cpu

@@ -116,6 +116,7 @@
 #include "logrid/camera.hpp"
 #include "logrid/cpu/occluder_mesh.hpp"
 #include "logrid/depth_source.hpp"
+#include "logrid/error.hpp"
 #include "logrid/projection.hpp"
 
 namespace logrid::cpu {
@@ -194,8 +195,10 @@ struct OcclusionBufferStats {
 
 class OcclusionBuffer final : public DepthSource, public KeyReader {
  public:
-  // `meshes` must outlive the buffer. Throws logrid::Error for an invalid descriptor or
-  // an ISA this CPU does not run.
+  // `meshes` must outlive the buffer. An error (InvalidArgument) for an invalid
+  // descriptor or an ISA this CPU does not run; both forms (logrid/error.hpp).
+  static Result<std::unique_ptr<OcclusionBuffer>> create(const OccluderMeshes& meshes,
+                                                         const OcclusionBufferDesc& desc = {});
   explicit OcclusionBuffer(const OccluderMeshes& meshes, const OcclusionBufferDesc& desc = {});
   ~OcclusionBuffer() override;
   OcclusionBuffer(const OcclusionBuffer&) = delete;
@@ -207,12 +210,13 @@ class OcclusionBuffer final : public DepthSource, public KeyReader {
   DepthSourceTraits traits() const override {
     return {"cpu", true, false};
   }  // reads depth, synchronous
-  // Throws logrid::Error for an invalid camera (validateCamera) or projection settings.
-  void beginFrame(const Camera& camera) override;
-  void endFrame() override;
+  // An error for an invalid camera (validateCamera) or projection settings.
+  Status beginFrame(const Camera& camera) override;
+  Status endFrame() override;
 
   // The application drew object `id` of the meshes this frame (its depth is in GL's
-  // buffer). Throws logrid::Error for an id outside the meshes or outside a frame.
+  // buffer). An error (InvalidArgument) for an id outside the meshes or outside a frame.
+  Status tryDrawObject(std::uint32_t id);
   void drawObject(std::uint32_t id);
 
   // Synchronous: every answer is written inside submit(). Summary and Count requests
@@ -223,9 +227,25 @@ class OcclusionBuffer final : public DepthSource, public KeyReader {
   const OcclusionBufferStats& stats() const;
 
  private:
+  struct Checked {};  // the descriptor was validated
+  static Checked checkedOrThrow(const OcclusionBufferDesc& desc);  // the throwing form's check
+  OcclusionBuffer(Checked, const OccluderMeshes& meshes, const OcclusionBufferDesc& desc);
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
   OcclusionBufferDesc desc_;
 };
+
+#if LOGRID_HAS_EXCEPTIONS
+inline OcclusionBuffer::Checked OcclusionBuffer::checkedOrThrow(const OcclusionBufferDesc& desc) {
+  std::string problem = validateOcclusionBufferDesc(desc);
+  if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, std::move(problem));
+  return {};
+}
+inline OcclusionBuffer::OcclusionBuffer(const OccluderMeshes& meshes,
+                                        const OcclusionBufferDesc& desc)
+    : OcclusionBuffer(checkedOrThrow(desc), meshes, desc) {}
+inline void OcclusionBuffer::drawObject(std::uint32_t id) { detail::orThrow(tryDrawObject(id)); }
+#endif
 
 }  // namespace logrid::cpu

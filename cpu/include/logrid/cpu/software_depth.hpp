@@ -4,16 +4,22 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "logrid/camera.hpp"
+#include "logrid/error.hpp"
 #include "logrid/pixel_source.hpp"
 
 namespace logrid::cpu {
 
 class SoftwareDepthBuffer : public PixelSource {
  public:
-  // Throws logrid::Error for a size outside [1, kMaxViewportSide].
+  // An error (InvalidArgument) for a size outside [1, kMaxViewportSide]; both forms
+  // (logrid/error.hpp).
+  static Result<std::unique_ptr<SoftwareDepthBuffer>> create(std::uint32_t width,
+                                                             std::uint32_t height,
+                                                             DepthConvention convention);
   SoftwareDepthBuffer(std::uint32_t width, std::uint32_t height, DepthConvention convention);
 
   std::uint32_t width() const { return width_; }
@@ -31,17 +37,34 @@ class SoftwareDepthBuffer : public PixelSource {
   void fillRect(const PixelRect& rect, float depth);
 
   DepthSourceTraits traits() const override { return {"software", true, false}; }
-  // Throws logrid::Error if the camera's size or convention differ from the buffer's.
-  void beginFrame(const Camera& camera) override;
+  // An error if the camera's size or convention differ from the buffer's.
+  Status beginFrame(const Camera& camera) override;
 
  protected:
   void fetch(const PixelRect* rects, std::size_t count, const void** data,
              std::size_t* strides) override;
 
  private:
+  struct Checked {};  // the size was checked
+  static Status checkSize(std::uint32_t width, std::uint32_t height);
+  static Checked checkedOrThrow(std::uint32_t width, std::uint32_t height);
+  SoftwareDepthBuffer(Checked, std::uint32_t width, std::uint32_t height,
+                      DepthConvention convention);
+
   std::uint32_t width_;
   std::uint32_t height_;
   std::vector<float> depth_;
 };
+
+#if LOGRID_HAS_EXCEPTIONS
+inline SoftwareDepthBuffer::Checked SoftwareDepthBuffer::checkedOrThrow(std::uint32_t width,
+                                                                        std::uint32_t height) {
+  detail::orThrow(checkSize(width, height));
+  return {};
+}
+inline SoftwareDepthBuffer::SoftwareDepthBuffer(std::uint32_t width, std::uint32_t height,
+                                                DepthConvention convention)
+    : SoftwareDepthBuffer(checkedOrThrow(width, height), width, height, convention) {}
+#endif
 
 }  // namespace logrid::cpu

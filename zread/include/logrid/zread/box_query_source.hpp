@@ -24,14 +24,15 @@
 // draws with through a GlStateGuard scope (gl_state.hpp: the neutral raster state of
 // prepareDraw(), the camera's clip control, its own program and vertex array) and restores
 // the application's state before it returns. Conditional rendering, unpaused transform
-// feedback and a GL error pending from the application are refused with a logrid::Error.
+// feedback and a GL error pending from the application are refused with an error (the
+// query answers "visible"; OcclusionQueries, "a call below that fails").
 //
 // Flushes: a poll or result after new commands (an issue, or a draw the culler announced
 // with noteDraw) makes the driver start that work (on Mesa llvmpipe: rasterise the
 // pending scene); QueryCounters::flushes counts such calls.
 //
 // beginQueryFrame() checks the framebuffer's depth attachment against Camera::depth.format
-// and throws logrid::Error if they differ.
+// and returns an error if they differ (or if the source's programs could not be made).
 #pragma once
 
 #include <cstdint>
@@ -59,11 +60,11 @@ class BoxQuerySource final : public OcclusionQueries {
   BoxQuerySource& operator=(const BoxQuerySource&) = delete;
 
   const char* queryName() const override { return "gl-queries"; }
-  void beginQueryFrame(const Camera& camera) override;
-  void endQueryFrame() override;
+  Status beginQueryFrame(const Camera& camera) override;
+  Status endQueryFrame() override;
   void noteDraw() override { pending_work_ = true; }
   void beginAccess() override { guard_.beginAccess(); }
-  void endAccess() override { guard_.endAccess(); }
+  Status endAccess() override { return guard_.endAccess(); }
 
   QueryHandle issueBoxes(const QueryBox* boxes, std::size_t count) override;
   QueryHandle issueRects(const RectQuery* rects, std::size_t count) override;
@@ -74,15 +75,21 @@ class BoxQuerySource final : public OcclusionQueries {
   std::size_t inFlight() const { return pool_.size() - free_.size(); }
 
  private:
+  static constexpr std::uint8_t kOpenQuery = 1;    // open_: issued, not read
+  static constexpr std::uint8_t kFailedQuery = 2;  // open_: its issue failed: "visible"
   QueryHandle acquire();
-  // Sets the pass's GL state in `scope` and binds `program` and the vertex array.
-  void preparePass(GlStateGuard::Scope& scope, std::uint32_t program);
+  // A handle whose query failed with `error` (noted): it answers "visible".
+  QueryHandle failedQuery(Status error);
+  // Sets the pass's GL state in `scope` and binds `program` and the vertex array; false
+  // if the scope failed.
+  bool preparePass(GlStateGuard::Scope& scope, std::uint32_t program);
   void syncCounted();  // a poll or result call: counts a flush if work was pending
 
   std::uint32_t framebuffer_;
   std::uint32_t target_;
   Camera camera_;
   bool began_ = false;
+  Status unusable_;  // its programs could not be made: every frame fails with this
   std::unique_ptr<Program> box_program_;
   std::unique_ptr<Program> rect_program_;
   std::int32_t u_boxes_ = -1, u_depth_ = -1;

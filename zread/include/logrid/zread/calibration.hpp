@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <string>
 
+#include "logrid/error.hpp"
 #include "logrid/query_schedule.hpp"
 
 namespace logrid::zread {
@@ -28,14 +29,27 @@ struct CalibrationDesc {
   std::uint32_t repeats = 5;  // runs per time; the median is kept
 };
 
+// Both forms of each (logrid/error.hpp): an invalid description is InvalidArgument, a
+// driver that cannot render the measurement's framebuffer Environment.
+Result<HardwareParameters> tryMeasureHardwareParameters(const CalibrationDesc& desc = {});
 HardwareParameters measureHardwareParameters(const CalibrationDesc& desc = {});
 
 // The parameters of the current context's renderer (its GL_RENDERER string), measured
 // with the default description on the first call for each renderer and kept in memory
 // for the rest of the process (no file: a driver update or another GPU measures afresh).
+Result<HardwareParameters> tryHardwareParameters();
 HardwareParameters hardwareParameters();
 
 // GL_RENDERER of the current context.
 std::string rendererName();
+
+#if LOGRID_HAS_EXCEPTIONS
+inline HardwareParameters measureHardwareParameters(const CalibrationDesc& desc) {
+  return logrid::detail::orThrow(tryMeasureHardwareParameters(desc));
+}
+inline HardwareParameters hardwareParameters() {
+  return logrid::detail::orThrow(tryHardwareParameters());
+}
+#endif
 
 }  // namespace logrid::zread

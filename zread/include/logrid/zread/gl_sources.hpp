@@ -22,15 +22,16 @@
 // The compute-shader tile reduction is in reduction_source.hpp.
 //
 // beginFrame() checks the framebuffer's depth attachment against Camera::depth.format
-// and throws logrid::Error if they differ, or if it is multisampled and
-// Camera::multisample is false. The pixel readers read multisampled depth through
+// and returns an error if they differ, or if it is multisampled and Camera::multisample
+// is false (or if the source could not be made: a shader the driver does not compile). The pixel readers read multisampled depth through
 // MultisampleResolver (multisample.hpp): the farthest sample of each pixel, as 32-bit
 // float; the query source counts samples.
 //
 // Every source sets the GL state its draws and reads depend on and restores the
 // application's exactly (GlStateGuard, gl_state.hpp); it refuses conditional rendering,
 // unpaused transform feedback and a GL error the application left pending, and reports a
-// GL error of its own calls as a logrid::Error naming the call. The query source also
+// GL error of its own calls naming the call: the requests it spoils are answered
+// "visible" and the error is reported by endAccess() (DepthSource, "Errors"). The query source also
 // refuses while the application has a GL_SAMPLES_PASSED query active. The culler opens
 // one access window per Culler::nextBatch() on each source (beginAccess, endAccess): the
 // state is saved and restored, and errors checked, once per batch, not once per read.
@@ -64,9 +65,9 @@ class ReadPixelsSource : public PixelSource {
   explicit ReadPixelsSource(std::uint32_t framebuffer,
                             GlStatePolicy state = GlStatePolicy::Restore);
   DepthSourceTraits traits() const override { return {"readpixels", true, false}; }
-  void beginFrame(const Camera& camera) override;
+  Status beginFrame(const Camera& camera) override;
   void beginAccess() override { guard_.beginAccess(); }
-  void endAccess() override { guard_.endAccess(); }
+  Status endAccess() override { return guard_.endAccess(); }
 
  protected:
   void fetch(const PixelRect* rects, std::size_t count, const void** data,
@@ -88,10 +89,10 @@ class PboSource : public PixelSource {
   PboSource(const PboSource&) = delete;
   PboSource& operator=(const PboSource&) = delete;
   DepthSourceTraits traits() const override { return {"pbo", true, true}; }
-  void beginFrame(const Camera& camera) override;
-  void endFrame() override;
+  Status beginFrame(const Camera& camera) override;
+  Status endFrame() override;
   void beginAccess() override { guard_.beginAccess(); }
-  void endAccess() override { guard_.endAccess(); }
+  Status endAccess() override { return guard_.endAccess(); }
 
   // Buffers in the ring (grows when more batches are in flight than it holds).
   std::size_t ringSize() const { return slots_.size(); }
@@ -108,7 +109,7 @@ class PboSource : public PixelSource {
     const unsigned char* mapped = nullptr;
     void* fence = nullptr;  // GLsync of the reads issued into it, until fetched
   };
-  Slot& freeSlot(std::size_t bytes);
+  Slot* freeSlot(std::size_t bytes);  // nullptr (and fail()) if it cannot map one
   void release(Slot& slot);
 
   std::uint32_t framebuffer_;
@@ -118,7 +119,8 @@ class PboSource : public PixelSource {
   std::unique_ptr<MultisampleResolver> resolver_;
   std::vector<Slot> slots_;
   std::size_t next_slot_ = 0;
-  // Per rectangle issued since the last fetch: where its values land.
+  // Per rectangle issued since the last fetch: where its values land (kFailed: nowhere).
+  static constexpr std::size_t kFailed = ~std::size_t{0};
   struct Issued {
     std::size_t slot;
     std::size_t offset;
@@ -134,21 +136,24 @@ class QuerySource : public DepthSource {
   QuerySource& operator=(const QuerySource&) = delete;
 
   DepthSourceTraits traits() const override { return {"query", false, true}; }
-  void beginFrame(const Camera& camera) override;
+  Status beginFrame(const Camera& camera) override;
   void noteDraw() override { drawn_since_query_ = true; }
   void beginAccess() override { guard_.beginAccess(); }
-  void endAccess() override { guard_.endAccess(); }
+  Status endAccess() override { return guard_.endAccess(); }
 
-  // Count requests only: a Summary request throws logrid::Error (Unsupported): this
-  // source never reads depth values (and is no KeyReader).
+  // Count requests only: a Summary request fails (Unsupported): this source never reads
+  // depth values (and is no KeyReader).
   void submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) override;
   void collect() override;
 
  private:
+  void answerConservatively(const AreaRequest* requests, std::size_t count, AreaAnswer* answers);
+
   std::uint32_t framebuffer_;
   DepthSetup depth_;
   std::int32_t width_ = 0, height_ = 0;
   GlStateGuard guard_;
+  Status unusable_;  // its program could not be made: every frame fails with this
   std::unique_ptr<Program> program_;
   std::int32_t depth_uniform_ = -1;
   std::uint32_t vao_ = 0;

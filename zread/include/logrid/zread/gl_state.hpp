@@ -33,22 +33,26 @@
 //   bindStorageBuffer() a buffer range on an indexed shader-storage binding point: the
 //                   point's buffer, offset and size, and the generic binding.
 //
-// What cannot be saved is refused, with a logrid::Error that says what to change, before
-// anything is set:
+// Errors (logrid/error.hpp): a call that fails notes its Status (the first is kept, in
+// the FirstError the guard was given — a source's own, so that DepthSource::takeError()
+// and endAccess() report it — or the guard's: takeError()), marks the scope failed
+// (Scope::ok() false; its prepare and bind calls return false and its later calls do
+// nothing) and leaves the source to answer without GL ("visible"). What cannot be saved
+// is refused that way, with a message that says what to change, before anything is set:
 //   * conditional rendering (there is no glGet for it; it is detected with a probe:
 //     glBeginConditionalRender fails with GL_INVALID_OPERATION only while it is active);
 //   * transform feedback that is active and not paused (a program cannot be changed then);
 //   * a GL error pending from the application's own calls (it would be taken for the
-//     source's, and glGetError cannot put it back): the scope's constructor throws it.
-// After its GL calls a source calls check(), which throws a logrid::Error naming the
-// call if GL reported an error.
+//     source's, and glGetError cannot put it back): the scope fails as it opens.
+// After its GL calls a source calls check(), which fails naming the call if GL reported
+// an error.
 //
 // Access windows: the guard above works per scope, so a source that reads one tile at a
 // time queries and restores the state once per tile. Between beginAccess() and
 // endAccess() every scope of the guard shares one window instead: the state is saved at
 // the window's first prepare call, set again (without queries) by later ones, restored
 // by endAccess(), and the GL errors of the window's calls are checked once, in
-// endAccess(), which throws them as check() does. Only logrid's own GL calls may run in a
+// endAccess(), which reports them as check() does. Only logrid's own GL calls may run in a
 // window: the culler opens one on each source for the span of one Culler::nextBatch()
 // (DepthSource::beginAccess), the application's draws come between windows. A window
 // costs about 15 queries however many reads it holds. A scope of another guard that opens
@@ -80,6 +84,7 @@
 #include <memory>
 #include <string>
 
+#include "logrid/error.hpp"
 #include "logrid/types.hpp"
 
 namespace logrid::zread {
@@ -101,9 +106,11 @@ class GlStateGuard {
 
   // Needs a current GL 4.5 context; creates the query object of the conditional-rendering
   // probe. Not copyable: the query belongs to this context. `query_counter` (optional)
-  // is where stateQueries() counts, e.g. a source's ReadCounters::state_queries.
+  // is where stateQueries() counts, e.g. a source's ReadCounters::state_queries;
+  // `errors` (optional) where its errors are noted, e.g. a source's (DepthSource::fail).
+  // A driver beyond the limits below makes every scope fail (Unsupported).
   explicit GlStateGuard(GlStatePolicy policy = GlStatePolicy::Restore,
-                        std::uint64_t* query_counter = nullptr);
+                        std::uint64_t* query_counter = nullptr, FirstError* errors = nullptr);
   ~GlStateGuard();
   GlStateGuard(const GlStateGuard&) = delete;
   GlStateGuard& operator=(const GlStateGuard&) = delete;
@@ -113,11 +120,13 @@ class GlStateGuard {
   // Opens an access window (above); nothing is queried or set until a scope's prepare
   // call. Does nothing if one is open.
   void beginAccess();
-  // Closes the window: restores what its scopes saved, and throws logrid::Error naming
-  // the first call of the window if GL reported an error (the state is restored then
-  // too). Does nothing if no window is open.
-  void endAccess();
+  // Closes the window: restores what its scopes saved, notes an error naming the first
+  // call of the window if GL reported one (the state is restored then too), and returns
+  // takeError(). Only takes the error if no window is open.
+  Status endAccess();
   bool inAccess() const { return access_; }
+  // The first error noted since the last takeError(), and clears it (ok if none).
+  Status takeError() { return errors_->take(); }
 
   GlStatePolicy policy() const { return policy_; }
   // GL state queries made so far (glGet*, glIsEnabled*, glIs*, glGetError, the
@@ -129,10 +138,15 @@ class GlStateGuard {
   friend class Scope;
   // Ends the window's outer scope (restoring), checking errors first if `check`.
   void closeWindow(bool check);
+  // Closes the window another guard has open on this thread (its errors stay noted).
+  static void closeOtherWindow(GlStateGuard& guard);
 
   GlStatePolicy policy_;
   std::uint64_t own_queries_ = 0;
   std::uint64_t* queries_;
+  FirstError own_errors_;
+  FirstError* errors_;
+  Status unusable_;  // the driver's limits are beyond what the guard saves
   bool access_ = false;
   std::unique_ptr<Scope> window_;  // the open window's outer scope, from its first scope
   std::string unchecked_;          // the window's first call whose errors are unchecked
@@ -149,22 +163,29 @@ class GlStateGuard {
 class GlStateGuard::Scope {
  public:
   // `who` names the source and call in every message (e.g. "QuerySource::submit").
-  // Throws logrid::Error if a GL error is pending (nothing is changed then). In an
-  // access window the scope is a view of the window's: it saves into it, and neither
-  // checks nor restores on its own.
+  // Fails if a GL error is pending (nothing is changed then). In an access window the
+  // scope is a view of the window's: it saves into it, and neither checks nor restores
+  // on its own.
   Scope(GlStateGuard& guard, const char* who);
   // Restores everything the prepare and bind calls saved, in reverse order.
   ~Scope();
   Scope(const Scope&) = delete;
   Scope& operator=(const Scope&) = delete;
 
+  // No call of the scope (or of its window) failed. The calls below that return a bool
+  // return ok() after them; those that do not do nothing once it is false.
+  bool ok() const;
+  // Notes an error of the caller's own work in the scope (a buffer it could not map, an
+  // attachment it cannot read): the scope fails as if a call of its own had.
+  void fail(Status error);
+
   // Sets the neutral raster state listed above for draws into `framebuffer`, with the
   // viewport and the scissor box at [0, width) x [0, height), the scissor test on, depth
   // range [0, 1], the depth test on with `depth_func` and `depth_write`, colour writes
   // off unless `color_write`, and no program or vertex array change (bind your own
-  // afterwards: they are saved here). Throws logrid::Error, before setting anything, if
-  // conditional rendering or unpaused transform feedback is active.
-  void prepareDraw(std::uint32_t framebuffer, std::int32_t width, std::int32_t height,
+  // afterwards: they are saved here). Fails, before setting anything, if conditional
+  // rendering or unpaused transform feedback is active.
+  [[nodiscard]] bool prepareDraw(std::uint32_t framebuffer, std::int32_t width, std::int32_t height,
                    std::uint32_t depth_func, bool depth_write, bool color_write = false);
   // Moves the scissor box (index 0) after prepareDraw().
   void scissor(const PixelRect& rect);
@@ -173,35 +194,35 @@ class GlStateGuard::Scope {
   void clipControl(std::uint32_t origin, std::uint32_t depth_mode);
   // Sets the read framebuffer, the pixel-pack buffer (0: client memory), and tightly
   // packed rows with alignment 1, no skips and no byte swapping.
-  void prepareRead(std::uint32_t framebuffer, std::uint32_t pack_buffer);
-  // Saves program and program pipeline for a compute dispatch; throws like prepareDraw()
+  [[nodiscard]] bool prepareRead(std::uint32_t framebuffer, std::uint32_t pack_buffer);
+  // Saves program and program pipeline for a compute dispatch; fails like prepareDraw()
   // if conditional rendering or unpaused transform feedback is active.
-  void prepareProgram();
+  [[nodiscard]] bool prepareProgram();
   // Binds `texture` (of `target`, e.g. GL_TEXTURE_2D_MULTISAMPLE) to texture unit `unit`
   // with a nearest, no-compare sampler, identity swizzle, base level 0 (texelFetch's
   // level is then the texture's level) and, for depth-stencil formats, depth (not
   // stencil) sampling. At most kMaxTextures textures per scope, on different
   // units; binding the same texture to the same unit again does nothing.
-  void bindTexture(std::uint32_t unit, std::uint32_t target, std::uint32_t texture);
+  [[nodiscard]] bool bindTexture(std::uint32_t unit, std::uint32_t target, std::uint32_t texture);
 
   // Binds [offset, offset + size) of `buffer` to shader-storage binding point `index`
   // (size 0: the whole buffer). At most kMaxStorageBuffers per scope.
-  void bindStorageBuffer(std::uint32_t index, std::uint32_t buffer, std::int64_t offset,
-                         std::int64_t size);
+  [[nodiscard]] bool bindStorageBuffer(std::uint32_t index, std::uint32_t buffer,
+                                       std::int64_t offset, std::int64_t size);
 
-  // Throws logrid::Error naming `call` if GL reported an error since the last check. In
+  // Fails naming `call` if GL reported an error since the last check; returns ok(). In
   // an access window the check waits for GlStateGuard::endAccess().
-  void check(const char* call);
+  [[nodiscard]] bool check(const char* call);
 
-  // Is conditional rendering active? (The probe; exposed for tests.)
-  static bool conditionalRenderingActive(std::uint32_t probe_query);
+  // Is conditional rendering active? (The probe, or its own error; exposed for tests.)
+  static Result<bool> conditionalRenderingActive(std::uint32_t probe_query);
 
  private:
   struct Window {};
   Scope(GlStateGuard& guard, const char* who, Window);
   void open();
   bool saving() const { return guard_.policy_ == GlStatePolicy::Restore; }
-  void refuseUnsavable();
+  bool refuseUnsavable();
   void restore();
   std::uint8_t enabled(std::uint32_t cap);
   std::int32_t integer(std::uint32_t name);
@@ -209,6 +230,7 @@ class GlStateGuard::Scope {
   GlStateGuard& guard_;
   const char* who_;
   Scope* window_ = nullptr;  // the access window's outer scope this one is a view of
+  bool failed_ = false;
   bool draw_saved_ = false;
   bool clip_saved_ = false;
   bool read_saved_ = false;

@@ -21,8 +21,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 
 #include "logrid/camera.hpp"
+#include "logrid/error.hpp"
 #include "logrid/types.hpp"
 #include "logrid/zread/gl_state.hpp"
 
@@ -40,19 +42,25 @@ struct DepthAttachment {
   std::int32_t width = 0, height = 0;
 };
 
-// Queries the depth attachment of `framebuffer` (0: the default framebuffer). Throws
-// logrid::Error naming `who` if it has none.
+// Both forms of each (logrid/error.hpp).
+// Queries the depth attachment of `framebuffer` (0: the default framebuffer); an error
+// (InvalidArgument) naming `who` if it has none.
+Result<DepthAttachment> tryDescribeDepthAttachment(const char* who, std::uint32_t framebuffer);
 DepthAttachment describeDepthAttachment(const char* who, std::uint32_t framebuffer);
 
-// Throws logrid::Error naming `who` if `framebuffer`'s depth is multisampled but
-// `camera.multisample` is false (the projection would count only pixels whose centres a
-// box covers, while samples elsewhere in a pixel show it), or if it is a multisampled
-// default framebuffer (its samples cannot be resolved conservatively).
+// An error naming `who` if `framebuffer`'s depth is multisampled but `camera.multisample`
+// is false (the projection would count only pixels whose centres a box covers, while
+// samples elsewhere in a pixel show it), or if it is a multisampled default framebuffer
+// (its samples cannot be resolved conservatively).
+Status tryCheckMultisample(const char* who, const DepthAttachment& attachment,
+                           const Camera& camera);
 void checkMultisample(const char* who, const DepthAttachment& attachment, const Camera& camera);
 
 class MultisampleResolver {
  public:
-  // Needs a current GL 4.5 context (compiles its program).
+  // Needs a current GL 4.5 context (compiles its program: a driver that cannot compile it
+  // is ErrorCode::Runtime with its log).
+  static Result<std::unique_ptr<MultisampleResolver>> create();
   MultisampleResolver();
   ~MultisampleResolver();
   MultisampleResolver(const MultisampleResolver&) = delete;
@@ -61,16 +69,35 @@ class MultisampleResolver {
   // Writes the farthest sample of every pixel of `rects` (inside the attachment) of the
   // multisampled `attachment` into the resolved buffer, using `scope` (whose state it
   // sets and the scope restores). Returns the framebuffer to read the resolved depth from
-  // (GL_DEPTH_COMPONENT, GL_FLOAT; only the resolved rectangles are defined).
-  std::uint32_t resolve(GlStateGuard::Scope& scope, const DepthAttachment& attachment,
-                        DepthConvention convention, const PixelRect* rects, std::size_t count);
+  // (GL_DEPTH_COMPONENT, GL_FLOAT; only the resolved rectangles are defined), or nothing
+  // once the scope failed (an attachment it cannot resolve fails it, Unsupported).
+  std::optional<std::uint32_t> resolve(GlStateGuard::Scope& scope,
+                                       const DepthAttachment& attachment,
+                                       DepthConvention convention, const PixelRect* rects,
+                                       std::size_t count);
 
   // The resolved single-sampled GL_DEPTH_COMPONENT32F texture (0 before the first resolve).
   std::uint32_t depthTexture() const;
 
  private:
+  struct Unbuilt {};
+  explicit MultisampleResolver(Unbuilt);
+  Status build();
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+#if LOGRID_HAS_EXCEPTIONS
+inline DepthAttachment describeDepthAttachment(const char* who, std::uint32_t framebuffer) {
+  return logrid::detail::orThrow(tryDescribeDepthAttachment(who, framebuffer));
+}
+inline void checkMultisample(const char* who, const DepthAttachment& attachment,
+                             const Camera& camera) {
+  logrid::detail::orThrow(tryCheckMultisample(who, attachment, camera));
+}
+inline MultisampleResolver::MultisampleResolver() : MultisampleResolver(Unbuilt{}) {
+  logrid::detail::orThrow(build());
+}
+#endif
 
 }  // namespace logrid::zread

@@ -13,8 +13,8 @@
 // Kernel::Auto picks PerRequest on software renderers and PerWorkgroup elsewhere.
 //
 // Needs the framebuffer's depth attachment to be a 2D depth texture (a renderbuffer
-// cannot be read by a shader) or multisampled: beginFrame() throws logrid::Error
-// otherwise. A multisampled buffer (Camera::multisample set) is reduced from its resolve,
+// cannot be read by a shader) or multisampled: beginFrame() returns an error (Unsupported)
+// otherwise, as it does where the context has no compute shaders (below OpenGL 4.3). A multisampled buffer (Camera::multisample set) is reduced from its resolve,
 // the farthest sample of each pixel (multisample.hpp). The application's texture and
 // sampler state do not matter: the dispatch binds its own sampler and sets the texture's
 // swizzle, depth-stencil mode and base level for its duration (GlStateGuard).
@@ -46,11 +46,11 @@ class ReductionSource : public DepthSource, public KeyReader {
   ReductionSource& operator=(const ReductionSource&) = delete;
 
   DepthSourceTraits traits() const override { return {"reduce", true, true}; }
-  void beginFrame(const Camera& camera) override;
-  void endFrame() override;
+  Status beginFrame(const Camera& camera) override;
+  Status endFrame() override;
   void noteDraw() override { drawn_since_read_ = true; }
   void beginAccess() override { guard_.beginAccess(); }
-  void endAccess() override { guard_.endAccess(); }
+  Status endAccess() override { return guard_.endAccess(); }
 
   void submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) override;
   void collect() override;
@@ -69,12 +69,14 @@ class ReductionSource : public DepthSource, public KeyReader {
     std::vector<AreaAnswer*> out;
     std::vector<AreaRequest> asked;
   };
-  Slot& freeSlot(std::size_t count);
+  Slot* freeSlot(std::size_t count);  // nullptr (and fail()) if it cannot map one
   void release(Slot& slot);
-  void dispatch(Slot& slot, const AreaRequest* requests, std::size_t count);
+  // False (the error noted) if the dispatch failed: nothing is in flight then.
+  bool dispatch(Slot& slot, const AreaRequest* requests, std::size_t count);
 
   std::uint32_t framebuffer_;
   Kernel kernel_;
+  Status unusable_;  // no compute shaders, or a kernel the driver does not compile
   std::unique_ptr<Program> program_;
   DepthAttachment attachment_;
   GlStateGuard guard_;
