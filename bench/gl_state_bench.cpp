@@ -41,7 +41,7 @@ void readTiles(benchmark::State& state, zread::GlStatePolicy policy, std::int64_
   camera.width = kSize;
   camera.height = kSize;
   zread::ReadPixelsSource source(fb.handle(), policy);
-  source.beginFrame(camera);
+  orThrow(source.beginFrame(camera));
   AreaRequest request;
   AreaAnswer answer;
   std::int64_t reads = 0;
@@ -56,9 +56,9 @@ void readTiles(benchmark::State& state, zread::GlStatePolicy policy, std::int64_
       source.submit(&request, 1, &answer);
       benchmark::DoNotOptimize(answer);
     }
-    if (per_window > 0) source.endAccess();
+    if (per_window > 0) orThrow(source.endAccess());
   }
-  source.endFrame();
+  orThrow(source.endFrame());
   state.SetItemsProcessed(reads);
   state.counters["state_queries"] = benchmark::Counter(
       double(source.counters().state_queries - before) / double(reads ? reads : 1));

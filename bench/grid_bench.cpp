@@ -53,7 +53,7 @@ void BM_GridTest(benchmark::State& state) {
   Camera camera;
   camera.width = s.size;
   camera.height = s.size;
-  depth.beginFrame(camera);
+  orThrow(depth.beginFrame(camera));
 
   OcclusionGrid grid({s.size, s.size, std::uint32_t(kTile), variant});
   GridTestCounts counts;

@@ -85,7 +85,7 @@ SourceTimes measureSource(const ReaderInfo& reader, const gl::Framebuffer& fb,
   const float clear[4] = {0, 0, 0, 1};
   fb.bind();
   fb.clear(clear);
-  source.beginFrame(camera);
+  orThrow(source.beginFrame(camera));
   const std::int32_t c = std::int32_t(camera.width / 2);
   auto timedReads = [&](std::int32_t side) {
     AreaRequest request;
@@ -114,7 +114,8 @@ SourceTimes measureSource(const ReaderInfo& reader, const gl::Framebuffer& fb,
   };
   const double one = timedReads(1);
   const double tile = timedReads(64);
-  source.endFrame();
+  orThrow(source.endFrame());
+  orThrow(source.takeError());
   SourceTimes t;
   t.pixel_s = std::max(tile - one, 0.0) / (64.0 * 64.0 - 1.0);
   t.flush_s = std::max(one - t.pixel_s, 1e-9);

@@ -104,7 +104,7 @@ namespace {
 class NoDepthSource : public DepthSource {
  public:
   DepthSourceTraits traits() const override { return {"none", true, false}; }
-  void beginFrame(const Camera&) override {}
+  Status beginFrame(const Camera&) override { return {}; }
   void submit(const AreaRequest*, std::size_t, AreaAnswer*) override { unused(); }
 
  private:
@@ -448,7 +448,7 @@ FrameRecord FrameRunner::render(const CameraPose& pose, std::size_t frame, bool 
     // A method that reads no depth leaves the reader's source alone, but the runner still
     // feeds it what is drawn (objectDrawn: the cpu reader's buffer) and the motion
     // hierarchy's statistics pass reads it (measure): its frame is begun here instead.
-    if (!sourceBegunByCuller(config_)) reader_->source().beginFrame(camera);
+    if (!sourceBegunByCuller(config_)) orThrow(reader_->source().beginFrame(camera));
     if (hooks.before_cull) hooks.before_cull();
     // The pull form (the callback form is a loop over it): each batch drawn, then the next.
     culler_->beginFrame(camera, hierarchy(),
@@ -468,7 +468,7 @@ FrameRecord FrameRunner::render(const CameraPose& pose, std::size_t frame, bool 
       }
     } catch (...) {
       culler_->abandonFrame();  // a draw failed: the runner stays usable (the viewer goes on)
-      if (!sourceBegunByCuller(config_)) reader_->source().endFrame();
+      if (!sourceBegunByCuller(config_)) (void)reader_->source().endFrame();
       throw;
     }
     rec.stats = culler_->endFrame();
@@ -479,7 +479,7 @@ FrameRecord FrameRunner::render(const CameraPose& pose, std::size_t frame, bool 
   renderer_.end();
   // The hierarchy's statistics of this frame (ternary: the additional queries).
   if (dynamic_ && culler_) rec.measure = dynamic_->measure(camera, reader_->source());
-  if (culler_ && !sourceBegunByCuller(config_)) reader_->source().endFrame();
+  if (culler_ && !sourceBegunByCuller(config_)) orThrow(reader_->source().endFrame());
   glFinish();
   rec.ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -43,8 +43,10 @@ class PerReadSource final : public DepthSource, public KeyReader {
  public:
   explicit PerReadSource(std::uint32_t framebuffer) : inner_(framebuffer) {}
   DepthSourceTraits traits() const override { return inner_.traits(); }
-  void beginFrame(const Camera& camera) override { inner_.beginFrame(camera); }
-  void endFrame() override { inner_.endFrame(); }
+  Status beginFrame(const Camera& camera) override { return inner_.beginFrame(camera); }
+  Status endFrame() override { return inner_.endFrame(); }
+  // Errors are checked around every read, outside any window: they are the inner source's.
+  Status endAccess() override { return inner_.takeError(); }
   void noteDraw() override { inner_.noteDraw(); }
   void submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) override {
     inner_.submit(requests, count, answers);

@@ -16,6 +16,7 @@
 // near plane, every pixel centre inside the exact projected hull of its corners must lie
 // in the projected rectangle, the box may not be called outside, and its occlusion
 // threshold may not exceed the exact nearest key of its corners.
+#include <cstdlib>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -119,7 +120,9 @@ class Deferred final : public logrid::DepthSource, public logrid::KeyReader {
   logrid::DepthSourceTraits traits() const override {
     return {reads_depth_ ? "deferred" : "deferred-count", reads_depth_, true};
   }
-  void beginFrame(const logrid::Camera& camera) override { buffer_.beginFrame(camera); }
+  logrid::Status beginFrame(const logrid::Camera& camera) override {
+    return buffer_.beginFrame(camera);
+  }
   void submit(const logrid::AreaRequest* requests, std::size_t count,
               logrid::AreaAnswer* answers) override {
     for (std::size_t i = 0; i < count; ++i) {
@@ -295,7 +298,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   Deferred deferred(buffer, source_kind == 1);
   logrid::DepthSource& source = source_kind == 0 ? static_cast<logrid::DepthSource&>(buffer)
                                                  : static_cast<logrid::DepthSource&>(deferred);
-  source.beginFrame(camera);
+  if (!source.beginFrame(camera)) std::abort();  // the camera is valid: it cannot fail
   buffer.clear();
   grid.reset(projector.clearKey());
   const bool state = desc.variant == logrid::GridVariant::OcclusionState;

@@ -4,6 +4,7 @@
 // do not depend on the GL state the application left, and that state is restored item by
 // item; the calibration of nohc's hardware parameters measures valid times and restores
 // the application's program unless the application deleted it.
+#include <limits>
 #include <epoxy/gl.h>
 #include <gtest/gtest.h>
 
@@ -90,7 +91,7 @@ TEST_P(BoxQueryTest, ShowsWhereverTheGeometryInsideWouldShow) {
     renderer.begin(gl::Pass::DepthOnly, cam);
     for (ObjectId id = 0; id < kOccluders; ++id) renderer.draw(id);
     zread::BoxQuerySource queries(fb.handle());
-    queries.beginQueryFrame(cam);
+    orThrow(queries.beginQueryFrame(cam));
     GLuint geometry_query = 0;
     glCreateQueries(GL_SAMPLES_PASSED, 1, &geometry_query);
     for (ObjectId id = kOccluders; id < boxes.size(); ++id) {
@@ -115,7 +116,7 @@ TEST_P(BoxQueryTest, ShowsWhereverTheGeometryInsideWouldShow) {
       ++compared;
     }
     renderer.end();
-    queries.endQueryFrame();
+    orThrow(queries.endQueryFrame());
     glDeleteQueries(1, &geometry_query);
     gl::checkGlErrors("BoxQueryTest");
   }
@@ -238,7 +239,7 @@ TEST(BoxQueryState, HostileStateNeitherChangesTheAnswersNorSurvivesThePass) {
     renderer.end();
     const std::vector<float> depth_before = fb.readDepth();
     zread::BoxQuerySource queries(fb.handle());
-    queries.beginQueryFrame(cam);
+    orThrow(queries.beginQueryFrame(cam));
     const QueryBox behind = *projector.queryBox(boxes[1]);
     const QueryBox open = *projector.queryBox(boxes[2]);
     const RectQuery open_rect{projector.project(boxes[2]).rect,
@@ -260,7 +261,7 @@ TEST(BoxQueryState, HostileStateNeitherChangesTheAnswersNorSurvivesThePass) {
     EXPECT_EQ(queries.result(a), clean_behind);
     EXPECT_EQ(queries.result(b), clean_open);
     EXPECT_EQ(queries.result(r), clean_rect);
-    queries.endQueryFrame();
+    orThrow(queries.endQueryFrame());
     hostile.release();
     fb.bind();
     glClipControl(GL_LOWER_LEFT, c.convention == DepthConvention::Reversed
@@ -287,17 +288,29 @@ TEST(BoxQueryErrors, HandlesAndFramesAreChecked) {
   gl::Framebuffer fb({16, 16, cam.depth, false});
   zread::BoxQuerySource queries(fb.handle());
   const QueryBox box{{{-1, -1, -1}, {1, 1, 1}}, 0};
-  EXPECT_THROW(queries.issueBoxes(&box, 1), Error);  // before beginQueryFrame()
+  // A call that fails answers "visible" and keeps its error for takeError().
+  const auto expectError = [&](ErrorCode code, const char* part) {
+    const Status error = queries.takeError();
+    EXPECT_EQ(error.code(), code) << error.message();
+    EXPECT_NE(error.message().find(part), std::string::npos) << error.message();
+  };
+  const QueryHandle early = queries.issueBoxes(&box, 1);  // before beginQueryFrame()
+  expectError(ErrorCode::InvalidArgument, "beginQueryFrame() first");
+  EXPECT_TRUE(queries.ready(early));
+  EXPECT_EQ(queries.result(early), std::numeric_limits<std::uint32_t>::max());
   Camera wrong = cam;
   wrong.depth.format = DepthFormat::D32F;
-  EXPECT_THROW(queries.beginQueryFrame(wrong), Error);
-  queries.beginQueryFrame(cam);
+  EXPECT_EQ(queries.beginQueryFrame(wrong).code(), ErrorCode::InvalidArgument);
+  ASSERT_TRUE(queries.beginQueryFrame(cam).ok());
   const QueryHandle h = queries.issueBoxes(&box, 1);
-  EXPECT_THROW(queries.endQueryFrame(), Error);  // never read
+  EXPECT_EQ(queries.endQueryFrame().code(), ErrorCode::Runtime);  // never read
   queries.result(h);
-  EXPECT_THROW(queries.result(h), Error);  // read twice
-  EXPECT_THROW(queries.ready(12345), Error);
-  queries.endQueryFrame();
+  EXPECT_TRUE(queries.takeError().ok());
+  EXPECT_EQ(queries.result(h), std::numeric_limits<std::uint32_t>::max());  // read twice
+  expectError(ErrorCode::InvalidArgument, "read already");
+  EXPECT_TRUE(queries.ready(12345));
+  expectError(ErrorCode::InvalidArgument, "handle 12345");
+  EXPECT_TRUE(queries.endQueryFrame().ok());
 }
 
 TEST(Calibration, MeasuresValidTimesAndKeepsThemPerRenderer) {

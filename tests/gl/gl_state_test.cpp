@@ -94,7 +94,7 @@ struct CountingDraw {
   // With the guard: the count the draw means.
   GLuint countGuarded(zread::GlStateGuard& guard, GLuint fbo, float depth) {
     zread::GlStateGuard::Scope scope(guard, "CountingDraw");
-    scope.prepareDraw(fbo, kWidth, kHeight, GL_LEQUAL, false);
+    if (!scope.prepareDraw(fbo, kWidth, kHeight, GL_LEQUAL, false)) orThrow(guard.takeError());
     return draw(depth);
   }
   // Without it, setting only what QuerySource set before the guard existed.
@@ -233,13 +233,13 @@ TEST_F(GlStateTest, RestoresEveryItemExactly) {
     GLuint counted = 0;
     {
       zread::GlStateGuard::Scope scope(guard, "RestoresEveryItemExactly");
-      scope.prepareDraw(fb.fbo, kWidth, kHeight, GL_LEQUAL, false);
+      EXPECT_TRUE(scope.prepareDraw(fb.fbo, kWidth, kHeight, GL_LEQUAL, false));
       counted = counting.draw(0.2f);
-      scope.prepareRead(fb.fbo, 0);
+      EXPECT_TRUE(scope.prepareRead(fb.fbo, 0));
       glReadPixels(3, 5, 4, 4, GL_DEPTH_COMPONENT, GL_FLOAT, keys.data());
-      scope.check("glReadPixels");
-      scope.bindTexture(3, GL_TEXTURE_2D, fb.depth);
-      scope.check("bindTexture");
+      EXPECT_TRUE(scope.check("glReadPixels"));
+      EXPECT_TRUE(scope.bindTexture(3, GL_TEXTURE_2D, fb.depth));
+      EXPECT_TRUE(scope.check("bindTexture"));
     }
     EXPECT_EQ(counted, GLuint(kWidth * kHeight));
     for (float k : keys) EXPECT_NEAR(k, 0.3f, 1e-6f);
@@ -259,8 +259,8 @@ TEST_F(GlStateTest, RestoresWhenTheScopeIsLeftByAnException) {
   const test::GlSnapshot before = test::snapshotGlState();
   try {
     zread::GlStateGuard::Scope scope(guard, "ExceptionTest");
-    scope.prepareDraw(fb.fbo, kWidth, kHeight, GL_LEQUAL, false);
-    scope.prepareRead(fb.fbo, 0);
+    EXPECT_TRUE(scope.prepareDraw(fb.fbo, kWidth, kHeight, GL_LEQUAL, false));
+    EXPECT_TRUE(scope.prepareRead(fb.fbo, 0));
     throw std::runtime_error("leaving");
   } catch (const std::runtime_error&) {
   }
@@ -275,7 +275,7 @@ TEST_F(GlStateTest, RefusesConditionalRendering) {
   defaultState();
   fb.clear(0.3f);
   // Not active: the probe says so and leaves it inactive (a draw still counts).
-  EXPECT_FALSE(zread::GlStateGuard::Scope::conditionalRenderingActive(counting.query));
+  EXPECT_FALSE(zread::GlStateGuard::Scope::conditionalRenderingActive(counting.query).value());
   EXPECT_EQ(counting.countGuarded(guard, fb.fbo, 0.2f), GLuint(kWidth * kHeight));
 
   // Active, on a query whose result is 0 (nothing passed): the source's draws would be
@@ -355,13 +355,16 @@ TEST_F(GlStateTest, RefusesUnpausedTransformFeedback) {
 TEST_F(GlStateTest, RefusesAPendingApplicationError) {
   zread::GlStateGuard guard;
   glEnable(0x1234);  // GL_INVALID_ENUM, left pending as a careless application would
-  try {
+  {
     zread::GlStateGuard::Scope scope(guard, "PendingTest");
-    ADD_FAILURE() << "no error with a GL error pending";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("GL_INVALID_ENUM"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("pending"), std::string::npos) << e.what();
+    EXPECT_FALSE(scope.ok()) << "no error with a GL error pending";
+    EXPECT_FALSE(scope.prepareRead(0, 0)) << "a failed scope set state";
   }
+  const Status error = guard.takeError();
+  EXPECT_EQ(error.code(), ErrorCode::Runtime);
+  EXPECT_NE(error.message().find("GL_INVALID_ENUM"), std::string::npos) << error.message();
+  EXPECT_NE(error.message().find("pending"), std::string::npos) << error.message();
+  EXPECT_TRUE(guard.takeError().ok()) << "taken once";
   forgetProvokedErrors();
 }
 
@@ -378,9 +381,9 @@ TEST_F(GlStateTest, CheckNamesTheFailedCall) {
   float keys[4] = {};
   try {
     zread::GlStateGuard::Scope scope(guard, "ReadTest");
-    scope.prepareRead(fb.fbo, 0);
+    EXPECT_TRUE(scope.prepareRead(fb.fbo, 0));
     glReadPixels(0, 0, 2, 2, GL_DEPTH_COMPONENT, GL_FLOAT, keys);
-    scope.check("glReadPixels");
+    if (!scope.check("glReadPixels")) orThrow(guard.takeError());
     ADD_FAILURE() << "no error reading a multisampled framebuffer";
   } catch (const Error& e) {
     const std::string m = e.what();
@@ -411,7 +414,7 @@ TEST_F(GlStateTest, BindTextureRestoresTextureAndUnitState) {
   const test::GlSnapshot before = test::snapshotGlState({fb.depth}, {});
   {
     zread::GlStateGuard::Scope scope(guard, "TextureTest");
-    scope.bindTexture(5, GL_TEXTURE_2D, fb.depth);
+    EXPECT_TRUE(scope.bindTexture(5, GL_TEXTURE_2D, fb.depth));
     GLint active = 0, bound = 0, sampler = 0, mode = 0, inside_swizzle[4] = {};
     glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
     glGetIntegerv(GL_TEXTURE_BINDING_2D, &bound);
@@ -457,19 +460,19 @@ TEST_F(GlStateTest, AnAccessWindowSavesOnceAndRestoresAtItsEnd) {
     std::uint64_t after_first = 0;
     for (int read = 0; read < 8; ++read) {
       zread::GlStateGuard::Scope scope(guard, "AccessWindowTest");
-      scope.prepareDraw(fb.fbo, kWidth, kHeight, GL_LEQUAL, false);
+      EXPECT_TRUE(scope.prepareDraw(fb.fbo, kWidth, kHeight, GL_LEQUAL, false));
       EXPECT_EQ(counting.draw(0.2f), GLuint(kWidth * kHeight));
-      scope.prepareRead(fb.fbo, 0);
+      EXPECT_TRUE(scope.prepareRead(fb.fbo, 0));
       std::vector<float> keys(16, -1.0f);
       glReadPixels(3, 5, 4, 4, GL_DEPTH_COMPONENT, GL_FLOAT, keys.data());
-      scope.check("glReadPixels");
+      EXPECT_TRUE(scope.check("glReadPixels"));
       for (float k : keys) EXPECT_NEAR(k, 0.3f, 1e-6f);
       if (read == 0) after_first = counter;
     }
     // The later scopes saved nothing and checked nothing: the window did once.
     EXPECT_GT(after_first, 20u);
     EXPECT_EQ(counter, after_first);
-    guard.endAccess();
+    orThrow(guard.endAccess());
     EXPECT_EQ(test::diffGlState(before, test::snapshotGlState({fb.depth}, {fb.fbo})), "");
     counter = 0;
   }
@@ -491,12 +494,12 @@ TEST_F(GlStateTest, AnAccessWindowReportsItsErrorsAtItsEnd) {
   guard.beginAccess();
   {
     zread::GlStateGuard::Scope scope(guard, "WindowReadTest");
-    scope.prepareRead(fb.fbo, 0);
+    EXPECT_TRUE(scope.prepareRead(fb.fbo, 0));
     glReadPixels(0, 0, 2, 2, GL_DEPTH_COMPONENT, GL_FLOAT, keys);
-    scope.check("glReadPixels");  // deferred: no throw here
+    EXPECT_TRUE(scope.check("glReadPixels"));  // deferred: no error here
   }
   try {
-    guard.endAccess();
+    orThrow(guard.endAccess());
     ADD_FAILURE() << "endAccess() reported no error";
   } catch (const Error& e) {
     const std::string m = e.what();
@@ -524,17 +527,17 @@ TEST_F(GlStateTest, AnotherGuardsScopeClosesTheWindow) {
   for (int i = 0; i < 3; ++i) {
     {
       zread::GlStateGuard::Scope scope(reads, "reads");
-      scope.prepareRead(fb.fbo, 0);
-      scope.prepareDraw(fb.fbo, kWidth, kHeight, GL_ALWAYS, false);
+      EXPECT_TRUE(scope.prepareRead(fb.fbo, 0));
+      EXPECT_TRUE(scope.prepareDraw(fb.fbo, kWidth, kHeight, GL_ALWAYS, false));
     }
     {
       zread::GlStateGuard::Scope scope(draws, "draws");
-      scope.prepareDraw(fb.fbo, kWidth, kHeight, GL_LEQUAL, false);
+      EXPECT_TRUE(scope.prepareDraw(fb.fbo, kWidth, kHeight, GL_LEQUAL, false));
       EXPECT_EQ(counting.draw(0.2f), GLuint(kWidth * kHeight));
     }
   }
-  reads.endAccess();  // in the order a culler ends them: not the order they saved in
-  draws.endAccess();
+  orThrow(reads.endAccess());  // in the order a culler ends them: not the order they saved in
+  orThrow(draws.endAccess());
   EXPECT_EQ(test::diffGlState(before, test::snapshotGlState({fb.depth}, {fb.fbo})), "");
   defaultState();
   gl::checkGlErrors("AnotherGuardsScopeClosesTheWindow");
@@ -554,13 +557,13 @@ TEST_F(GlStateTest, ApplicationManagedQueriesNothingAndLeavesItsState) {
   guard.beginAccess();
   for (int i = 0; i < 4; ++i) {
     zread::GlStateGuard::Scope scope(guard, "ManagedTest");
-    scope.prepareDraw(fb.fbo, kWidth, kHeight, GL_LEQUAL, false);
+    EXPECT_TRUE(scope.prepareDraw(fb.fbo, kWidth, kHeight, GL_LEQUAL, false));
     EXPECT_EQ(counting.draw(0.2f), GLuint(kWidth * kHeight));
-    scope.prepareRead(fb.fbo, 0);
-    scope.check("draw");
+    EXPECT_TRUE(scope.prepareRead(fb.fbo, 0));
+    EXPECT_TRUE(scope.check("draw"));
   }
   EXPECT_EQ(counter, 0u);
-  guard.endAccess();
+  orThrow(guard.endAccess());
   EXPECT_EQ(counter, 1u);  // one glGetError for the window
   // Left as logrid set it (the contract in gl_state.hpp).
   EXPECT_FALSE(glIsEnabled(GL_CULL_FACE));

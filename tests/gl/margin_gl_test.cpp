@@ -111,7 +111,7 @@ TEST(MarginGlTest, D16QuantisationTermIsNeeded) {
   EXPECT_EQ(stored, 30000);
 
   zread::ReadPixelsSource source(fb.handle());
-  source.beginFrame(cam);
+  orThrow(source.beginFrame(cam));
   ProjectionSettings shrunk;
   shrunk.quantisation_scale = 0;
   const Aabb box{{4, 4, z - 0.25f}, {12, 12, z}};  // the box whose front face was drawn
@@ -147,7 +147,7 @@ TEST(MarginGlTest, RenderErrorTermIsNeeded) {
     gl::MeshRenderer renderer(quadMesh(quads));
     drawObjects(renderer, cam, 0, 64);
     zread::ReadPixelsSource source(fb.handle());
-    source.beginFrame(cam);
+    orThrow(source.beginFrame(cam));
     ProjectionSettings shrunk;
     shrunk.render_error_ulps = 0;
     const Projector safe(cam), exact(cam, shrunk);
@@ -204,7 +204,7 @@ TEST(MarginGlTest, SubpixelSnappingTermIsNeeded) {
   EXPECT_EQ(samplesPassed(renderer, cam, 1, GL_LESS), 8u) << "the box shows in column 3";
 
   zread::ReadPixelsSource source(fb.handle());
-  source.beginFrame(cam);
+  orThrow(source.beginFrame(cam));
   ProjectionSettings shrunk;
   shrunk.subpixel_bits = 16;
   const Aabb box{{left, 4, -0.75f}, {12, 12, -0.5f}};

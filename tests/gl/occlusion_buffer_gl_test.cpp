@@ -72,11 +72,11 @@ Comparison compare(DepthFormat format, DepthConvention convention, cpu::Resoluti
     cpu::OcclusionBufferDesc desc = base;
     desc.resolution = resolution;
     cpu::OcclusionBuffer buffer(meshes, desc);
-    buffer.beginFrame(cam);
+    orThrow(buffer.beginFrame(cam));
     for (std::uint32_t i = 0; i < meshes.objectCount(); ++i) buffer.drawObject(i);
     std::vector<float> keys(std::size_t(w) * h);
     buffer.readKeys({0, 0, std::int32_t(w), std::int32_t(h)}, keys.data());
-    buffer.endFrame();
+    orThrow(buffer.endFrame());
 
     const float clear_key = clearKey(cam.depth);
     for (std::size_t i = 0; i < keys.size(); ++i) {

@@ -91,7 +91,7 @@ TEST_P(SourcesTest, EverySourceAgreesWithTheSoftwareSource) {
   zread::ReductionSource reduce_groups(fb.handle(), zread::ReductionSource::Kernel::PerWorkgroup);
   for (DepthSource* s : std::initializer_list<DepthSource*>{&reference, &readpixels, &pbo, &query,
                                                             &reduce_serial, &reduce_groups}) {
-    s->beginFrame(cam);
+    orThrow(s->beginFrame(cam));
   }
 
   std::mt19937 rng(5);
@@ -165,7 +165,7 @@ TEST_P(SourcesTest, QuerySourceRestoresTheStateItChanges) {
   gl::Framebuffer fb({32, 32, cam.depth, false});
   fb.bind();
   zread::QuerySource query(fb.handle());
-  query.beginFrame(cam);
+  orThrow(query.beginFrame(cam));
   glDepthFunc(GL_LEQUAL);
   glDepthMask(GL_TRUE);
   glEnable(GL_SCISSOR_TEST);
@@ -246,7 +246,7 @@ TEST_P(SourcesTest, EverySourceAnswersTheSameUnderAnyApplicationState) {
   cpu::SoftwareDepthBuffer reference(w, h, c.convention);
   const std::vector<float> depth = fb.readDepth(cam);
   std::copy(depth.begin(), depth.end(), reference.data());
-  reference.beginFrame(cam);
+  orThrow(reference.beginFrame(cam));
   zread::ReadPixelsSource readpixels(fb.fbo);
   zread::PboSource pbo(fb.fbo);
   zread::QuerySource query(fb.fbo);
@@ -273,7 +273,7 @@ TEST_P(SourcesTest, EverySourceAnswersTheSameUnderAnyApplicationState) {
       state.set();
       const test::GlSnapshot before = test::snapshotGlState({fb.depth}, {fb.fbo});
       try {
-        source->beginFrame(cam);
+        orThrow(source->beginFrame(cam));
         for (int i = 0; i < 12; ++i) {
           const std::int32_t x0 = std::int32_t(rng() % w), y0 = std::int32_t(rng() % h);
           const PixelRect r{x0, y0, x0 + 1 + std::int32_t(rng() % (w - std::uint32_t(x0))),
@@ -313,16 +313,20 @@ TEST(SourcesErrorTest, AMismatchedDepthFormatIsAClearError) {
   gl::Framebuffer fb({16, 16, cam.depth, false});
   cam.depth.format = DepthFormat::D32F;  // the camera claims another format
   zread::ReadPixelsSource source(fb.handle());
-  try {
-    source.beginFrame(cam);
-    FAIL();
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("24-bit unorm"), std::string::npos) << e.what();
-  }
+  const Status begun = source.beginFrame(cam);
+  EXPECT_EQ(begun.code(), ErrorCode::InvalidArgument);
+  EXPECT_NE(begun.message().find("24-bit unorm"), std::string::npos) << begun.message();
+  // A request a source cannot answer is answered "visible" and reported.
   zread::QuerySource query(fb.handle());
   const PixelRect one{0, 0, 1, 1};
   AreaDepth summary;
-  EXPECT_THROW(query.summarize(&one, 1, &summary), Error);
+  query.summarize(&one, 1, &summary);
+  const Status refused = query.takeError();
+  EXPECT_EQ(refused.code(), ErrorCode::Unsupported);
+  EXPECT_NE(refused.message().find("cannot read depth values"), std::string::npos)
+      << refused.message();
+  EXPECT_EQ(summary.free_pixels, 1u) << "answered as if nothing were drawn";
+  EXPECT_GT(summary.max_key, 1.0f);
 }
 
 std::string caseName(const testing::TestParamInfo<Case>& param) {

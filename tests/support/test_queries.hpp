@@ -87,10 +87,14 @@ class LoggingQueries : public OcclusionQueries {
   std::size_t max_in_flight = 0;
 
   const char* queryName() const override { return "test"; }
-  void beginQueryFrame(const Camera& camera) override { camera_ = camera; }
-  void endQueryFrame() override {
+  Status beginQueryFrame(const Camera& camera) override {
+    camera_ = camera;
+    return {};
+  }
+  Status endQueryFrame() override {
     EXPECT_TRUE(open_.empty()) << "frame " << frame << ": " << open_.size()
                                << " queries were never read";
+    return {};
   }
   void noteDraw() override { ++tick_; }
   // The test's draw callback calls this (the log shows draws among the queries).

@@ -22,9 +22,9 @@ class DeferredSource : public DepthSource, public KeyReader {
   DepthSourceTraits traits() const override {
     return {reads_depth_ ? "batched" : "count-only", reads_depth_, true};
   }
-  void beginFrame(const Camera& camera) override {
+  Status beginFrame(const Camera& camera) override {
     EXPECT_TRUE(requests_.empty()) << "a batch was never collected";
-    buffer_.beginFrame(camera);
+    return buffer_.beginFrame(camera);
   }
   void submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) override {
     constexpr float kNear = -std::numeric_limits<float>::infinity();

@@ -97,7 +97,10 @@ TEST(MethodTable, EveryMethodBuildsWithItsDefaults) {
 class UntouchableSource final : public DepthSource {
  public:
   DepthSourceTraits traits() const override { return {"untouchable", true, false}; }
-  void beginFrame(const Camera&) override { ADD_FAILURE() << "beginFrame"; }
+  Status beginFrame(const Camera&) override {
+    ADD_FAILURE() << "beginFrame";
+    return {};
+  }
   void submit(const AreaRequest*, std::size_t, AreaAnswer*) override { ADD_FAILURE() << "submit"; }
   void noteDraw() override { ADD_FAILURE() << "noteDraw"; }
 };
@@ -107,13 +110,13 @@ class UntouchableSource final : public DepthSource {
 class HalfOccluders final : public OccluderSource {
  public:
   explicit HalfOccluders(std::int32_t split) : split_(split) {}
-  std::uint64_t beginFrame(const Camera& camera, const ProjectionSettings&, bool draw,
-                           std::vector<DrawnArea>& drawn) override {
+  Result<std::uint64_t> beginFrame(const Camera& camera, const ProjectionSettings&, bool draw,
+                                   std::vector<DrawnArea>& drawn) override {
     ++frames;
     asked_to_draw = draw;
     // Its farthest key unknown: every occlusion-state test it overlaps goes by depth.
     if (draw) drawn.push_back({{0, 0, split_, std::int32_t(camera.height)}});
-    return 7;
+    return std::uint64_t{7};
   }
   bool occludes(const PixelRect& rect, float) const override { return rect.x1 <= split_; }
 

@@ -33,11 +33,11 @@ OccluderMeshes meshesOf(const std::vector<TestMesh>& scene) {
 std::vector<float> render(const OccluderMeshes& meshes, const Camera& cam,
                           const OcclusionBufferDesc& desc) {
   OcclusionBuffer buffer(meshes, desc);
-  buffer.beginFrame(cam);
+  orThrow(buffer.beginFrame(cam));
   for (std::uint32_t i = 0; i < meshes.objectCount(); ++i) buffer.drawObject(i);
   std::vector<float> keys(std::size_t(cam.width) * cam.height);
   buffer.readKeys({0, 0, std::int32_t(cam.width), std::int32_t(cam.height)}, keys.data());
-  buffer.endFrame();
+  orThrow(buffer.endFrame());
   return keys;
 }
 
@@ -113,12 +113,14 @@ TEST(OcclusionBufferTest, BadUseIsAClearError) {
   OcclusionBuffer buffer(m);
   test::expectError([&] { buffer.drawObject(0); }, ErrorCode::InvalidArgument,
                     {"between beginFrame() and endFrame()"});
-  buffer.beginFrame(test::randomCamera(1, 32, 32, DepthConvention::Standard,
-                                       ClipDepthRange::NegativeOneToOne, DepthFormat::D32F));
+  orThrow(buffer.beginFrame(test::randomCamera(1, 32, 32, DepthConvention::Standard,
+                                               ClipDepthRange::NegativeOneToOne,
+                                               DepthFormat::D32F)));
   test::expectError([&] { buffer.drawObject(3); }, ErrorCode::InvalidArgument,
                     {"object 3", "1 objects"});
   Camera broken;
-  test::expectError([&] { buffer.beginFrame(broken); }, ErrorCode::InvalidArgument, {"viewport"});
+  test::expectError([&] { orThrow(buffer.beginFrame(broken)); }, ErrorCode::InvalidArgument,
+                    {"viewport"});
 }
 
 struct PropertyCase {
@@ -298,11 +300,11 @@ TEST(OcclusionBufferTest, SelectionKeepsTheBudgetAndOnlyLeavesKeysFarther) {
       desc.min_pixels_per_triangle = 4;
       desc.triangle_budget = 40;
       OcclusionBuffer buffer(meshes, desc);
-      buffer.beginFrame(cam);
+      orThrow(buffer.beginFrame(cam));
       for (std::uint32_t i = 0; i < meshes.objectCount(); ++i) buffer.drawObject(i);
       std::vector<float> keys(all.size());
       buffer.readKeys({0, 0, std::int32_t(cam.width), std::int32_t(cam.height)}, keys.data());
-      buffer.endFrame();
+      orThrow(buffer.endFrame());
       EXPECT_LE(buffer.stats().triangles_selected, 40u) << "scene " << s;
       EXPECT_LE(buffer.stats().triangles_set_up, buffer.stats().triangles_selected);
       left_out += buffer.stats().objects_unselected;
@@ -370,7 +372,7 @@ TEST(OcclusionBufferTest, WorkerThreadsWriteTheSameBuffer) {
         OcclusionBufferDesc lazy = desc;
         lazy.threads = 0;
         const std::vector<float> expected = render(meshes, cam, lazy);
-        buffer.beginFrame(cam);
+        orThrow(buffer.beginFrame(cam));
         const std::uint32_t half = std::uint32_t(meshes.objectCount() / 2);
         for (std::uint32_t i = 0; i < half; ++i) buffer.drawObject(i);
         const PixelRect corner{0, 0, 20, 20};
@@ -379,7 +381,7 @@ TEST(OcclusionBufferTest, WorkerThreadsWriteTheSameBuffer) {
         for (std::uint32_t i = half; i < meshes.objectCount(); ++i) buffer.drawObject(i);
         std::vector<float> keys(expected.size());
         buffer.readKeys({0, 0, std::int32_t(cam.width), std::int32_t(cam.height)}, keys.data());
-        buffer.endFrame();
+        orThrow(buffer.endFrame());
         for (std::size_t i = 0; i < keys.size(); ++i) {
           ASSERT_EQ(keys[i], expected[i])
               << threads << " workers, scene " << s << " frame " << frame << " pixel " << i;
@@ -438,7 +440,7 @@ TEST(OcclusionBufferTest, WorksLazilyTileByTile) {
   cam.view_projection = multiply(orthographic(-16, 16, -4, 4, 1, 100, cam.depth),
                                  lookAt({0, 0, 20}, {0, 0, 0}, {0, 1, 0}));  // 8 pixels a unit
   OcclusionBuffer buffer(meshes);
-  buffer.beginFrame(cam);
+  orThrow(buffer.beginFrame(cam));
   buffer.drawObject(0);
   buffer.drawObject(1);
   EXPECT_EQ(buffer.stats().objects_set_up, 0u);
@@ -458,7 +460,7 @@ TEST(OcclusionBufferTest, WorksLazilyTileByTile) {
   buffer.summarize(&centre, 1, &a);
   EXPECT_LT(a.max_key, 1.0f);
   EXPECT_EQ(a.free_pixels, 0u);
-  buffer.endFrame();
+  orThrow(buffer.endFrame());
 }
 
 TEST(OcclusionBufferTest, MultisampledPixelsAreCoveredOnlyWhenTheirWholeSquareIs) {
@@ -479,11 +481,11 @@ TEST(OcclusionBufferTest, MultisampledPixelsAreCoveredOnlyWhenTheirWholeSquareIs
                                    lookAt({0, 0, 20}, {0, 0, 0}, {0, 1, 0}));  // 8 px a unit
     cam.multisample = multisample;
     OcclusionBuffer buffer(meshes);
-    buffer.beginFrame(cam);
+    orThrow(buffer.beginFrame(cam));
     buffer.drawObject(0);
     float keys[5];
     buffer.readKeys({5, 32, 10, 33}, keys);
-    buffer.endFrame();
+    orThrow(buffer.endFrame());
     for (int x = 5; x < 9; ++x) {
       EXPECT_LT(keys[x - 5], 1.0f) << "pixel " << x << ", multisample " << multisample;
     }
@@ -516,11 +518,11 @@ TEST(OcclusionBufferTest, ModelsInsideAnObjectNeedTheObjectBeyondTheNearPlane) {
     cam.view_projection = multiply(perspective(1.0, 1.0, 0.1, 100, cam.depth),
                                    lookAt({0, 0, distance}, {0, 0, 0}, {0, 1, 0}));
     const auto before = buffer.stats();
-    buffer.beginFrame(cam);
+    orThrow(buffer.beginFrame(cam));
     buffer.drawObject(model);
     std::vector<float> keys(64 * 64);
     buffer.readKeys({0, 0, 64, 64}, keys.data());
-    buffer.endFrame();
+    orThrow(buffer.endFrame());
     EXPECT_EQ(buffer.stats().objects_fallback - before.objects_fallback, distance < 2 ? 1u : 0u);
     EXPECT_EQ(buffer.stats().objects_set_up - before.objects_set_up, 1u);
   }

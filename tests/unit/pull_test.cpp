@@ -21,10 +21,10 @@ namespace {
 // asked to draw (a stand-in for ddo's occluders: honest, so no visible box is missed).
 class AnnouncingOccluders final : public OccluderSource {
  public:
-  std::uint64_t beginFrame(const Camera& camera, const ProjectionSettings&, bool draw,
-                           std::vector<DrawnArea>& drawn) override {
+  Result<std::uint64_t> beginFrame(const Camera& camera, const ProjectionSettings&, bool draw,
+                                   std::vector<DrawnArea>& drawn) override {
     if (draw) drawn.push_back({{0, 0, 40, std::int32_t(camera.height)}});
-    return 1;
+    return std::uint64_t{1};
   }
   bool occludes(const PixelRect&, float) const override { return false; }
 };
@@ -73,8 +73,8 @@ class WatchedSource final : public DepthSource, public KeyReader {
  public:
   WatchedSource(DepthSource& inner, const Watch& watch) : inner_(inner), watch_(watch) {}
   DepthSourceTraits traits() const override { return inner_.traits(); }
-  void beginFrame(const Camera& camera) override { inner_.beginFrame(camera); }
-  void endFrame() override { inner_.endFrame(); }
+  Status beginFrame(const Camera& camera) override { return inner_.beginFrame(camera); }
+  Status endFrame() override { return inner_.endFrame(); }
   void noteDraw() override { inner_.noteDraw(); }
   void submit(const AreaRequest* r, std::size_t n, AreaAnswer* a) override {
     watch_.check("a read");

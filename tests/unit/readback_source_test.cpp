@@ -60,7 +60,9 @@ TEST(ReadbackSourceTest, RefusesACameraForAnotherBuffer) {
     return static_cast<const float*>(nullptr);
   });
   Camera cam = test::boxCamera(32, 64, DepthConvention::Standard, 0.0);
-  EXPECT_THROW(source.beginFrame(cam), Error);
+  const Status refused = source.beginFrame(cam);
+  EXPECT_EQ(refused.code(), ErrorCode::InvalidArgument);
+  EXPECT_NE(refused.message().find("32x64"), std::string::npos) << refused.message();
 }
 
 // A source that answers the grid's requests but is no KeyReader: the lazy grid culls with
@@ -69,7 +71,7 @@ class SummariesOnly final : public DepthSource {
  public:
   explicit SummariesOnly(cpu::SoftwareDepthBuffer& buffer) : buffer_(buffer) {}
   DepthSourceTraits traits() const override { return {"summaries-only", true, false}; }
-  void beginFrame(const Camera& camera) override { buffer_.beginFrame(camera); }
+  Status beginFrame(const Camera& camera) override { return buffer_.beginFrame(camera); }
   void submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) override {
     buffer_.submit(requests, count, answers);
   }

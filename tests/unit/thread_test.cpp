@@ -103,7 +103,7 @@ TEST(Threads, OcclusionBufferWorkersAnswerAsTheLazyCaller) {
       std::vector<std::vector<float>> keys;
       std::vector<AreaDepth> areas;
       for (cpu::OcclusionBuffer* b : {&reference, &threaded}) {
-        b->beginFrame(cam);
+        orThrow(b->beginFrame(cam));
         for (std::uint32_t i = 0; i < meshes.objectCount(); ++i) {
           b->drawObject(i);
           const PixelRect corner{std::int32_t(i % 5) * 16, 8, std::int32_t(i % 5) * 16 + 24, 40};
@@ -113,7 +113,7 @@ TEST(Threads, OcclusionBufferWorkersAnswerAsTheLazyCaller) {
         }
         std::vector<float> k(std::size_t(cam.width) * cam.height);
         b->readKeys({0, 0, std::int32_t(cam.width), std::int32_t(cam.height)}, k.data());
-        b->endFrame();
+        orThrow(b->endFrame());
         keys.push_back(std::move(k));
       }
       ASSERT_EQ(keys[0], keys[1]) << "scene " << s << " frame " << frame;

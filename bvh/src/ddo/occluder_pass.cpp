@@ -37,10 +37,10 @@ OccluderPass::OccluderPass(const Octree& octree, Drawer drawer, const SelectorSe
                            const OccluderBudget& budget)
     : selector_(octree, settings), drawer_(std::move(drawer)), budget_(budget) {}
 
-std::uint64_t OccluderPass::beginFrame(const Camera& camera, const ProjectionSettings& projection,
+Result<std::uint64_t> OccluderPass::beginFrame(const Camera& camera, const ProjectionSettings& projection,
                                        bool draw, std::vector<DrawnArea>& drawn) {
   if (draw && !drawer_) {
-    throw Error(ErrorCode::InvalidArgument,
+    return Status(ErrorCode::InvalidArgument,
                 "ddo::OccluderPass: asked to draw its occluders (ddo+log) but made without a "
                 "drawer; pass one, e.g. gl::OccluderRenderer's draw into the frame's framebuffer");
   }

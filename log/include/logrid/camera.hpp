@@ -76,15 +76,15 @@ Mat4d orthographic(double left, double right, double bottom, double top, double 
                    const DepthSetup& depth);
 #if LOGRID_HAS_EXCEPTIONS
 inline Mat4d lookAt(const DVec3& eye, const DVec3& target, const DVec3& up) {
-  return detail::orThrow(tryLookAt(eye, target, up));
+  return orThrow(tryLookAt(eye, target, up));
 }
 inline Mat4d perspective(double fovy, double aspect, double near, double far,
                          const DepthSetup& depth) {
-  return detail::orThrow(tryPerspective(fovy, aspect, near, far, depth));
+  return orThrow(tryPerspective(fovy, aspect, near, far, depth));
 }
 inline Mat4d orthographic(double left, double right, double bottom, double top, double near,
                           double far, const DepthSetup& depth) {
-  return detail::orThrow(tryOrthographic(left, right, bottom, top, near, far, depth));
+  return orThrow(tryOrthographic(left, right, bottom, top, near, far, depth));
 }
 #endif
 

@@ -44,10 +44,10 @@ std::string formatCullerConfig(const CullerConfig& config);
 
 #if LOGRID_HAS_EXCEPTIONS
 inline CullerConfig parseCullerConfig(const std::string& text, const std::string& origin) {
-  return detail::orThrow(tryParseCullerConfig(text, origin));
+  return orThrow(tryParseCullerConfig(text, origin));
 }
 inline CullerConfig loadCullerConfig(const std::string& path) {
-  return detail::orThrow(tryLoadCullerConfig(path));
+  return orThrow(tryLoadCullerConfig(path));
 }
 #endif
 

@@ -70,13 +70,13 @@ std::string formatCullerCosts(const CullerCostsFile& file);
 
 #if LOGRID_HAS_EXCEPTIONS
 inline CullerCostsFile parseCullerCosts(const std::string& text, const std::string& origin) {
-  return detail::orThrow(tryParseCullerCosts(text, origin));
+  return orThrow(tryParseCullerCosts(text, origin));
 }
 inline CullerCostsFile loadCullerCostsFile(const std::string& path) {
-  return detail::orThrow(tryLoadCullerCostsFile(path));
+  return orThrow(tryLoadCullerCostsFile(path));
 }
 inline CullerCosts loadCullerCosts(const std::string& path, const std::string& source) {
-  return detail::orThrow(tryLoadCullerCosts(path, source));
+  return orThrow(tryLoadCullerCosts(path, source));
 }
 #endif
 

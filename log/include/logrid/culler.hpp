@@ -469,35 +469,35 @@ inline Result<FrameStats> Culler::tryCullFrame(const Camera& camera, const Hiera
 }
 
 #if LOGRID_HAS_EXCEPTIONS
-inline Culler::Culler(const CullerDesc& desc) : Culler(detail::orThrow(create(desc))) {}
+inline Culler::Culler(const CullerDesc& desc) : Culler(orThrow(create(desc))) {}
 inline void Culler::beginFrame(const Camera& camera, const Hierarchy& hierarchy,
                                const CullSources& sources,
                                const std::vector<DrawnArea>& drawn_before) {
-  detail::orThrow(tryBeginFrame(camera, hierarchy, sources, drawn_before));
+  orThrow(tryBeginFrame(camera, hierarchy, sources, drawn_before));
 }
-inline DrawBatch Culler::nextBatch() { return detail::orThrow(tryNextBatch()); }
-inline FrameStats Culler::endFrame() { return detail::orThrow(tryEndFrame()); }
+inline DrawBatch Culler::nextBatch() { return orThrow(tryNextBatch()); }
+inline FrameStats Culler::endFrame() { return orThrow(tryEndFrame()); }
 inline FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy,
                                     const CullSources& sources, const DrawCallback& draw,
                                     const std::vector<DrawnArea>& drawn_before) {
-  return detail::orThrow(tryCullFrame(camera, hierarchy, sources, draw, drawn_before));
+  return orThrow(tryCullFrame(camera, hierarchy, sources, draw, drawn_before));
 }
 inline FrameStats Culler::cullFrame(const Camera& camera, const Hierarchy& hierarchy,
                                     DepthSource& depth, const DrawCallback& draw,
                                     const std::vector<DrawnArea>& drawn_before) {
   return cullFrame(camera, hierarchy, CullSources{&depth}, draw, drawn_before);
 }
-inline void Culler::noteDrawn(const DrawnArea& area) { detail::orThrow(tryNoteDrawn(area)); }
-inline void Culler::noteDrawn(const Aabb& box) { detail::orThrow(tryNoteDrawn(box)); }
-inline void Culler::noteDepthCleared() { detail::orThrow(tryNoteDepthCleared()); }
+inline void Culler::noteDrawn(const DrawnArea& area) { orThrow(tryNoteDrawn(area)); }
+inline void Culler::noteDrawn(const Aabb& box) { orThrow(tryNoteDrawn(box)); }
+inline void Culler::noteDepthCleared() { orThrow(tryNoteDepthCleared()); }
 inline void Culler::noteDepthCleared(float window_depth) {
-  detail::orThrow(tryNoteDepthCleared(window_depth));
+  orThrow(tryNoteDepthCleared(window_depth));
 }
 inline void Culler::reportFrameTime(double seconds) {
-  detail::orThrow(tryReportFrameTime(seconds));
+  orThrow(tryReportFrameTime(seconds));
 }
 inline BoxProjection Culler::project(const Aabb& box) const {
-  return detail::orThrow(tryProject(box));
+  return orThrow(tryProject(box));
 }
 #endif
 

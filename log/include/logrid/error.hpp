@@ -13,7 +13,7 @@
 //     the Culler constructor, Culler::beginFrame(), ... Each is an inline function in
 //     its header over the result form, declared only where exceptions are enabled
 //     (LOGRID_HAS_EXCEPTIONS), so that it is compiled into the application, not into
-//     the library.
+//     the library. logrid::orThrow() turns any result form into the throwing one.
 #pragma once
 
 #include <cassert>
@@ -110,9 +110,8 @@ class Error : public std::runtime_error {
   ErrorCode code_;
 };
 
-namespace detail {
-
-// The throwing forms over the result forms.
+// The throwing forms over the result forms, and for an application's own use of a
+// result form (a depth source's Status, say): throws its error as logrid::Error.
 inline void orThrow(const Status& status) {
   if (!status.ok()) throw Error(status.code(), status.message());
 }
@@ -121,8 +120,6 @@ T orThrow(Result<T>&& result) {
   orThrow(result.status());
   return std::move(result).value();
 }
-
-}  // namespace detail
 #endif
 
 }  // namespace logrid

@@ -274,7 +274,7 @@ class OcclusionGrid {
 
 #if LOGRID_HAS_EXCEPTIONS
 inline OcclusionGrid::OcclusionGrid(const GridDesc& desc, const GridApproximation& approximation)
-    : OcclusionGrid(detail::orThrow(create(desc, approximation))) {}
+    : OcclusionGrid(orThrow(create(desc, approximation))) {}
 #endif
 
 }  // namespace logrid

@@ -287,7 +287,7 @@ class Projector {
 
 #if LOGRID_HAS_EXCEPTIONS
 inline Projector::Projector(const Camera& camera, const ProjectionSettings& settings)
-    : Projector(detail::orThrow(create(camera, settings))) {}
+    : Projector(orThrow(create(camera, settings))) {}
 #endif
 
 }  // namespace logrid

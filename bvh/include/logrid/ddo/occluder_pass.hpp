@@ -56,8 +56,8 @@ class OccluderPass final : public OccluderSource {
   // Selects for `camera`; returns the faces selected into the map, or, with `draw`, the
   // occluders drawn (those that pay, OccluderBudget). Throws logrid::Error for an invalid
   // camera, or when asked to draw without a drawer.
-  std::uint64_t beginFrame(const Camera& camera, const ProjectionSettings& projection, bool draw,
-                           std::vector<DrawnArea>& drawn) override;
+  Result<std::uint64_t> beginFrame(const Camera& camera, const ProjectionSettings& projection,
+                                   bool draw, std::vector<DrawnArea>& drawn) override;
   bool occludes(const PixelRect& rect, float threshold) const override;
   const std::vector<DrawnQuad>& drawnQuads() const override { return quads_; }
 

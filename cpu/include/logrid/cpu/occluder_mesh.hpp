@@ -104,10 +104,10 @@ class OccluderMeshes {
 inline std::uint32_t OccluderMeshes::addObject(const float* positions, std::size_t vertex_count,
                                                const std::uint32_t* indices,
                                                std::size_t index_count, const Aabb* box) {
-  return detail::orThrow(tryAddObject(positions, vertex_count, indices, index_count, box));
+  return orThrow(tryAddObject(positions, vertex_count, indices, index_count, box));
 }
 inline void OccluderMeshes::setInsideSolid(std::uint32_t id, std::uint32_t fallback) {
-  detail::orThrow(trySetInsideSolid(id, fallback));
+  orThrow(trySetInsideSolid(id, fallback));
 }
 #endif
 

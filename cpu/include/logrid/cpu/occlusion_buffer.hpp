@@ -245,7 +245,7 @@ inline OcclusionBuffer::Checked OcclusionBuffer::checkedOrThrow(const OcclusionB
 inline OcclusionBuffer::OcclusionBuffer(const OccluderMeshes& meshes,
                                         const OcclusionBufferDesc& desc)
     : OcclusionBuffer(checkedOrThrow(desc), meshes, desc) {}
-inline void OcclusionBuffer::drawObject(std::uint32_t id) { detail::orThrow(tryDrawObject(id)); }
+inline void OcclusionBuffer::drawObject(std::uint32_t id) { orThrow(tryDrawObject(id)); }
 #endif
 
 }  // namespace logrid::cpu

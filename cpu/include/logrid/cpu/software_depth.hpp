@@ -59,7 +59,7 @@ class SoftwareDepthBuffer : public PixelSource {
 #if LOGRID_HAS_EXCEPTIONS
 inline SoftwareDepthBuffer::Checked SoftwareDepthBuffer::checkedOrThrow(std::uint32_t width,
                                                                         std::uint32_t height) {
-  detail::orThrow(checkSize(width, height));
+  orThrow(checkSize(width, height));
   return {};
 }
 inline SoftwareDepthBuffer::SoftwareDepthBuffer(std::uint32_t width, std::uint32_t height,

@@ -45,10 +45,10 @@ std::string rendererName();
 
 #if LOGRID_HAS_EXCEPTIONS
 inline HardwareParameters measureHardwareParameters(const CalibrationDesc& desc) {
-  return logrid::detail::orThrow(tryMeasureHardwareParameters(desc));
+  return logrid::orThrow(tryMeasureHardwareParameters(desc));
 }
 inline HardwareParameters hardwareParameters() {
-  return logrid::detail::orThrow(tryHardwareParameters());
+  return logrid::orThrow(tryHardwareParameters());
 }
 #endif
 

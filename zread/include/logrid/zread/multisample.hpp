@@ -89,14 +89,14 @@ class MultisampleResolver {
 
 #if LOGRID_HAS_EXCEPTIONS
 inline DepthAttachment describeDepthAttachment(const char* who, std::uint32_t framebuffer) {
-  return logrid::detail::orThrow(tryDescribeDepthAttachment(who, framebuffer));
+  return logrid::orThrow(tryDescribeDepthAttachment(who, framebuffer));
 }
 inline void checkMultisample(const char* who, const DepthAttachment& attachment,
                              const Camera& camera) {
-  logrid::detail::orThrow(tryCheckMultisample(who, attachment, camera));
+  logrid::orThrow(tryCheckMultisample(who, attachment, camera));
 }
 inline MultisampleResolver::MultisampleResolver() : MultisampleResolver(Unbuilt{}) {
-  logrid::detail::orThrow(build());
+  logrid::orThrow(build());
 }
 #endif
 

@@ -47,10 +47,10 @@ class Program {
 inline Program::Program(const std::string& name, const char* vertex_source,
                         const char* fragment_source)
     : Program(name) {
-  detail::orThrow(build(vertex_source, fragment_source));
+  orThrow(build(vertex_source, fragment_source));
 }
 inline Program::Program(const std::string& name, const char* compute_source) : Program(name) {
-  detail::orThrow(build(compute_source));
+  orThrow(build(compute_source));
 }
 #endif
 
