@@ -310,8 +310,8 @@ void Culler::beginFrame(const Camera& camera, const Hierarchy& hierarchy,
     // The occluder pre-pass: selected for this camera, drawn first where the method
     // reads them from the depth buffer (out of order, like drawn_before).
     occluder_areas_.clear();
-    stats_.occluders = sources_.occluders->beginFrame(
-        camera, desc_.projection, info.occluders == OccluderUse::Drawn, occluder_areas_);
+    stats_.occluders = detail::orThrow(sources_.occluders->beginFrame(
+        camera, desc_.projection, info.occluders == OccluderUse::Drawn, occluder_areas_));
     for (const DrawnArea& area : occluder_areas_) noteDrawnWith(area, false);
     // What the CPU knows of them: tiles a quad covers entirely are full, read or not.
     if (info.occluders == OccluderUse::Drawn) {

@@ -178,6 +178,7 @@ TEST(DdoOccluderPass, DrawsTheOccludersThatFillTilesMostFirstUnderTheCap) {
   std::size_t drawn_calls = 0;
   const ddo::OccluderPass::Drawer drawer = [&](const std::vector<ddo::Occluder>&, const Camera&) {
     ++drawn_calls;
+    return Status();
   };
   ddo::OccluderBudget every;
   every.min_tiles = 0;
@@ -195,12 +196,12 @@ TEST(DdoOccluderPass, DrawsTheOccludersThatFillTilesMostFirstUnderTheCap) {
     const Camera camera = cameraAt({x(rng), y(rng), 14.0 + 4 * z(rng) / 14},
                                    {x(rng), y(rng) * 0.5, z(rng)}, DepthConvention::Standard);
     std::vector<DrawnArea> areas;
-    const std::uint64_t n_all = all.beginFrame(camera, {}, true, areas);
+    const std::uint64_t n_all = detail::orThrow(all.beginFrame(camera, {}, true, areas));
     EXPECT_EQ(n_all, all.passStats().candidates);  // no cap, no minimum: everything
     EXPECT_EQ(areas.size(), n_all);
     EXPECT_EQ(all.drawnQuads().size(), n_all);
     areas.clear();
-    const std::uint64_t n_pays = pays.beginFrame(camera, {}, true, areas);
+    const std::uint64_t n_pays = detail::orThrow(pays.beginFrame(camera, {}, true, areas));
     EXPECT_EQ(areas.size(), n_pays);
     ASSERT_EQ(pays.drawnQuads().size(), n_pays);
     const CoverageRule rule = coverageRule(camera);
@@ -216,7 +217,7 @@ TEST(DdoOccluderPass, DrawsTheOccludersThatFillTilesMostFirstUnderTheCap) {
     for (std::uint32_t f : fills) total += f;
     EXPECT_EQ(total, pays.passStats().tiles_filled);
     areas.clear();
-    const std::uint64_t n_cap = cap.beginFrame(camera, {}, true, areas);
+    const std::uint64_t n_cap = detail::orThrow(cap.beginFrame(camera, {}, true, areas));
     EXPECT_EQ(n_cap, std::min<std::uint64_t>(n_pays, 2));
     for (std::size_t i = 0; i < n_cap; ++i) {
       EXPECT_EQ(cap.drawnQuads()[i].far_key, pays.drawnQuads()[i].far_key);

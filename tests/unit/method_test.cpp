@@ -107,8 +107,8 @@ class UntouchableSource final : public DepthSource {
 class HalfOccluders final : public OccluderSource {
  public:
   explicit HalfOccluders(std::int32_t split) : split_(split) {}
-  std::uint64_t beginFrame(const Camera& camera, const ProjectionSettings&, bool draw,
-                           std::vector<DrawnArea>& drawn) override {
+  Result<std::uint64_t> beginFrame(const Camera& camera, const ProjectionSettings&, bool draw,
+                                   std::vector<DrawnArea>& drawn) override {
     ++frames;
     asked_to_draw = draw;
     // Its farthest key unknown: every occlusion-state test it overlaps goes by depth.

@@ -21,8 +21,8 @@ namespace {
 // asked to draw (a stand-in for ddo's occluders: honest, so no visible box is missed).
 class AnnouncingOccluders final : public OccluderSource {
  public:
-  std::uint64_t beginFrame(const Camera& camera, const ProjectionSettings&, bool draw,
-                           std::vector<DrawnArea>& drawn) override {
+  Result<std::uint64_t> beginFrame(const Camera& camera, const ProjectionSettings&, bool draw,
+                                   std::vector<DrawnArea>& drawn) override {
     if (draw) drawn.push_back({{0, 0, 40, std::int32_t(camera.height)}});
     return 1;
   }

@@ -19,6 +19,7 @@
 
 #include "logrid/camera.hpp"
 #include "logrid/coverage.hpp"
+#include "logrid/error.hpp"
 #include "logrid/projection.hpp"
 #include "logrid/types.hpp"
 
@@ -31,10 +32,11 @@ class OccluderSource {
   // Selects this frame's occluders for `camera` (forgetting the last frame's). With
   // `draw`, also draws them into the application's depth buffer, with a depth test that
   // keeps the nearer fragment, and appends each one's pixels and farthest key to `drawn`.
-  // Returns how many occluders it selected. Throws logrid::Error if it cannot serve the
-  // camera, or cannot draw when asked to.
-  virtual std::uint64_t beginFrame(const Camera& camera, const ProjectionSettings& projection,
-                                   bool draw, std::vector<DrawnArea>& drawn) = 0;
+  // Returns how many occluders it selected, or the error (logrid/error.hpp) if it cannot
+  // serve the camera, or cannot draw when asked to.
+  virtual Result<std::uint64_t> beginFrame(const Camera& camera,
+                                           const ProjectionSettings& projection, bool draw,
+                                           std::vector<DrawnArea>& drawn) = 0;
 
   // After beginFrame(): does every pixel of `rect` (non-empty, inside the viewport) hold
   // an occluder whose depth key is below `threshold`? Decided on the CPU, without a read.
