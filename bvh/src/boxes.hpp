@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <limits>
 
+#include "logrid/error.hpp"
 #include "logrid/types.hpp"
 
 namespace logrid::bvh::detail {
@@ -22,8 +23,8 @@ inline void grow(Aabb& a, const Aabb& b) {
   a.max.y = std::max(a.max.y, b.max.y), a.max.z = std::max(a.max.z, b.max.z);
 }
 
-// Throws Error(BadInput) naming `who` and object `id` unless `b` is finite with
-// min <= max on every axis.
-void checkBox(const char* who, std::size_t id, const Aabb& b);
+// ErrorCode::BadInput naming `who` and object `id` unless `b` is finite with min <= max
+// on every axis.
+Status checkBox(const char* who, std::size_t id, const Aabb& b);
 
 }  // namespace logrid::bvh::detail

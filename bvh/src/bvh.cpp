@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cassert>
 #include <cmath>
 #include <functional>
 #include <future>
 #include <limits>
 #include <sstream>
 #include <thread>
+#include <utility>
 
 #include "boxes.hpp"
 #include "logrid/error.hpp"
@@ -169,8 +171,6 @@ void computeBoxes(std::vector<FlatHierarchy::Node>& nodes, LeafBox leafBox) {
   }
 }
 
-void throwBad(const std::string& what) { throw Error(ErrorCode::BadInput, what); }
-
 }  // namespace
 
 std::size_t FlatHierarchy::memoryBytes() const {
@@ -191,18 +191,20 @@ std::uint32_t FlatHierarchy::depth() const {
   return deepest;
 }
 
-void FlatHierarchy::refit(const std::vector<Aabb>& object_boxes) {
+Status FlatHierarchy::tryRefit(const std::vector<Aabb>& object_boxes) {
   for (ObjectId id : objects_) {
     if (id >= object_boxes.size()) {
       std::ostringstream out;
       out << "FlatHierarchy::refit: object " << id << " has no box (" << object_boxes.size()
           << " boxes given)";
-      throw Error(ErrorCode::InvalidArgument, out.str());
+      return Status(ErrorCode::InvalidArgument, out.str());
     }
   }
   // Checked before anything changes: a NaN box would otherwise vanish from the union
   // (std::min and std::max skip NaN) and its object could be culled with its leaf.
-  for (ObjectId id : objects_) checkBox("FlatHierarchy::refit", id, object_boxes[id]);
+  for (ObjectId id : objects_) {
+    if (Status s = checkBox("FlatHierarchy::refit", id, object_boxes[id]); !s) return s;
+  }
   computeBoxes(nodes_, [&](std::size_t n) {
     Aabb box = emptyBox();
     for (std::uint32_t i = 0; i < nodes_[n].object_count; ++i) {
@@ -210,6 +212,7 @@ void FlatHierarchy::refit(const std::vector<Aabb>& object_boxes) {
     }
     return box;
   });
+  return {};
 }
 
 void FlatHierarchy::buildLinks() const {
@@ -231,8 +234,8 @@ void FlatHierarchy::buildLinks() const {
   links_revision_ = revision_;
 }
 
-std::size_t FlatHierarchy::refit(const std::vector<Aabb>& object_boxes,
-                                 const std::vector<ObjectId>& moved) {
+Result<std::size_t> FlatHierarchy::tryRefit(const std::vector<Aabb>& object_boxes,
+                                            const std::vector<ObjectId>& moved) {
   buildLinks();
   constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
   for (ObjectId id : moved) {
@@ -240,9 +243,9 @@ std::size_t FlatHierarchy::refit(const std::vector<Aabb>& object_boxes,
       std::ostringstream out;
       out << "FlatHierarchy::refit: moved object " << id << " is not in the hierarchy or has no "
           << "box (" << object_boxes.size() << " boxes given)";
-      throw Error(ErrorCode::InvalidArgument, out.str());
+      return Status(ErrorCode::InvalidArgument, out.str());
     }
-    checkBox("FlatHierarchy::refit", id, object_boxes[id]);
+    if (Status s = checkBox("FlatHierarchy::refit", id, object_boxes[id]); !s) return s;
   }
   // The nodes to recompute: the moved objects' leaves and their ancestors, each once.
   std::vector<std::uint32_t> dirty;
@@ -278,16 +281,16 @@ double FlatHierarchy::surfaceAreaSum() const {
   return sum;
 }
 
-FlatHierarchy buildOverBoxes(const std::vector<Aabb>& boxes, const BuildArgs& args) {
-  const std::string problem = validateBuildArgs(args);
-  if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
+Result<FlatHierarchy> tryBuildOverBoxes(const std::vector<Aabb>& boxes, const BuildArgs& args) {
+  std::string problem = validateBuildArgs(args);
+  if (!problem.empty()) return Status(ErrorCode::InvalidArgument, std::move(problem));
   if (boxes.size() >= std::numeric_limits<std::uint32_t>::max()) {
-    throwBad("bvh: too many objects (at most 2^32 - 2)");
+    return Status(ErrorCode::BadInput, "bvh: too many objects (at most 2^32 - 2)");
   }
   std::vector<float> centroids(boxes.size() * 3);
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     const Aabb& b = boxes[i];
-    checkBox("bvh", i, b);
+    if (Status s = checkBox("bvh", i, b); !s) return s;
     centroids[i * 3 + 0] = 0.5f * b.min.x + 0.5f * b.max.x;
     centroids[i * 3 + 1] = 0.5f * b.min.y + 0.5f * b.max.y;
     centroids[i * 3 + 2] = 0.5f * b.min.z + 0.5f * b.max.z;
@@ -310,20 +313,25 @@ FlatHierarchy buildOverBoxes(const std::vector<Aabb>& boxes, const BuildArgs& ar
     objects.insert(objects.end(), order.begin() + std::ptrdiff_t(r.begin),
                    order.begin() + std::ptrdiff_t(r.end));
   }
-  h.refit(boxes);
+  // The boxes were checked above: the refit cannot fail.
+  const Status refitted = h.tryRefit(boxes);
+  assert(refitted.ok() && "buildOverBoxes: the refit of checked boxes failed");
+  (void)refitted;
   return h;
 }
 
-TriangleHierarchy buildOverTriangles(const std::vector<float>& positions,
-                                     const std::vector<std::uint32_t>& indices, BuildArgs args) {
-  const std::string problem = validateBuildArgs(args);
-  if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
+Result<TriangleHierarchy> tryBuildOverTriangles(const std::vector<float>& positions,
+                                                const std::vector<std::uint32_t>& indices,
+                                                BuildArgs args) {
+  std::string problem = validateBuildArgs(args);
+  if (!problem.empty()) return Status(ErrorCode::InvalidArgument, std::move(problem));
   if (positions.size() % 3 != 0 || indices.size() % 3 != 0) {
-    throwBad("bvh: positions and indices must come in threes (xyz, and three per triangle)");
+    return Status(ErrorCode::BadInput,
+                  "bvh: positions and indices must come in threes (xyz, and three per triangle)");
   }
   const std::size_t vertices = positions.size() / 3, triangles = indices.size() / 3;
   if (triangles >= std::numeric_limits<std::uint32_t>::max()) {
-    throwBad("bvh: too many triangles (at most 2^32 - 2)");
+    return Status(ErrorCode::BadInput, "bvh: too many triangles (at most 2^32 - 2)");
   }
   for (std::size_t v = 0; v < positions.size(); ++v) {
     if (!std::isfinite(positions[v])) {
@@ -331,7 +339,7 @@ TriangleHierarchy buildOverTriangles(const std::vector<float>& positions,
       out << "bvh: vertex " << v / 3 << " has a non-finite coordinate ("
           << "xyz"[v % 3] << " = " << positions[v]
           << "); positions must be finite: fix or drop the triangles using it";
-      throwBad(out.str());
+      return Status(ErrorCode::BadInput, out.str());
     }
   }
   std::vector<float> centroids(triangles * 3);
@@ -341,7 +349,7 @@ TriangleHierarchy buildOverTriangles(const std::vector<float>& positions,
         std::ostringstream out;
         out << "bvh: triangle " << t << " uses vertex " << indices[t * 3 + std::size_t(k)]
             << " but there are only " << vertices << " vertices";
-        throwBad(out.str());
+        return Status(ErrorCode::BadInput, out.str());
       }
     }
     const float* a = &positions[std::size_t(indices[t * 3 + 0]) * 3];

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 #include "logrid/bvh/ternary_tree.hpp"
 #include "logrid/elapsed.hpp"
@@ -12,29 +13,30 @@
 namespace logrid::bvh {
 namespace {
 
-void checkUpdate(const char* who, const MotionUpdate& u, std::size_t objects) {
+Status checkUpdate(const char* who, const MotionUpdate& u, std::size_t objects) {
   if (!u.boxes || !u.moved) {
-    throw Error(ErrorCode::InvalidArgument, std::string(who) + ": boxes and moved must be given");
+    return Status(ErrorCode::InvalidArgument, std::string(who) + ": boxes and moved must be given");
   }
   if (u.boxes->size() < objects) {
     std::ostringstream out;
     out << who << ": " << u.boxes->size() << " boxes given for " << objects << " objects";
-    throw Error(ErrorCode::InvalidArgument, out.str());
+    return Status(ErrorCode::InvalidArgument, out.str());
   }
   for (ObjectId id : *u.moved) {
     if (id >= objects) {
       std::ostringstream out;
       out << who << ": moved object " << id << " is out of range (" << objects << " objects)";
-      throw Error(ErrorCode::InvalidArgument, out.str());
+      return Status(ErrorCode::InvalidArgument, out.str());
     }
   }
+  return {};
 }
 
-// A FlatHierarchy shown through MotionHierarchy.
+// A FlatHierarchy shown through MotionHierarchy: `flat` built over `objects` boxes.
 class FlatMotion : public MotionHierarchy {
  public:
-  FlatMotion(const std::vector<Aabb>& boxes, const BuildArgs& args)
-      : args_(args), flat_(buildOverBoxes(boxes, args)), objects_(boxes.size()) {}
+  FlatMotion(FlatHierarchy flat, std::size_t objects, const BuildArgs& args)
+      : args_(args), flat_(std::move(flat)), objects_(objects) {}
 
   NodeId root() const override { return flat_.root(); }
   Aabb bounds(NodeId node) const override { return flat_.bounds(node); }
@@ -55,20 +57,24 @@ class FlatMotion : public MotionHierarchy {
 // Refit the moved objects' paths; rebuild when the surface-area sum has grown too much.
 class RefitMotion final : public FlatMotion {
  public:
-  RefitMotion(const std::vector<Aabb>& boxes, const BuildArgs& args, double growth)
-      : FlatMotion(boxes, args), growth_(growth), built_area_(flat_.surfaceAreaSum()) {}
+  RefitMotion(FlatHierarchy flat, std::size_t objects, const BuildArgs& args, double growth)
+      : FlatMotion(std::move(flat), objects, args),
+        growth_(growth),
+        built_area_(flat_.surfaceAreaSum()) {}
 
-  UpdateStats update(const MotionUpdate& u) override {
+  Result<UpdateStats> tryUpdate(const MotionUpdate& u) override {
     const auto start = std::chrono::steady_clock::now();
-    checkUpdate("refit", u, objects_);
+    if (Status s = checkUpdate("refit", u, objects_); !s) return s;
     UpdateStats stats;
     stats.moved = static_cast<std::uint32_t>(u.moved->size());
-    flat_.refit(*u.boxes, *u.moved);
+    if (Status s = flat_.tryRefit(*u.boxes, *u.moved).status(); !s) return s;
     const double area = flat_.surfaceAreaSum();
     stats.quality = built_area_ > 0 ? area / built_area_ : 1.0;
     if (stats.quality > 1.0 + growth_) {
       std::vector<Aabb> boxes(u.boxes->begin(), u.boxes->begin() + std::ptrdiff_t(objects_));
-      flat_ = buildOverBoxes(boxes, args_);
+      Result<FlatHierarchy> rebuilt = tryBuildOverBoxes(boxes, args_);
+      if (!rebuilt) return rebuilt.status();
+      flat_ = std::move(rebuilt).value();
       built_area_ = flat_.surfaceAreaSum();
       stats.rebuilds = 1;
     }
@@ -85,17 +91,18 @@ class RebuildMotion final : public FlatMotion {
  public:
   using FlatMotion::FlatMotion;
 
-  UpdateStats update(const MotionUpdate& u) override {
+  Result<UpdateStats> tryUpdate(const MotionUpdate& u) override {
     const auto start = std::chrono::steady_clock::now();
-    checkUpdate("rebuild", u, objects_);
+    if (Status s = checkUpdate("rebuild", u, objects_); !s) return s;
     UpdateStats stats;
     stats.moved = static_cast<std::uint32_t>(u.moved->size());
-    if (u.boxes->size() == objects_) {
-      flat_ = buildOverBoxes(*u.boxes, args_);
-    } else {
-      flat_ =
-          buildOverBoxes({u.boxes->begin(), u.boxes->begin() + std::ptrdiff_t(objects_)}, args_);
-    }
+    Result<FlatHierarchy> rebuilt =
+        u.boxes->size() == objects_
+            ? tryBuildOverBoxes(*u.boxes, args_)
+            : tryBuildOverBoxes({u.boxes->begin(), u.boxes->begin() + std::ptrdiff_t(objects_)},
+                                args_);
+    if (!rebuilt) return rebuilt.status();
+    flat_ = std::move(rebuilt).value();
     stats.rebuilds = 1;
     stats.seconds = secondsSince(start);
     return stats;
@@ -174,25 +181,45 @@ std::string validateMotionDesc(const MotionDesc& desc) {
   return out.str();
 }
 
-std::unique_ptr<MotionHierarchy> makeMotionHierarchy(MotionKind kind,
-                                                     const std::vector<Aabb>& boxes,
-                                                     const MotionDesc& desc) {
-  const std::string problem = validateMotionDesc(desc);
-  if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
+namespace {
+
+using Made = Result<std::unique_ptr<MotionHierarchy>>;
+
+Made makeFlat(MotionKind kind, const std::vector<Aabb>& boxes, const MotionDesc& desc) {
+  Result<FlatHierarchy> flat = tryBuildOverBoxes(boxes, desc.build);
+  if (!flat) return flat.status();
+  if (kind == MotionKind::Refit) {
+    return Made(std::make_unique<RefitMotion>(std::move(flat).value(), boxes.size(), desc.build,
+                                              desc.rebuild_growth));
+  }
+  return Made(std::make_unique<RebuildMotion>(std::move(flat).value(), boxes.size(), desc.build));
+}
+
+Made makeTernary(const std::vector<Aabb>& boxes, const TernaryDesc& desc) {
+  Result<TernaryTree> tree = TernaryTree::create(boxes, desc);
+  if (!tree) return tree.status();
+  return Made(std::make_unique<TernaryTree>(std::move(tree).value()));
+}
+
+}  // namespace
+
+Result<std::unique_ptr<MotionHierarchy>> tryMakeMotionHierarchy(MotionKind kind,
+                                                                const std::vector<Aabb>& boxes,
+                                                                const MotionDesc& desc) {
+  std::string problem = validateMotionDesc(desc);
+  if (!problem.empty()) return Status(ErrorCode::InvalidArgument, std::move(problem));
   switch (kind) {
     case MotionKind::Refit:
-      return std::make_unique<RefitMotion>(boxes, desc.build, desc.rebuild_growth);
-    case MotionKind::Rebuild: return std::make_unique<RebuildMotion>(boxes, desc.build);
-    case MotionKind::Ternary: return std::make_unique<TernaryTree>(boxes, desc.ternary);
+    case MotionKind::Rebuild: return makeFlat(kind, boxes, desc);
+    case MotionKind::Ternary: return makeTernary(boxes, desc.ternary);
     case MotionKind::TernaryObjects: {
       TernaryDesc d = desc.ternary;
       d.object_nodes = true;
-      return std::make_unique<TernaryTree>(boxes, d);
+      return makeTernary(boxes, d);
     }
-    case MotionKind::Binary:
-      return std::make_unique<TernaryTree>(boxes, binaryTreeDesc(desc.ternary));
+    case MotionKind::Binary: return makeTernary(boxes, binaryTreeDesc(desc.ternary));
   }
-  throw Error(ErrorCode::InvalidArgument, "motion: unknown hierarchy kind");
+  return Status(ErrorCode::InvalidArgument, "motion: unknown hierarchy kind");
 }
 
 }  // namespace logrid::bvh

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 #include "boxes.hpp"
 #include "logrid/elapsed.hpp"
@@ -65,21 +66,27 @@ class TernaryTree::Recorder final : public CullObserver {
   }
 };
 
-TernaryTree::TernaryTree(const std::vector<Aabb>& boxes, const TernaryDesc& desc)
-    : desc_(desc), revision_(nextTreeRevision()), recorder_(std::make_unique<Recorder>()) {
+Result<TernaryTree> TernaryTree::create(const std::vector<Aabb>& boxes, const TernaryDesc& desc) {
   MotionDesc check;
   check.ternary = desc;
-  const std::string problem = validateMotionDesc(check);
-  if (!problem.empty()) throw Error(ErrorCode::InvalidArgument, problem);
-  if (desc_.build_leaf == 0) desc_.build_leaf = desc_.o_split;
+  std::string problem = validateMotionDesc(check);
+  if (!problem.empty()) return Status(ErrorCode::InvalidArgument, std::move(problem));
   if (boxes.size() >= std::size_t(kObjectNode)) {
-    throw Error(ErrorCode::BadInput, "TernaryTree: too many objects (at most 2^31 - 1)");
+    return Status(ErrorCode::BadInput, "TernaryTree: too many objects (at most 2^31 - 1)");
   }
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    if (Status s = checkBox("TernaryTree", i, boxes[i]); !s) return s;
+  }
+  return TernaryTree(Checked{}, boxes, desc);
+}
+
+TernaryTree::TernaryTree(Checked, const std::vector<Aabb>& boxes, const TernaryDesc& desc)
+    : desc_(desc), revision_(nextTreeRevision()), recorder_(std::make_unique<Recorder>()) {
+  if (desc_.build_leaf == 0) desc_.build_leaf = desc_.o_split;
   touched_.resize(std::size_t(desc_.still_frames) + 1);
   objects_.resize(boxes.size());
   Aabb bounds = emptyBox();
   for (std::size_t i = 0; i < boxes.size(); ++i) {
-    checkBox("TernaryTree", i, boxes[i]);
     objects_[i].box = boxes[i];
     grow(bounds, boxes[i]);
   }
@@ -102,6 +109,8 @@ TernaryTree::TernaryTree(const std::vector<Aabb>& boxes, const TernaryDesc& desc
   for (std::uint32_t n : all) computeBox(n);
 }
 
+TernaryTree::TernaryTree(TernaryTree&&) noexcept = default;
+TernaryTree& TernaryTree::operator=(TernaryTree&&) noexcept = default;
 TernaryTree::~TernaryTree() = default;
 
 std::uint32_t TernaryTree::allocate(const Node& node) {
@@ -421,11 +430,11 @@ void TernaryTree::recomputeBoxes(UpdateStats& stats) {
   }
 }
 
-UpdateStats TernaryTree::update(const MotionUpdate& u) {
+Result<UpdateStats> TernaryTree::tryUpdate(const MotionUpdate& u) {
   const auto start = std::chrono::steady_clock::now();
   UpdateStats stats;
   if (!u.boxes || !u.moved) {
-    throw Error(ErrorCode::InvalidArgument, "TernaryTree::update: boxes and moved must be given");
+    return Status(ErrorCode::InvalidArgument, "TernaryTree::update: boxes and moved must be given");
   }
   const std::vector<Aabb>& boxes = *u.boxes;
   // Checked before anything changes.
@@ -434,9 +443,9 @@ UpdateStats TernaryTree::update(const MotionUpdate& u) {
       std::ostringstream out;
       out << "TernaryTree::update: moved object " << id << " is out of range (" << objects_.size()
           << " objects, " << boxes.size() << " boxes)";
-      throw Error(ErrorCode::InvalidArgument, out.str());
+      return Status(ErrorCode::InvalidArgument, out.str());
     }
-    checkBox("TernaryTree::update", id, boxes[id]);
+    if (Status s = checkBox("TernaryTree::update", id, boxes[id]); !s) return s;
   }
   ++frame_;
   touched_[std::size_t(frame_) % touched_.size()].clear();

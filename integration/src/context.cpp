@@ -9,9 +9,8 @@
 #include <mutex>
 #include <optional>
 #include <sstream>
+#include <utility>
 #include <vector>
-
-#include "logrid/error.hpp"
 
 namespace logrid::gl {
 
@@ -77,18 +76,18 @@ bool hasExtension(const char* list, const char* name) {
   return false;
 }
 
-[[noreturn]] void fail(ErrorCode code, const std::string& message) { throw Error(code, message); }
-
 // libepoxy aborts the process if libEGL is missing; find out first, and say so.
-void requireLibEgl() {
+Status requireLibEgl() {
   void* handle = dlopen("libEGL.so.1", RTLD_LAZY | RTLD_LOCAL);
   if (!handle) {
-    fail(ErrorCode::Environment,
-         "EGL: libEGL.so.1 could not be loaded. Install an EGL implementation: on Debian "
-         "'apt-get install libegl1 libegl-mesa0 libgl1-mesa-dri' (Mesa, works without a GPU), "
-         "or your GPU vendor's driver.");
+    return Status(
+        ErrorCode::Environment,
+        "EGL: libEGL.so.1 could not be loaded. Install an EGL implementation: on Debian "
+        "'apt-get install libegl1 libegl-mesa0 libgl1-mesa-dri' (Mesa, works without a GPU), "
+        "or your GPU vendor's driver.");
   }
   dlclose(handle);
+  return {};
 }
 
 struct Device {
@@ -112,19 +111,20 @@ std::vector<Device> listDevices() {
   return out;
 }
 
-void checkDesc(const ContextDesc& desc) {
+Status checkDesc(const ContextDesc& desc) {
   if (desc.platform != Platform::Auto && desc.platform != Platform::Surfaceless &&
       desc.platform != Platform::Device) {
     std::ostringstream out;
     out << "EGL: unknown platform " << int(desc.platform) << "; use auto, surfaceless or device";
-    fail(ErrorCode::InvalidArgument, out.str());
+    return Status(ErrorCode::InvalidArgument, out.str());
   }
   if (desc.device_index < -1) {
     std::ostringstream out;
     out << "EGL: device index " << desc.device_index
         << " is invalid; use -1 (the first GPU) or an index from 0";
-    fail(ErrorCode::InvalidArgument, out.str());
+    return Status(ErrorCode::InvalidArgument, out.str());
   }
+  return {};
 }
 
 // The EGL platform and device the context is made on.
@@ -133,13 +133,13 @@ struct PlatformChoice {
   std::optional<Device> device;  // Platform::Device only
 };
 
-PlatformChoice choosePlatform(const ContextDesc& desc) {
+Result<PlatformChoice> choosePlatform(const ContextDesc& desc) {
   const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
   if (!client) {
-    fail(ErrorCode::Environment,
-         "EGL: the EGL library reports no client extensions (EGL 1.5 or "
-         "EGL_EXT_client_extensions is required). Install Mesa's EGL (libegl-mesa0) or a "
-         "current GPU driver.");
+    return Status(ErrorCode::Environment,
+                  "EGL: the EGL library reports no client extensions (EGL 1.5 or "
+                  "EGL_EXT_client_extensions is required). Install Mesa's EGL (libegl-mesa0) or a "
+                  "current GPU driver.");
   }
   const bool has_surfaceless = hasExtension(client, "EGL_MESA_platform_surfaceless");
   const bool has_device = hasExtension(client, "EGL_EXT_platform_device") &&
@@ -155,7 +155,7 @@ PlatformChoice choosePlatform(const ContextDesc& desc) {
         out << "EGL: device index " << desc.device_index << " requested but " << devices.size()
             << " EGL device(s) found; use an index below that, or the "
                "surfaceless platform";
-        fail(ErrorCode::InvalidArgument, out.str());
+        return Status(ErrorCode::InvalidArgument, out.str());
       }
       choice.device = devices[std::size_t(desc.device_index)];
     } else {
@@ -171,48 +171,51 @@ PlatformChoice choosePlatform(const ContextDesc& desc) {
     choice.platform = choice.device ? Platform::Device : Platform::Surfaceless;
   }
   if (choice.platform == Platform::Device && !choice.device) {
-    fail(ErrorCode::Environment,
-         has_device ? "EGL: platform 'device' requested but no hardware EGL device was found "
-                      "(only Mesa's software device). Install the GPU driver (e.g. the NVIDIA "
-                      "driver with its EGL library) or use platform 'surfaceless'."
-                    : "EGL: platform 'device' requested but EGL_EXT_platform_device is not "
-                      "available. Install a driver that provides it (NVIDIA, or Mesa >= 20) or "
-                      "use platform 'surfaceless'.");
+    return Status(ErrorCode::Environment,
+                  has_device
+                      ? "EGL: platform 'device' requested but no hardware EGL device was found "
+                        "(only Mesa's software device). Install the GPU driver (e.g. the NVIDIA "
+                        "driver with its EGL library) or use platform 'surfaceless'."
+                      : "EGL: platform 'device' requested but EGL_EXT_platform_device is not "
+                        "available. Install a driver that provides it (NVIDIA, or Mesa >= 20) or "
+                        "use platform 'surfaceless'.");
   }
   if (choice.platform == Platform::Surfaceless && !has_surfaceless) {
-    fail(ErrorCode::Environment,
-         "EGL: EGL_MESA_platform_surfaceless is not available. Install Mesa's EGL "
-         "('apt-get install libegl-mesa0 libgl1-mesa-dri') or use platform 'device' on a GPU.");
+    return Status(
+        ErrorCode::Environment,
+        "EGL: EGL_MESA_platform_surfaceless is not available. Install Mesa's EGL "
+        "('apt-get install libegl-mesa0 libgl1-mesa-dri') or use platform 'device' on a GPU.");
   }
   if (choice.platform != Platform::Device) choice.device.reset();
   return choice;
 }
 
 // An initialised display of the chosen platform, bound to desktop OpenGL.
-EGLDisplay openDisplay(const PlatformChoice& choice) {
+Result<EGLDisplay> openDisplay(const PlatformChoice& choice) {
   const EGLDisplay display =
       choice.platform == Platform::Device
           ? eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, choice.device->handle, nullptr)
           : eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
   EGLint major = 0, minor = 0;
   if (display == EGL_NO_DISPLAY || !eglInitialize(display, &major, &minor)) {
-    fail(ErrorCode::Environment,
-         std::string("EGL: could not open a display on platform '") + toString(choice.platform) +
-             "' (" + eglErrorName(eglGetError()) +
-             "). Check that the driver is installed (Mesa: libegl-mesa0 libgl1-mesa-dri) and "
-             "that /dev/dri is accessible when using a GPU; EGL_LOG_LEVEL=debug shows details.");
+    return Status(
+        ErrorCode::Environment,
+        std::string("EGL: could not open a display on platform '") + toString(choice.platform) +
+            "' (" + eglErrorName(eglGetError()) +
+            "). Check that the driver is installed (Mesa: libegl-mesa0 libgl1-mesa-dri) and "
+            "that /dev/dri is accessible when using a GPU; EGL_LOG_LEVEL=debug shows details.");
   }
   if (!eglBindAPI(EGL_OPENGL_API)) {
-    fail(ErrorCode::Unsupported,
-         "EGL: the display does not support desktop OpenGL (eglBindAPI "
-         "failed: " +
-             eglErrorName(eglGetError()) + ")");
+    return Status(ErrorCode::Unsupported,
+                  "EGL: the display does not support desktop OpenGL (eglBindAPI "
+                  "failed: " +
+                      eglErrorName(eglGetError()) + ")");
   }
   return display;
 }
 
 // An OpenGL 4.5 core context (with a debug context when asked).
-EGLContext createContext(EGLDisplay display, bool debug) {
+Result<EGLContext> createContext(EGLDisplay display, bool debug) {
   const char* display_ext = eglQueryString(display, EGL_EXTENSIONS);
   EGLConfig config = EGL_NO_CONFIG_KHR;
   if (!hasExtension(display_ext, "EGL_KHR_no_config_context")) {
@@ -220,7 +223,8 @@ EGLContext createContext(EGLDisplay display, bool debug) {
                               EGL_OPENGL_BIT, EGL_NONE};
     EGLint n = 0;
     if (!eglChooseConfig(display, attribs, &config, 1, &n) || n < 1) {
-      fail(ErrorCode::Unsupported, "EGL: no config supports desktop OpenGL on this display");
+      return Status(ErrorCode::Unsupported,
+                    "EGL: no config supports desktop OpenGL on this display");
     }
   }
   const EGLint context_attribs[] = {EGL_CONTEXT_MAJOR_VERSION,
@@ -234,17 +238,17 @@ EGLContext createContext(EGLDisplay display, bool debug) {
                                     EGL_NONE};
   const EGLContext context = eglCreateContext(display, config, EGL_NO_CONTEXT, context_attribs);
   if (context == EGL_NO_CONTEXT) {
-    fail(ErrorCode::Unsupported,
-         std::string("EGL: could not create an OpenGL 4.5 core context (") +
-             eglErrorName(eglGetError()) +
-             "). logrid needs OpenGL 4.5: Mesa >= 20 (llvmpipe works without a GPU) or a "
-             "current vendor driver. Do not set GALLIUM_DRIVER=softpipe.");
+    return Status(ErrorCode::Unsupported,
+                  std::string("EGL: could not create an OpenGL 4.5 core context (") +
+                      eglErrorName(eglGetError()) +
+                      "). logrid needs OpenGL 4.5: Mesa >= 20 (llvmpipe works without a GPU) or a "
+                      "current vendor driver. Do not set GALLIUM_DRIVER=softpipe.");
   }
   return context;
 }
 
-// What the current context reports; throws below OpenGL 4.5.
-ContextInfo readInfo(const PlatformChoice& choice) {
+// What the current context reports; ErrorCode::Unsupported below OpenGL 4.5.
+Result<ContextInfo> readInfo(const PlatformChoice& choice) {
   ContextInfo info;
   info.platform = choice.platform;
   info.device = choice.device ? choice.device->extensions : "default display";
@@ -259,8 +263,9 @@ ContextInfo readInfo(const PlatformChoice& choice) {
                   info.renderer.find("softpipe") != std::string::npos ||
                   info.renderer.find("swrast") != std::string::npos;
   if (epoxy_gl_version() < 45) {
-    fail(ErrorCode::Unsupported, "GL: the context reports version " + info.version +
-                                     "; logrid needs OpenGL 4.5 core. Update Mesa or the driver.");
+    return Status(ErrorCode::Unsupported,
+                  "GL: the context reports version " + info.version +
+                      "; logrid needs OpenGL 4.5 core. Update Mesa or the driver.");
   }
   return info;
 }
@@ -273,17 +278,32 @@ struct Context::Impl {
   ContextInfo info;
 };
 
-Context::Context(const ContextDesc& desc) : impl_(std::make_unique<Impl>()) {
-  checkDesc(desc);
-  requireLibEgl();
-  const PlatformChoice choice = choosePlatform(desc);
+Context::Context(Unopened) : impl_(std::make_unique<Impl>()) {}
+
+Result<std::unique_ptr<Context>> Context::create(const ContextDesc& desc) {
+  std::unique_ptr<Context> context(new Context(Unopened{}));
+  if (Status s = context->open(desc); !s) return s;
+  return Result<std::unique_ptr<Context>>(std::move(context));
+}
+
+Status Context::open(const ContextDesc& desc) {
+  if (Status s = checkDesc(desc); !s) return s;
+  if (Status s = requireLibEgl(); !s) return s;
+  const Result<PlatformChoice> choice = choosePlatform(desc);
+  if (!choice) return choice.status();
   Impl& s = *impl_;
-  s.display = openDisplay(choice);
-  s.context = createContext(s.display, desc.debug);
-  makeCurrent();
-  s.info = readInfo(choice);
+  const Result<EGLDisplay> display = openDisplay(choice.value());
+  if (!display) return display.status();
+  s.display = display.value();
+  const Result<EGLContext> context = createContext(s.display, desc.debug);
+  if (!context) return context.status();
+  s.context = context.value();
+  if (Status made = tryMakeCurrent(); !made) return made;
+  Result<ContextInfo> info = readInfo(choice.value());
+  if (!info) return info.status();
+  s.info = std::move(info).value();
   s.info.debug = installDebugOutput();
-  check("Context");
+  return tryCheck("Context");
 }
 
 Context::~Context() {
@@ -296,15 +316,16 @@ Context::~Context() {
 
 const ContextInfo& Context::info() const { return impl_->info; }
 
-void Context::makeCurrent() {
+Status Context::tryMakeCurrent() {
   if (!eglMakeCurrent(impl_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, impl_->context)) {
-    fail(ErrorCode::Runtime, "EGL: eglMakeCurrent failed (" + eglErrorName(eglGetError()) +
-                                 "); the driver may not support surfaceless contexts "
-                                 "(EGL_KHR_surfaceless_context)");
+    return Status(ErrorCode::Runtime, "EGL: eglMakeCurrent failed (" + eglErrorName(eglGetError()) +
+                                          "); the driver may not support surfaceless contexts "
+                                          "(EGL_KHR_surfaceless_context)");
   }
+  return {};
 }
 
-void Context::check(const char* where) const { checkGlErrors(where); }
+Status Context::tryCheck(const char* where) const { return tryCheckGlErrors(where); }
 
 bool installDebugOutput() {
   GLint flags = 0;
@@ -316,7 +337,7 @@ bool installDebugOutput() {
   return true;
 }
 
-void checkGlErrors(const char* where) {
+Status tryCheckGlErrors(const char* where) {
   std::string problems;
   for (int i = 0; i < 16; ++i) {
     const GLenum e = glGetError();
@@ -330,7 +351,9 @@ void checkGlErrors(const char* where) {
     problems += g_debug_errors;
     g_debug_errors.clear();
   }
-  if (!problems.empty()) fail(ErrorCode::Runtime, std::string(where) + ": GL error: " + problems);
+  if (!problems.empty())
+    return Status(ErrorCode::Runtime, std::string(where) + ": GL error: " + problems);
+  return {};
 }
 
 }  // namespace logrid::gl

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include "logrid/error.hpp"
 #include "logrid/gl/context.hpp"
@@ -54,7 +55,17 @@ const char* statusName(GLenum status) {
 
 }  // namespace
 
-Framebuffer::Framebuffer(const FramebufferDesc& desc) : desc_(desc) {
+Framebuffer::Framebuffer(Unmade, const FramebufferDesc& desc) : desc_(desc) {}
+
+Result<std::unique_ptr<Framebuffer>> Framebuffer::create(const FramebufferDesc& desc) {
+  std::unique_ptr<Framebuffer> framebuffer(new Framebuffer(Unmade{}, desc));
+  if (Status s = framebuffer->make(); !s) return s;
+  return Result<std::unique_ptr<Framebuffer>>(std::move(framebuffer));
+}
+
+// Whatever fails leaves no GL object behind.
+Status Framebuffer::make() {
+  const FramebufferDesc& desc = desc_;
   GLint max_texture = 0, max_fb_w = 0, max_fb_h = 0, max_rb = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture);
   glGetIntegerv(GL_MAX_FRAMEBUFFER_WIDTH, &max_fb_w);
@@ -66,14 +77,14 @@ Framebuffer::Framebuffer(const FramebufferDesc& desc) : desc_(desc) {
       desc.height > kMaxViewportSide) {
     const std::uint32_t limit_w = std::min(std::uint32_t(std::max(max_w, 1)), kMaxViewportSide);
     const std::uint32_t limit_h = std::min(std::uint32_t(std::max(max_h, 1)), kMaxViewportSide);
-    throw Error(ErrorCode::InvalidArgument,
-                "framebuffer: size " + sizeText(desc.width, desc.height) +
-                    " is not possible on this driver; each side must be between 1 and " +
-                    sizeText(limit_w, limit_h) +
-                    " (GL_MAX_TEXTURE_SIZE / GL_MAX_FRAMEBUFFER_*, and logrid's " +
-                    std::to_string(kMaxViewportSide) + "). " +
-                    (desc.width < 1 || desc.height < 1 ? "Pass the size in pixels, at least 1x1."
-                                                       : "Choose a smaller size."));
+    return Status(ErrorCode::InvalidArgument,
+                  "framebuffer: size " + sizeText(desc.width, desc.height) +
+                      " is not possible on this driver; each side must be between 1 and " +
+                      sizeText(limit_w, limit_h) +
+                      " (GL_MAX_TEXTURE_SIZE / GL_MAX_FRAMEBUFFER_*, and logrid's " +
+                      std::to_string(kMaxViewportSide) + "). " +
+                      (desc.width < 1 || desc.height < 1 ? "Pass the size in pixels, at least 1x1."
+                                                         : "Choose a smaller size."));
   }
   const DepthSetup& d = desc.depth;
   if ((d.format != DepthFormat::D16 && d.format != DepthFormat::D24 &&
@@ -85,7 +96,7 @@ Framebuffer::Framebuffer(const FramebufferDesc& desc) : desc_(desc) {
     out << "framebuffer: unknown depth set-up (format " << int(d.format) << ", convention "
         << int(d.convention) << ", clip range " << int(d.clip_range)
         << "); use the DepthFormat, DepthConvention and ClipDepthRange enumerators";
-    throw Error(ErrorCode::InvalidArgument, out.str());
+    return Status(ErrorCode::InvalidArgument, out.str());
   }
   GLint max_samples = 0, max_depth_samples = 0, max_color_samples = 0, max_integer_samples = 0;
   glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
@@ -95,16 +106,16 @@ Framebuffer::Framebuffer(const FramebufferDesc& desc) : desc_(desc) {
   GLint limit = std::min({max_samples, max_depth_samples, max_color_samples});
   if (desc.object_ids) limit = std::min(limit, max_integer_samples);
   if (desc.samples > 1 && GLint(desc.samples) > limit) {
-    throw Error(ErrorCode::Unsupported,
-                "framebuffer: " + std::to_string(desc.samples) +
-                    " samples per pixel requested, but this driver allows at most " +
-                    std::to_string(limit) +
-                    " for these attachments (GL_MAX_SAMPLES, GL_MAX_DEPTH_TEXTURE_SAMPLES, "
-                    "GL_MAX_COLOR_TEXTURE_SAMPLES" +
-                    (desc.object_ids ? ", GL_MAX_INTEGER_SAMPLES" : "") +
-                    "); ask for fewer, or 0 for a single-sampled framebuffer");
+    return Status(ErrorCode::Unsupported,
+                  "framebuffer: " + std::to_string(desc.samples) +
+                      " samples per pixel requested, but this driver allows at most " +
+                      std::to_string(limit) +
+                      " for these attachments (GL_MAX_SAMPLES, GL_MAX_DEPTH_TEXTURE_SAMPLES, "
+                      "GL_MAX_COLOR_TEXTURE_SAMPLES" +
+                      (desc.object_ids ? ", GL_MAX_INTEGER_SAMPLES" : "") +
+                      "); ask for fewer, or 0 for a single-sampled framebuffer");
   }
-  checkGlErrors("framebuffer: before creation");
+  if (Status s = tryCheckGlErrors("framebuffer: before creation"); !s) return s;
   const GLsizei w = GLsizei(desc.width), h = GLsizei(desc.height);
   const bool multi = desc.samples > 1;
   const GLenum target = multi ? GL_TEXTURE_2D_MULTISAMPLE : GL_TEXTURE_2D;
@@ -136,9 +147,9 @@ Framebuffer::Framebuffer(const FramebufferDesc& desc) : desc_(desc) {
   const GLenum error = glGetError();
   if (error == GL_OUT_OF_MEMORY) {
     release();
-    throw Error(ErrorCode::Runtime, "framebuffer: out of memory allocating " +
-                                        sizeText(desc.width, desc.height) +
-                                        " buffers; choose a smaller size");
+    return Status(ErrorCode::Runtime, "framebuffer: out of memory allocating " +
+                                          sizeText(desc.width, desc.height) +
+                                          " buffers; choose a smaller size");
   }
   if (error != GL_NO_ERROR) {
     release();
@@ -146,19 +157,23 @@ Framebuffer::Framebuffer(const FramebufferDesc& desc) : desc_(desc) {
     out << "framebuffer: GL error 0x" << std::hex << error << " creating a "
         << sizeText(desc.width, desc.height) << " framebuffer with depth format "
         << toString(desc.depth.format);
-    throw Error(ErrorCode::Runtime, out.str());
+    return Status(ErrorCode::Runtime, out.str());
   }
   const GLenum status = glCheckNamedFramebufferStatus(fbo_, GL_FRAMEBUFFER);
   if (status != GL_FRAMEBUFFER_COMPLETE) {
     release();
-    throw Error(ErrorCode::Unsupported,
-                std::string("framebuffer: incomplete (") + statusName(status) +
-                    ") with depth "
-                    "format " +
-                    toString(desc.depth.format) +
-                    "; the driver cannot render to this combination. Try depth format 32f.");
+    return Status(ErrorCode::Unsupported,
+                  std::string("framebuffer: incomplete (") + statusName(status) +
+                      ") with depth "
+                      "format " +
+                      toString(desc.depth.format) +
+                      "; the driver cannot render to this combination. Try depth format 32f.");
   }
-  checkGlErrors("framebuffer: creation");
+  if (Status s = tryCheckGlErrors("framebuffer: creation"); !s) {
+    release();
+    return s;
+  }
+  return {};
 }
 
 Framebuffer::~Framebuffer() { release(); }
@@ -214,13 +229,13 @@ namespace {
 // Reads a whole texture level in bands of rows, so that no single call's byte count
 // overflows GLsizei on very large framebuffers. Whatever pack state and pack buffer the
 // application left are set aside for it and restored.
-void readTexture(zread::GlStateGuard& guard, GLuint texture, std::uint32_t width,
-                 std::uint32_t height, GLenum format, GLenum type, std::size_t pixel_bytes,
-                 void* dst) {
+Status readTexture(zread::GlStateGuard& guard, GLuint texture, std::uint32_t width,
+                   std::uint32_t height, GLenum format, GLenum type, std::size_t pixel_bytes,
+                   void* dst) {
   zread::GlStateGuard::Scope scope(guard, "Framebuffer read-back");
   GLint read_framebuffer = 0;
   glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read_framebuffer);
-  scope.prepareRead(GLuint(read_framebuffer), 0);
+  if (!scope.prepareRead(GLuint(read_framebuffer), 0)) return guard.takeError();
   const std::size_t row_bytes = std::size_t(width) * pixel_bytes;
   const std::uint32_t band =
       std::uint32_t(std::max<std::size_t>(1, (std::size_t(1) << 30) / row_bytes));
@@ -230,7 +245,8 @@ void readTexture(zread::GlStateGuard& guard, GLuint texture, std::uint32_t width
                          GLsizei(row_bytes * rows),
                          static_cast<std::uint8_t*>(dst) + row_bytes * y);
   }
-  scope.check("glGetTextureSubImage");
+  if (!scope.check("glGetTextureSubImage")) return guard.takeError();
+  return {};
 }
 
 // Multisampled textures cannot be read with glGetTextureSubImage: a compute shader copies
@@ -270,7 +286,7 @@ void main() {
 }
 )";
 
-GLuint computeProgram(SampleKind kind) {
+Result<GLuint> computeProgram(SampleKind kind) {
   const std::string source =
       "#version 450 core\n#define KIND " + std::to_string(int(kind)) + "\n" + kSampleCompute;
   const char* text = source.c_str();
@@ -287,7 +303,7 @@ GLuint computeProgram(SampleKind kind) {
     char log[2048] = {};
     glGetProgramInfoLog(program, sizeof log, nullptr, log);
     glDeleteProgram(program);
-    throw Error(
+    return Status(
         ErrorCode::Runtime,
         std::string("framebuffer: the multisample read-back shader does not build: ") + log);
   }
@@ -309,12 +325,16 @@ struct Framebuffer::SampleReader {
 };
 
 // `values_per_pixel` 32-bit values per pixel into dst (rows bottom-up).
-void Framebuffer::readSamples(int kind, std::uint32_t texture, std::uint32_t values_per_pixel,
-                              void* dst) const {
+Status Framebuffer::readSamples(int kind, std::uint32_t texture, std::uint32_t values_per_pixel,
+                                void* dst) const {
   if (!sample_reader_) sample_reader_ = std::make_unique<SampleReader>();
   SampleReader& r = *sample_reader_;
   GLuint& program = r.programs[kind];
-  if (!program) program = computeProgram(SampleKind(kind));
+  if (!program) {
+    const Result<GLuint> built = computeProgram(SampleKind(kind));
+    if (!built) return built.status();
+    program = built.value();
+  }
   const std::size_t row_values = std::size_t(desc_.width) * values_per_pixel;
   const std::uint32_t band =
       std::uint32_t(std::max<std::size_t>(1, (std::size_t(1) << 26) / row_values));
@@ -326,8 +346,9 @@ void Framebuffer::readSamples(int kind, std::uint32_t texture, std::uint32_t val
     r.capacity = bytes;
   }
   zread::GlStateGuard::Scope scope(*guard_, "Framebuffer read-back");
-  scope.prepareProgram();
-  scope.bindTexture(0, GL_TEXTURE_2D_MULTISAMPLE, texture);
+  if (!scope.prepareProgram() || !scope.bindTexture(0, GL_TEXTURE_2D_MULTISAMPLE, texture)) {
+    return guard_->takeError();
+  }
   // The storage-buffer binding point 0 and the generic binding, set aside and restored.
   GLint generic = 0, indexed = 0;
   GLint64 start = 0, size = 0;
@@ -355,45 +376,40 @@ void Framebuffer::readSamples(int kind, std::uint32_t texture, std::uint32_t val
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, GLuint(indexed));
   }
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, GLuint(generic));
-  scope.check("the multisample read-back");
+  if (!scope.check("the multisample read-back")) return guard_->takeError();
+  return {};
 }
 
-std::vector<std::uint8_t> Framebuffer::readColor() const {
+Result<std::vector<std::uint8_t>> Framebuffer::tryReadColor() const {
   std::vector<std::uint8_t> out(std::size_t(desc_.width) * desc_.height * 4);
-  if (samples_) {
-    readSamples(int(SampleKind::ColorAverage), color_, 1, out.data());
-  } else {
-    readTexture(*guard_, color_, desc_.width, desc_.height, GL_RGBA, GL_UNSIGNED_BYTE, 4,
-                out.data());
-  }
+  const Status read = samples_ ? readSamples(int(SampleKind::ColorAverage), color_, 1, out.data())
+                               : readTexture(*guard_, color_, desc_.width, desc_.height, GL_RGBA,
+                                             GL_UNSIGNED_BYTE, 4, out.data());
+  if (!read) return read;
   return out;
 }
 
-std::vector<float> Framebuffer::readDepth() const {
+Result<std::vector<float>> Framebuffer::tryReadDepth() const {
   const std::uint32_t per_pixel = std::max<std::uint32_t>(samples_, 1);
   std::vector<float> out(std::size_t(desc_.width) * desc_.height * per_pixel);
-  if (samples_) {
-    readSamples(int(SampleKind::Depth), depth_, per_pixel, out.data());
-  } else {
-    readTexture(*guard_, depth_, desc_.width, desc_.height, GL_DEPTH_COMPONENT, GL_FLOAT, 4,
-                out.data());
-  }
+  const Status read = samples_ ? readSamples(int(SampleKind::Depth), depth_, per_pixel, out.data())
+                               : readTexture(*guard_, depth_, desc_.width, desc_.height,
+                                             GL_DEPTH_COMPONENT, GL_FLOAT, 4, out.data());
+  if (!read) return read;
   return out;
 }
 
-std::vector<std::uint32_t> Framebuffer::readObjectIds() const {
+Result<std::vector<std::uint32_t>> Framebuffer::tryReadObjectIds() const {
   if (!ids_) {
-    throw Error(ErrorCode::InvalidArgument,
-                "Framebuffer::readObjectIds: the framebuffer has no object-ID attachment");
+    return Status(ErrorCode::InvalidArgument,
+                  "Framebuffer::readObjectIds: the framebuffer has no object-ID attachment");
   }
   const std::uint32_t per_pixel = std::max<std::uint32_t>(samples_, 1);
   std::vector<std::uint32_t> out(std::size_t(desc_.width) * desc_.height * per_pixel);
-  if (samples_) {
-    readSamples(int(SampleKind::Ids), ids_, per_pixel, out.data());
-  } else {
-    readTexture(*guard_, ids_, desc_.width, desc_.height, GL_RED_INTEGER, GL_UNSIGNED_INT, 4,
-                out.data());
-  }
+  const Status read = samples_ ? readSamples(int(SampleKind::Ids), ids_, per_pixel, out.data())
+                               : readTexture(*guard_, ids_, desc_.width, desc_.height,
+                                             GL_RED_INTEGER, GL_UNSIGNED_INT, 4, out.data());
+  if (!read) return read;
   return out;
 }
 

@@ -4,8 +4,8 @@
 
 #include <cmath>
 #include <sstream>
+#include <utility>
 
-#include "logrid/error.hpp"
 #include "logrid/gl/context.hpp"
 #include "logrid/zread/program.hpp"
 
@@ -79,30 +79,39 @@ struct MeshRenderer::Programs {
   zread::Program depth{"mesh depth", kVertex, kDepthOnly};
 };
 
-MeshRenderer::MeshRenderer(const RenderMesh& mesh)
-    : programs_(std::make_unique<Programs>()), draws_(mesh.draws) {
+MeshRenderer::MeshRenderer(Empty) {}
+
+Result<std::unique_ptr<MeshRenderer>> MeshRenderer::create(const RenderMesh& mesh) {
+  std::unique_ptr<MeshRenderer> renderer(new MeshRenderer(Empty{}));
+  if (Status s = renderer->upload(mesh); !s) return s;
+  return Result<std::unique_ptr<MeshRenderer>>(std::move(renderer));
+}
+
+Status MeshRenderer::upload(const RenderMesh& mesh) {
   const bool small = !mesh.indices16.empty();
   const std::size_t index_count = small ? mesh.indices16.size() : mesh.indices32.size();
   const std::size_t vertices = mesh.positions.size() / 3;
-  for (std::size_t i = 0; i < draws_.size(); ++i) {
-    const RenderMesh::Draw& d = draws_[i];
+  for (std::size_t i = 0; i < mesh.draws.size(); ++i) {
+    const RenderMesh::Draw& d = mesh.draws[i];
     if (std::uint64_t(d.first_index) + d.index_count > index_count || d.base_vertex < 0 ||
         std::uint64_t(d.base_vertex) > vertices) {
       std::ostringstream out;
       out << "MeshRenderer: draw " << i << " (indices " << d.first_index << "+" << d.index_count
           << ", base vertex " << d.base_vertex << ") lies outside the mesh (" << index_count
           << " indices, " << vertices << " vertices)";
-      throw Error(ErrorCode::InvalidArgument, out.str());
+      return Status(ErrorCode::InvalidArgument, out.str());
     }
   }
-  checkGlErrors("MeshRenderer: before upload");
+  if (!mesh.colors.empty() && mesh.colors.size() != vertices) {
+    return Status(ErrorCode::InvalidArgument,
+                  "MeshRenderer: " + std::to_string(mesh.colors.size()) + " colours for " +
+                      std::to_string(vertices) + " vertices");
+  }
+  programs_ = std::make_unique<Programs>();
+  draws_ = mesh.draws;
+  if (Status s = tryCheckGlErrors("MeshRenderer: before upload"); !s) return s;
   index_type_ = small ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
   index_bytes_ = small ? 2 : 4;
-  if (!mesh.colors.empty() && mesh.colors.size() != vertices) {
-    throw Error(ErrorCode::InvalidArgument, "MeshRenderer: " + std::to_string(mesh.colors.size()) +
-                                                " colours for " + std::to_string(vertices) +
-                                                " vertices");
-  }
   const std::size_t vertex_bytes = mesh.positions.size() * sizeof(float);
   const std::size_t color_bytes = mesh.colors.size() * 4;
   const std::size_t index_bytes = index_count * index_bytes_;
@@ -115,8 +124,8 @@ MeshRenderer::MeshRenderer(const RenderMesh& mesh)
   glNamedBufferStorage(index_buffer_, GLsizeiptr(std::max<std::size_t>(index_bytes, 4)),
                        index_count ? index_data : nullptr, 0);
   if (glGetError() == GL_OUT_OF_MEMORY) {
-    throw Error(ErrorCode::Runtime, "MeshRenderer: out of GL memory uploading " +
-                                        std::to_string(vertex_bytes + index_bytes) + " bytes");
+    return Status(ErrorCode::Runtime, "MeshRenderer: out of GL memory uploading " +
+                                          std::to_string(vertex_bytes + index_bytes) + " bytes");
   }
   glCreateVertexArrays(1, &vao_);
   glVertexArrayVertexBuffer(vao_, 0, vertex_buffer_, 0, 3 * sizeof(float));
@@ -134,17 +143,18 @@ MeshRenderer::MeshRenderer(const RenderMesh& mesh)
     glVertexArrayAttribBinding(vao_, 1, 1);
   }
   if (glGetError() == GL_OUT_OF_MEMORY) {
-    throw Error(ErrorCode::Runtime, "MeshRenderer: out of GL memory uploading " +
-                                        std::to_string(color_bytes) + " bytes of colours");
+    return Status(ErrorCode::Runtime, "MeshRenderer: out of GL memory uploading " +
+                                          std::to_string(color_bytes) + " bytes of colours");
   }
   gpu_bytes_ = vertex_bytes + index_bytes + color_bytes;
-  checkGlErrors("MeshRenderer: upload");
+  return tryCheckGlErrors("MeshRenderer: upload");
 }
 
 MeshRenderer::~MeshRenderer() {
-  glDeleteVertexArrays(1, &vao_);
-  glDeleteBuffers(1, &vertex_buffer_);
-  glDeleteBuffers(1, &index_buffer_);
+  // A renderer whose upload() refused the mesh made no GL object: no GL call then.
+  if (vao_) glDeleteVertexArrays(1, &vao_);
+  if (vertex_buffer_) glDeleteBuffers(1, &vertex_buffer_);
+  if (index_buffer_) glDeleteBuffers(1, &index_buffer_);
   if (color_buffer_) glDeleteBuffers(1, &color_buffer_);
 }
 
@@ -209,24 +219,24 @@ void MeshRenderer::bindIdentity() {
   identity_bound_ = true;
 }
 
-void MeshRenderer::setTransform(ObjectId id, const ObjectTransform& transform) {
+Status MeshRenderer::trySetTransform(ObjectId id, const ObjectTransform& transform) {
   if (id >= draws_.size()) {
-    throw Error(ErrorCode::InvalidArgument, "MeshRenderer::setTransform: object " +
-                                                std::to_string(id) + " does not exist (" +
-                                                std::to_string(draws_.size()) + " objects)");
+    return Status(ErrorCode::InvalidArgument, "MeshRenderer::setTransform: object " +
+                                                  std::to_string(id) + " does not exist (" +
+                                                  std::to_string(draws_.size()) + " objects)");
   }
   for (float v : transform.rotation) {
     if (!std::isfinite(v)) {
-      throw Error(ErrorCode::InvalidArgument, "MeshRenderer::setTransform: object " +
-                                                  std::to_string(id) +
-                                                  " has a non-finite rotation element");
+      return Status(ErrorCode::InvalidArgument, "MeshRenderer::setTransform: object " +
+                                                    std::to_string(id) +
+                                                    " has a non-finite rotation element");
     }
   }
   if (!std::isfinite(transform.translation.x) || !std::isfinite(transform.translation.y) ||
       !std::isfinite(transform.translation.z)) {
-    throw Error(ErrorCode::InvalidArgument, "MeshRenderer::setTransform: object " +
-                                                std::to_string(id) +
-                                                " has a non-finite translation");
+    return Status(ErrorCode::InvalidArgument, "MeshRenderer::setTransform: object " +
+                                                  std::to_string(id) +
+                                                  " has a non-finite translation");
   }
   if (transforms_.size() < draws_.size()) {
     transforms_.resize(draws_.size());
@@ -234,6 +244,7 @@ void MeshRenderer::setTransform(ObjectId id, const ObjectTransform& transform) {
   }
   transforms_[id] = transform;
   moving_[id] = 1;
+  return {};
 }
 
 void MeshRenderer::clearTransform(ObjectId id) {

@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <limits>
 #include <sstream>
+#include <string>
+#include <utility>
 
 #include "logrid/error.hpp"
 #include "logrid/gl/context.hpp"
@@ -21,14 +23,14 @@ std::vector<ObjectId> OracleFrame::missedBy(const std::vector<ObjectId>& drawn) 
   return missed;
 }
 
-OracleFrame objectIdOracle(const Framebuffer& framebuffer, const Camera& camera,
-                           const std::vector<Aabb>& object_boxes,
-                           const std::function<void()>& draw_ids) {
+Result<OracleFrame> tryObjectIdOracle(const Framebuffer& framebuffer, const Camera& camera,
+                                      const std::vector<Aabb>& object_boxes,
+                                      const std::function<void()>& draw_ids) {
   const FramebufferDesc& fb = framebuffer.desc();
   if (!fb.object_ids) {
-    throw Error(ErrorCode::InvalidArgument,
-                "objectIdOracle: the framebuffer has no object-ID attachment; create it with "
-                "FramebufferDesc::object_ids = true");
+    return Status(ErrorCode::InvalidArgument,
+                  "objectIdOracle: the framebuffer has no object-ID attachment; create it with "
+                  "FramebufferDesc::object_ids = true");
   }
   if (fb.width != camera.width || fb.height != camera.height ||
       fb.depth.convention != camera.depth.convention ||
@@ -43,9 +45,11 @@ OracleFrame objectIdOracle(const Framebuffer& framebuffer, const Camera& camera,
     out << ") does not match the camera (";
     describe(camera.width, camera.height, camera.depth);
     out << "); create it for the camera's viewport and depth set-up";
-    throw Error(ErrorCode::InvalidArgument, out.str());
+    return Status(ErrorCode::InvalidArgument, out.str());
   }
-  const Projector projector(camera);  // validates the camera
+  const Result<Projector> made = Projector::create(camera);
+  if (!made) return made.status();
+  const Projector& projector = made.value();
 
   framebuffer.bind();
   framebuffer.unmask();  // whatever a depth source left set: the whole frame's IDs
@@ -53,9 +57,13 @@ OracleFrame objectIdOracle(const Framebuffer& framebuffer, const Camera& camera,
   framebuffer.selectIdPass(true);
   draw_ids();
   framebuffer.selectIdPass(false);
-  const std::vector<std::uint32_t> ids = framebuffer.readObjectIds();
-  const std::vector<float> depth = framebuffer.readDepth();
-  checkGlErrors("objectIdOracle");
+  const Result<std::vector<std::uint32_t>> read_ids = framebuffer.tryReadObjectIds();
+  if (!read_ids) return read_ids.status();
+  const Result<std::vector<float>> read_depth = framebuffer.tryReadDepth();
+  if (!read_depth) return read_depth.status();
+  const std::vector<std::uint32_t>& ids = read_ids.value();
+  const std::vector<float>& depth = read_depth.value();
+  if (Status s = tryCheckGlErrors("objectIdOracle"); !s) return s;
 
   // Per object: 1 if some fragment lies within its box's depth range, 2 if it only has
   // fragments nearer than that. Judged with the default margins, widened

@@ -2,6 +2,8 @@
 
 #include <epoxy/gl.h>
 
+#include <utility>
+
 #include "logrid/gl/context.hpp"
 #include "logrid/zread/gl_state.hpp"
 #include "logrid/zread/program.hpp"
@@ -24,24 +26,33 @@ struct OccluderRenderer::Program {
   zread::Program program{"ddo occluders", kVertex, kFragment};
 };
 
-OccluderRenderer::OccluderRenderer()
-    : program_(std::make_unique<Program>()), guard_(std::make_unique<zread::GlStateGuard>()) {
+OccluderRenderer::OccluderRenderer(Empty) {}
+
+Result<std::unique_ptr<OccluderRenderer>> OccluderRenderer::create() {
+  std::unique_ptr<OccluderRenderer> renderer(new OccluderRenderer(Empty{}));
+  if (Status s = renderer->make(); !s) return s;
+  return Result<std::unique_ptr<OccluderRenderer>>(std::move(renderer));
+}
+
+Status OccluderRenderer::make() {
+  program_ = std::make_unique<Program>();
+  guard_ = std::make_unique<zread::GlStateGuard>();
   glCreateVertexArrays(1, &vao_);
   glCreateBuffers(1, &buffer_);
   glEnableVertexArrayAttrib(vao_, 0);
   glVertexArrayAttribFormat(vao_, 0, 3, GL_FLOAT, GL_FALSE, 0);
   glVertexArrayAttribBinding(vao_, 0, 0);
-  checkGlErrors("OccluderRenderer");
+  return tryCheckGlErrors("OccluderRenderer");
 }
 
 OccluderRenderer::~OccluderRenderer() {
-  glDeleteBuffers(1, &buffer_);
-  glDeleteVertexArrays(1, &vao_);
+  if (buffer_) glDeleteBuffers(1, &buffer_);
+  if (vao_) glDeleteVertexArrays(1, &vao_);
 }
 
-void OccluderRenderer::draw(const std::vector<ddo::Occluder>& occluders, const Camera& camera,
-                            std::uint32_t framebuffer) {
-  if (occluders.empty()) return;
+Status OccluderRenderer::tryDraw(const std::vector<ddo::Occluder>& occluders, const Camera& camera,
+                                 std::uint32_t framebuffer) {
+  if (occluders.empty()) return {};
   vertices_.clear();
   static const int kCorners[6] = {0, 1, 2, 0, 2, 3};
   for (const ddo::Occluder& o : occluders) {
@@ -58,8 +69,10 @@ void OccluderRenderer::draw(const std::vector<ddo::Occluder>& occluders, const C
   }
   glNamedBufferSubData(buffer_, 0, GLsizeiptr(vertices_.size() * sizeof(float)), vertices_.data());
   const bool reversed = camera.depth.convention == DepthConvention::Reversed;
-  scope.prepareDraw(framebuffer, std::int32_t(camera.width), std::int32_t(camera.height),
-                    reversed ? GL_GREATER : GL_LESS, true);
+  if (!scope.prepareDraw(framebuffer, std::int32_t(camera.width), std::int32_t(camera.height),
+                         reversed ? GL_GREATER : GL_LESS, true)) {
+    return guard_->takeError();
+  }
   scope.clipControl(GL_LOWER_LEFT, camera.depth.clip_range == ClipDepthRange::ZeroToOne
                                        ? GL_ZERO_TO_ONE
                                        : GL_NEGATIVE_ONE_TO_ONE);
@@ -67,7 +80,8 @@ void OccluderRenderer::draw(const std::vector<ddo::Occluder>& occluders, const C
   program_->program.use();
   glBindVertexArray(vao_);
   glDrawArrays(GL_TRIANGLES, 0, GLsizei(vertices_.size() / 3));
-  scope.check("OccluderRenderer: glDrawArrays");
+  if (!scope.check("OccluderRenderer: glDrawArrays")) return guard_->takeError();
+  return {};
 }
 
 }  // namespace logrid::gl

@@ -214,7 +214,7 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
     if (info.occluders == OccluderUse::Drawn) {
       occluder_renderer_ = std::make_unique<gl::OccluderRenderer>();
       drawer = [this](const std::vector<ddo::Occluder>& occluders, const Camera& camera) {
-        occluder_renderer_->draw(occluders, camera, framebuffer_->handle());
+        return occluder_renderer_->tryDraw(occluders, camera, framebuffer_->handle());
       };
     }
     ddo::OccluderBudget budget;

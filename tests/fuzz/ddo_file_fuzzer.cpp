@@ -1,9 +1,10 @@
-// libFuzzer target: DDO files through loadOctree (logrid/ddo/file.hpp). The first byte
+// libFuzzer target: DDO files through tryLoadOctree (logrid/ddo/file.hpp). The first byte
 // says how far a mutated file may get: bit 0 recomputes the trailing checksum, bit 1
 // takes the expected scene (checksum, triangle and object counts) from the file's own
 // header, so that mutations reach the parameter and structure checks behind them instead
 // of stopping at "corrupt" or "stale". The rest is the file. Every input must either be
-// refused with a logrid::Error(BadInput) naming the file, or load into an octree that the
+// refused with ErrorCode::BadInput naming the file (and the throwing form, loadOctree,
+// must throw the same code and message), or load into an octree that the
 // run time can walk without checks (children after their parent and inside the node
 // list, object ranges inside the object list, object ids inside the scene, one mask per
 // face) and that saves and loads back unchanged.
@@ -77,23 +78,38 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   const std::string path = (scratch.dir / "input.ddo").string();
   write(path, bytes);
-  logrid::ddo::Octree octree;
+  logrid::Result<logrid::ddo::Octree> loaded = logrid::ddo::tryLoadOctree(path, expect);
+#if LOGRID_HAS_EXCEPTIONS
+  // The throwing form refuses what the result form refuses, with the same code and message.
   try {
-    octree = logrid::ddo::loadOctree(path, expect);
+    (void)logrid::ddo::loadOctree(path, expect);
+    LOGRID_FUZZ_CHECK(loaded.ok(), "loadOctree accepted what tryLoadOctree refused: %s",
+                      loaded.status().message().c_str());
   } catch (const logrid::Error& e) {
-    LOGRID_FUZZ_CHECK(e.code() == logrid::ErrorCode::BadInput, "unexpected error code %d: %s",
-                      int(e.code()), e.what());
-    LOGRID_FUZZ_CHECK(std::string(e.what()).find(path) != std::string::npos,
-                      "the error does not name the file: %s", e.what());
-    return 0;
-  } catch (const std::exception& e) {
-    LOGRID_FUZZ_CHECK(false, "not a logrid::Error: %s", e.what());
+    LOGRID_FUZZ_CHECK(
+        !loaded.ok() && e.code() == loaded.status().code() && e.what() == loaded.status().message(),
+        "loadOctree threw '%s' where tryLoadOctree gave '%s'", e.what(),
+        loaded.status().message().c_str());
   }
+#endif
+  if (!loaded) {
+    const logrid::Status& e = loaded.status();
+    LOGRID_FUZZ_CHECK(e.code() == logrid::ErrorCode::BadInput, "unexpected error code %d: %s",
+                      int(e.code()), e.message().c_str());
+    LOGRID_FUZZ_CHECK(e.message().find(path) != std::string::npos,
+                      "the error does not name the file: %s", e.message().c_str());
+    return 0;
+  }
+  const logrid::ddo::Octree& octree = loaded.value();
   checkWalkable(octree, expect);
   // What loads saves and loads back unchanged.
   const std::string again = (scratch.dir / "again.ddo").string();
-  logrid::ddo::saveOctree(octree, expect, again);
-  const logrid::ddo::Octree back = logrid::ddo::loadOctree(again, expect);
+  const logrid::Status saved = logrid::ddo::trySaveOctree(octree, expect, again);
+  LOGRID_FUZZ_CHECK(saved.ok(), "saving a loaded octree failed: %s", saved.message().c_str());
+  const logrid::Result<logrid::ddo::Octree> reloaded = logrid::ddo::tryLoadOctree(again, expect);
+  LOGRID_FUZZ_CHECK(reloaded.ok(), "a saved octree does not load: %s",
+                    reloaded.status().message().c_str());
+  const logrid::ddo::Octree& back = reloaded.value();
   LOGRID_FUZZ_CHECK(back.nodes().size() == octree.nodes().size() &&
                         back.objects() == octree.objects() && back.masks() == octree.masks(),
                     "the octree changed on a save and load");

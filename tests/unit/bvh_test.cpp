@@ -2,8 +2,11 @@
 // children and primitives, the leaf bound holds, children follow parents; refit.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
 #include <random>
 
+#include "expect_status.hpp"
 #include "logrid/bvh/bvh.hpp"
 #include "logrid/error.hpp"
 
@@ -148,6 +151,63 @@ TEST(BvhTest, BadInputIsAClearError) {
   EXPECT_THROW(bvh::buildOverTriangles({0, 0, INFINITY, 1, 0, 0, 0, 1, 0}, {0, 1, 2}), Error);
   EXPECT_THROW(bvh::buildOverBoxes({}, {0, 2, 0}), Error);
   EXPECT_THROW(bvh::buildOverBoxes({}, {1, 3, 0}), Error);
+}
+
+// The result forms (logrid/error.hpp) return the error the throwing forms throw, with
+// the same code and message.
+TEST(BvhTest, TryBuildReturnsWhatBuildThrows) {
+  const std::vector<Aabb> bad_box{{{0, 0, 0}, {1, 1, 1}}, {{1, 0, 0}, {0, 1, 1}}};
+  test::expectBothForms([&] { return bvh::tryBuildOverBoxes(bad_box); },
+                        [&] { bvh::buildOverBoxes(bad_box); }, ErrorCode::BadInput,
+                        {"bvh: object 1 has an invalid box (min 1 0 0, max 0 1 1)"});
+  test::expectBothForms(
+      [&] {
+        return bvh::tryBuildOverBoxes({}, {1, 3, 0});
+      },
+      [&] {
+        bvh::buildOverBoxes({}, {1, 3, 0});
+      },
+      ErrorCode::InvalidArgument, {"bvh: max_children 3 is invalid; use 2, 4 or 8"});
+  const std::vector<float> positions{0, 0, 0, 1, 0, 0};
+  const std::vector<std::uint32_t> indices{0, 1, 2};
+  test::expectBothForms([&] { return bvh::tryBuildOverTriangles(positions, indices); },
+                        [&] { bvh::buildOverTriangles(positions, indices); }, ErrorCode::BadInput,
+                        {"bvh: triangle 0 uses vertex 2 but there are only 2 vertices"});
+  const std::vector<float> infinite{0, 0, INFINITY, 1, 0, 0, 0, 1, 0};
+  test::expectBothForms([&] { return bvh::tryBuildOverTriangles(infinite, indices); },
+                        [&] { bvh::buildOverTriangles(infinite, indices); }, ErrorCode::BadInput,
+                        {"bvh: vertex 0 has a non-finite coordinate (z = inf)"});
+  const std::vector<float> two{0, 0, 0, 1, 0};
+  test::expectBothForms([&] { return bvh::tryBuildOverTriangles(two, indices); },
+                        [&] { bvh::buildOverTriangles(two, indices); }, ErrorCode::BadInput,
+                        {"positions and indices must come in threes"});
+  const Result<bvh::FlatHierarchy> built = bvh::tryBuildOverBoxes(randomBoxes(50, 3), {2, 4, 1});
+  ASSERT_TRUE(built.ok()) << built.status().message();
+  checkStructure(built.value(), 50, 2, 4);
+}
+
+TEST(BvhTest, TryRefitReturnsWhatRefitThrowsAndChangesNothing) {
+  std::vector<Aabb> boxes = randomBoxes(30, 4);
+  bvh::FlatHierarchy h = bvh::buildOverBoxes(boxes);
+  const std::vector<bvh::FlatHierarchy::Node> before = h.nodes();
+  const std::vector<Aabb> short_list(boxes.begin(), boxes.begin() + 10);
+  test::expectBothForms([&] { return h.tryRefit(short_list); }, [&] { h.refit(short_list); },
+                        ErrorCode::InvalidArgument, {"FlatHierarchy::refit: object", "10 boxes"});
+  boxes[12].max.y = NAN;
+  const std::vector<ObjectId> moved{12};
+  test::expectBothForms([&] { return h.tryRefit(boxes, moved); }, [&] { h.refit(boxes, moved); },
+                        ErrorCode::BadInput,
+                        {"FlatHierarchy::refit: object 12 has an invalid box"});
+  test::expectBothForms([&] { return h.tryRefit(boxes); }, [&] { h.refit(boxes); },
+                        ErrorCode::BadInput, {"FlatHierarchy::refit: object 12"});
+  const std::vector<ObjectId> unknown{30};
+  test::expectBothForms([&] { return h.tryRefit(boxes, unknown); },
+                        [&] { h.refit(boxes, unknown); }, ErrorCode::InvalidArgument,
+                        {"moved object 30 is not in the hierarchy"});
+  ASSERT_EQ(h.nodes().size(), before.size());
+  for (std::size_t n = 0; n < before.size(); ++n) {
+    EXPECT_EQ(std::memcmp(&h.nodes()[n].box, &before[n].box, sizeof(Aabb)), 0) << "node " << n;
+  }
 }
 
 }  // namespace

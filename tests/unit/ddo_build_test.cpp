@@ -8,6 +8,7 @@
 
 #include "ddo_scenes.hpp"
 #include "expect_error.hpp"
+#include "expect_status.hpp"
 #include "logrid/ddo/build.hpp"
 #include "logrid/error.hpp"
 
@@ -165,6 +166,28 @@ TEST(DdoOctree, BadInputIsRefusedClearly) {
   TriangleScene runs = s;
   runs.object_first = {0, 5};
   test::expectError([&] { ddo::buildOctree(runs.mesh()); }, ErrorCode::BadInput, {"object runs"});
+}
+
+// The result form: tryBuildOctree() returns the error buildOctree() throws.
+TEST(DdoOctree, TryBuildReturnsWhatBuildThrows) {
+  TriangleScene s;
+  s.triangle(s.vertex(0, 0, 0), s.vertex(1, 0, 0), s.vertex(0, 1, 0));
+  s.endObject();
+  ddo::BuildArgs args;
+  args.max_depth = 30;
+  test::expectBothForms([&] { return ddo::tryBuildOctree(s.mesh(), args); },
+                        [&] { ddo::buildOctree(s.mesh(), args); }, ErrorCode::InvalidArgument,
+                        {"ddo: max_depth 30 is out of range"});
+  TriangleScene bad = s;
+  bad.indices[1] = 9;
+  test::expectBothForms([&] { return ddo::tryBuildOctree(bad.mesh()); },
+                        [&] { ddo::buildOctree(bad.mesh()); }, ErrorCode::BadInput,
+                        {"uses vertex 9"});
+  args = {};
+  args.threads = 1;
+  const Result<ddo::Octree> built = ddo::tryBuildOctree(s.mesh(), args);
+  ASSERT_TRUE(built.ok()) << built.status().message();
+  EXPECT_FALSE(built->nodes().empty());
 }
 
 // ---------------------------------------------------------------------------

@@ -4,11 +4,13 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <random>
 
 #include "ddo_scenes.hpp"
 #include "expect_error.hpp"
+#include "expect_status.hpp"
 #include "logrid/ddo/build.hpp"
 #include "logrid/ddo/file.hpp"
 
@@ -158,6 +160,57 @@ TEST(DdoFile, RefusesStaleForeignTruncatedCorruptAndOtherwiseBuiltFiles) {
   // And the good bytes still load.
   writeAll(file.path, good);
   EXPECT_EQ(ddo::loadOctree(file.path, expectationFor(s)).masks(), built.masks());
+}
+
+// The result forms (logrid/error.hpp): tryLoadOctree() and trySaveOctree() return the
+// error loadOctree() and saveOctree() throw, with the same code and message, also where
+// the reader stops inside the file (a field cut off, an inconsistent node): files whose
+// checksum was recomputed after the damage, as the fuzzer makes them.
+TEST(DdoFile, TryLoadAndTrySaveReturnWhatLoadAndSaveThrow) {
+  const TriangleScene s = scene();
+  ddo::BuildArgs args;
+  args.leaf_triangles = 8;
+  args.threads = 1;
+  const ddo::Octree built = ddo::buildOctree(s.mesh(), args);
+  const ddo::FileExpectation expect = expectationFor(s);
+  TempPath file("try.ddo");
+  ASSERT_TRUE(ddo::trySaveOctree(built, expect, file.path).ok());
+  const std::string good = readAll(file.path);
+  auto refused = [&](const std::string& bytes, ErrorCode code,
+                     std::initializer_list<std::string> parts) {
+    writeAll(file.path, bytes);
+    test::expectBothForms([&] { return ddo::tryLoadOctree(file.path, expect); },
+                          [&] { ddo::loadOctree(file.path, expect); }, code, parts);
+  };
+  // The trailing checksum recomputed over what precedes it.
+  auto resealed = [](std::string bytes) {
+    const std::uint64_t sum = ddo::payloadChecksum(
+        reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size() - 8);
+    std::memcpy(&bytes[bytes.size() - 8], &sum, 8);
+    return bytes;
+  };
+  // The magic, then half of the format version.
+  refused(good.substr(0, 10), ErrorCode::BadInput, {file.path, "is truncated", "rebuild"});
+  refused(resealed(good.substr(0, good.size() - 20)), ErrorCode::BadInput,
+          {file.path, "is truncated or has inconsistent sizes"});
+  // Node 0 (after the 8-byte magic, the version, the scene's 24 bytes, the 52 bytes of
+  // parameters and the two counts) at level 5: the root must be at level 0.
+  std::string level = good;
+  level[8 + 4 + 24 + 52 + 16 + 52] = 5;
+  refused(resealed(level), ErrorCode::BadInput, {"describes an inconsistent octree (node 0)"});
+  refused("ply\n", ErrorCode::BadInput, {"is not a DDO file"});
+  test::expectBothForms([&] { return ddo::tryLoadOctree(file.path + ".absent", expect); },
+                        [&] { ddo::loadOctree(file.path + ".absent", expect); },
+                        ErrorCode::Environment, {"cannot read the DDO file"});
+  test::expectBothForms(
+      [&] { return ddo::trySaveOctree(built, expect, "/nonexistent-folder/x.ddo"); },
+      [&] { ddo::saveOctree(built, expect, "/nonexistent-folder/x.ddo"); }, ErrorCode::Environment,
+      {"cannot write the DDO file", "/nonexistent-folder/x.ddo.partial"});
+  writeAll(file.path, good);
+  const Result<ddo::Octree> loaded = ddo::tryLoadOctree(file.path, expect);
+  ASSERT_TRUE(loaded.ok()) << loaded.status().message();
+  EXPECT_EQ(loaded->masks(), built.masks());
+  EXPECT_EQ(loaded->objects(), built.objects());
 }
 
 }  // namespace

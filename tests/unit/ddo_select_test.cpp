@@ -11,6 +11,7 @@
 #include <set>
 
 #include "ddo_scenes.hpp"
+#include "expect_status.hpp"
 #include "logrid/cpu/software_rasterizer.hpp"
 #include "logrid/ddo/build.hpp"
 #include "logrid/ddo/occluder_pass.hpp"
@@ -178,6 +179,7 @@ TEST(DdoOccluderPass, DrawsTheOccludersThatFillTilesMostFirstUnderTheCap) {
   std::size_t drawn_calls = 0;
   const ddo::OccluderPass::Drawer drawer = [&](const std::vector<ddo::Occluder>&, const Camera&) {
     ++drawn_calls;
+    return Status();
   };
   ddo::OccluderBudget every;
   every.min_tiles = 0;
@@ -229,6 +231,44 @@ TEST(DdoOccluderPass, DrawsTheOccludersThatFillTilesMostFirstUnderTheCap) {
   EXPECT_GT(left_out, 0u) << "every occluder filled a tile: the minimum was never tested";
   std::printf("[ ddo pass ] %llu candidates, %llu fill a tile\n", (unsigned long long)candidates,
               (unsigned long long)filling);
+}
+
+// The pass's errors come back from beginFrame() (OccluderSource's result form): an
+// invalid camera, a draw asked of a pass without a drawer, and the drawer's own error.
+TEST(DdoOccluderPass, BeginFrameReturnsTheErrors) {
+  const TriangleScene s = streetScene(2);
+  ddo::BuildArgs args;
+  args.leaf_triangles = 24;
+  args.threads = 2;
+  const ddo::Octree octree = ddo::buildOctree(s.mesh(), args);
+  ddo::OccluderBudget every;
+  every.min_tiles = 0;
+  ddo::OccluderPass map_only(octree);
+  std::vector<DrawnArea> areas;
+  const Camera camera = cameraAt({0, 2, 18}, {0, 1, 0}, DepthConvention::Standard);
+  test::expectStatus(map_only.beginFrame(camera, {}, true, areas).status(),
+                     ErrorCode::InvalidArgument,
+                     {"ddo::OccluderPass", "made without a drawer", "gl::OccluderRenderer"});
+  Camera broken = camera;
+  broken.width = 0;
+  test::expectStatus(map_only.beginFrame(broken, {}, false, areas).status(),
+                     ErrorCode::InvalidArgument, {"camera: viewport 0x120"});
+  // The selector's two forms agree.
+  ddo::Selector selector(octree);
+  ddo::SelectionStats stats;
+  test::expectBothForms([&] { return selector.trySelect(broken, {}, stats); },
+                        [&] { selector.select(broken, {}, stats); }, ErrorCode::InvalidArgument,
+                        {"camera: viewport 0x120"});
+  // A drawer that fails: its error, as it gave it.
+  const ddo::OccluderPass::Drawer failing = [](const std::vector<ddo::Occluder>&, const Camera&) {
+    return Status(ErrorCode::Runtime, "drawer: GL error 0x505");
+  };
+  ddo::OccluderPass pass(octree, failing, {}, every);
+  const Result<std::uint64_t> selected = map_only.beginFrame(camera, {}, false, areas);
+  ASSERT_TRUE(selected.ok()) << selected.status().message();
+  ASSERT_GT(map_only.selector().occluders().size(), 0u) << "nothing to draw: the test is vacuous";
+  const Result<std::uint64_t> drawn = pass.beginFrame(camera, {}, true, areas);
+  test::expectStatus(drawn.status(), ErrorCode::Runtime, {"drawer: GL error 0x505"});
 }
 
 }  // namespace

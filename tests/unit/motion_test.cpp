@@ -20,9 +20,10 @@
 #include <tuple>
 
 #include "box_world.hpp"
-#include "logrid/error.hpp"
+#include "expect_status.hpp"
 #include "logrid/bvh/motion.hpp"
 #include "logrid/bvh/ternary_tree.hpp"
+#include "logrid/error.hpp"
 
 namespace logrid {
 namespace {
@@ -549,6 +550,58 @@ TEST_P(EveryHierarchy, RefusesABadBoxAndStaysUsable) {
   expectContract(*h, motion.boxes, "after errors");
 }
 
+// The result forms (logrid/error.hpp): tryUpdate() returns the error update() throws,
+// with the same code and message, and leaves the hierarchy as it was.
+TEST_P(EveryHierarchy, TryUpdateReturnsWhatUpdateThrows) {
+  RandomMotion motion(9, 40);
+  Result<std::unique_ptr<bvh::MotionHierarchy>> made =
+      bvh::tryMakeMotionHierarchy(GetParam(), motion.boxes);
+  ASSERT_TRUE(made.ok()) << made.status().message();
+  bvh::MotionHierarchy& h = *made.value();
+  const std::uint64_t revision = h.revision();
+  std::vector<Aabb> bad = motion.boxes;
+  bad[5].min.x = std::numeric_limits<float>::quiet_NaN();
+  const std::vector<ObjectId> moved{5};
+  test::expectBothForms(
+      [&] {
+        return h.tryUpdate({&bad, &moved, {}});
+      },
+      [&] {
+        h.update({&bad, &moved, {}});
+      },
+      ErrorCode::BadInput, {"object 5 has an invalid box", "finite with min <= max"});
+  const std::vector<ObjectId> out_of_range{1000};
+  test::expectBothForms(
+      [&] {
+        return h.tryUpdate({&motion.boxes, &out_of_range, {}});
+      },
+      [&] {
+        h.update({&motion.boxes, &out_of_range, {}});
+      },
+      ErrorCode::InvalidArgument, {"moved object 1000 is out of range"});
+  test::expectBothForms([&] { return h.tryUpdate({}); }, [&] { h.update({}); },
+                        ErrorCode::InvalidArgument, {"boxes and moved must be given"});
+  EXPECT_EQ(h.revision(), revision);
+  expectContract(h, motion.boxes, "after the refused updates");
+  motion.step(1, 40);
+  const Result<bvh::UpdateStats> updated = h.tryUpdate({&motion.boxes, &motion.moved, {}});
+  ASSERT_TRUE(updated.ok()) << updated.status().message();
+  expectContract(h, motion.boxes, "after an update");
+}
+
+TEST_P(EveryHierarchy, TryMakeReturnsWhatMakeThrows) {
+  std::vector<Aabb> boxes = RandomMotion(9, 40).boxes;
+  boxes[7].min.y = boxes[7].max.y + 1;  // min > max
+  test::expectBothForms([&] { return bvh::tryMakeMotionHierarchy(GetParam(), boxes); },
+                        [&] { bvh::makeMotionHierarchy(GetParam(), boxes); }, ErrorCode::BadInput,
+                        {"object 7 has an invalid box"});
+  bvh::MotionDesc desc;
+  desc.ternary.o_split = 1;
+  test::expectBothForms([&] { return bvh::tryMakeMotionHierarchy(GetParam(), {}, desc); },
+                        [&] { bvh::makeMotionHierarchy(GetParam(), {}, desc); },
+                        ErrorCode::InvalidArgument, {"o_split 1 is invalid"});
+}
+
 INSTANTIATE_TEST_SUITE_P(Kinds, EveryHierarchy,
                          testing::Values(MotionKind::Refit, MotionKind::Rebuild,
                                          MotionKind::Ternary, MotionKind::TernaryObjects,
@@ -575,6 +628,28 @@ TEST(FlatHierarchyRefit, PartialRefitEqualsFullRefit) {
   }
   EXPECT_EQ(partial.revision(), revision) << "refitting keeps node ids";
   EXPECT_GT(partial.surfaceAreaSum(), 0.0);
+}
+
+TEST(TernaryTree, CreateReturnsWhatTheConstructorThrows) {
+  std::vector<Aabb> boxes = RandomMotion(3, 20).boxes;
+  boxes[4].max.z = std::numeric_limits<float>::infinity();
+  test::expectBothForms([&] { return TernaryTree::create(boxes); },
+                        [&] { TernaryTree tree(boxes); }, ErrorCode::BadInput,
+                        {"TernaryTree: object 4 has an invalid box"});
+  bvh::TernaryDesc desc;
+  desc.max_depth = 0;
+  test::expectBothForms([&] { return TernaryTree::create({}, desc); },
+                        [&] { TernaryTree tree({}, desc); }, ErrorCode::InvalidArgument,
+                        {"ternary tree: max_depth 0 is out of range"});
+  boxes[4].max.z = boxes[4].min.z;
+  Result<TernaryTree> tree = TernaryTree::create(boxes);
+  ASSERT_TRUE(tree.ok()) << tree.status().message();
+  EXPECT_EQ(tree->objectTotal(), boxes.size());
+}
+
+TEST(MotionKind, AnUnknownKindIsRefused) {
+  test::expectStatus(bvh::tryMakeMotionHierarchy(MotionKind(99), {}).status(),
+                     ErrorCode::InvalidArgument, {"motion: unknown hierarchy kind"});
 }
 
 TEST(MotionDesc, BadSettingsAreRefusedWithTheField) {

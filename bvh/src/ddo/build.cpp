@@ -5,9 +5,9 @@
 #include <memory>
 #include <sstream>
 #include <thread>
+#include <utility>
 
 #include "logrid/elapsed.hpp"
-#include "logrid/error.hpp"
 #include "octree_build.hpp"
 #include "segment_index.hpp"
 #include "topology.hpp"
@@ -46,12 +46,12 @@ bool nothingBehind(const FaceFrame& face, const Aabb& scene) {
 
 }  // namespace
 
-Octree buildOctree(const SceneMesh& mesh, const BuildArgs& args, const ProgressCallback& progress,
-                   BuildReport* report) {
-  const std::string bad_args = validateBuildArgs(args);
-  if (!bad_args.empty()) throw Error(ErrorCode::InvalidArgument, bad_args);
-  const std::string bad_mesh = validateSceneMesh(mesh);
-  if (!bad_mesh.empty()) throw Error(ErrorCode::BadInput, bad_mesh);
+Result<Octree> tryBuildOctree(const SceneMesh& mesh, const BuildArgs& args,
+                              const ProgressCallback& progress, BuildReport* report) {
+  std::string bad_args = validateBuildArgs(args);
+  if (!bad_args.empty()) return Status(ErrorCode::InvalidArgument, std::move(bad_args));
+  std::string bad_mesh = validateSceneMesh(mesh);
+  if (!bad_mesh.empty()) return Status(ErrorCode::BadInput, std::move(bad_mesh));
   const unsigned threads =
       args.threads ? args.threads : std::max(1u, std::thread::hardware_concurrency());
   BuildReport r;
@@ -87,49 +87,39 @@ Octree buildOctree(const SceneMesh& mesh, const BuildArgs& args, const ProgressC
   std::atomic<std::size_t> next_node{0}, done_nodes{0};
   std::vector<detail::FaceCounters> counters(threads);
   std::vector<std::uint64_t> nothing_behind(threads, 0), faces_valid(threads, 0);
-  std::vector<std::exception_ptr> errors(threads);
+  // The face tests report no errors (bad input was refused above): a worker always runs
+  // to the end of the nodes.
   auto worker = [&](unsigned id) {
-    try {
-      detail::FaceScratch scratch;
-      tester.prepare(scratch);
-      constexpr std::size_t kBatch = 16;
-      for (;;) {
-        const std::size_t first = next_node.fetch_add(kBatch);
-        if (first >= node_count) break;
-        const std::size_t last = std::min(node_count, first + kBatch);
-        for (std::size_t n = first; n < last; ++n) {
-          for (int f = 0; f < kFaces; ++f) {
-            const FaceFrame frame = octree.face(std::uint32_t(n), f);
-            if (nothingBehind(frame, scene_bounds)) {
-              ++nothing_behind[id];
-              continue;
-            }
-            const std::uint64_t bits = tester.validRegions(frame, scratch, counters[id]);
-            octree.setMask(std::uint32_t(n), f, bits);
-            faces_valid[id] += bits != 0;
+    detail::FaceScratch scratch;
+    tester.prepare(scratch);
+    constexpr std::size_t kBatch = 16;
+    for (;;) {
+      const std::size_t first = next_node.fetch_add(kBatch);
+      if (first >= node_count) break;
+      const std::size_t last = std::min(node_count, first + kBatch);
+      for (std::size_t n = first; n < last; ++n) {
+        for (int f = 0; f < kFaces; ++f) {
+          const FaceFrame frame = octree.face(std::uint32_t(n), f);
+          if (nothingBehind(frame, scene_bounds)) {
+            ++nothing_behind[id];
+            continue;
           }
+          const std::uint64_t bits = tester.validRegions(frame, scratch, counters[id]);
+          octree.setMask(std::uint32_t(n), f, bits);
+          faces_valid[id] += bits != 0;
         }
-        done_nodes.fetch_add(last - first);
       }
-    } catch (...) {
-      errors[id] = std::current_exception();
-      next_node.store(node_count);
+      done_nodes.fetch_add(last - first);
     }
   };
   std::vector<std::thread> pool;
   for (unsigned i = 0; i < threads; ++i) pool.emplace_back(worker, i);
   tell("faces", 0, node_count);
   while (done_nodes.load() < node_count) {
-    bool failed = false;
-    for (const auto& e : errors) failed = failed || e;
-    if (failed) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
     tell("faces", std::min(done_nodes.load(), node_count), node_count);
   }
   for (std::thread& t : pool) t.join();
-  for (const auto& e : errors) {
-    if (e) std::rethrow_exception(e);
-  }
   tell("faces", node_count, node_count);
   r.faces_ms = msSince(t0);
 

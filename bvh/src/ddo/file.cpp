@@ -6,8 +6,6 @@
 #include <sstream>
 #include <vector>
 
-#include "logrid/error.hpp"
-
 namespace logrid::ddo {
 namespace {
 
@@ -30,33 +28,47 @@ class Writer {
   std::vector<unsigned char> bytes_;
 };
 
+// Reads the file's fields in order. The first failure is kept (status()); reads after
+// it yield zeros and move nothing, so a caller checks failed() before it uses what it
+// read for sizes or indices.
 class Reader {
  public:
   Reader(const std::vector<unsigned char>& bytes, std::size_t end, const std::string& path)
       : bytes_(bytes), end_(end), path_(path) {}
   template <typename T>
   T get() {
-    T v;
+    T v{};
     getBytes(&v, sizeof(T));
     return v;
   }
   void getBytes(void* out, std::size_t n) {
-    if (n > end_ - at_) fail("is truncated");
     if (n == 0) return;  // `out` may be the null data() of an empty list (memcpy's contract)
+    if (!failed() && n > end_ - at_) (void)fail("is truncated");  // kept in status()
+    if (failed()) {
+      std::memset(out, 0, n);
+      return;
+    }
     std::memcpy(out, bytes_.data() + at_, n);
     at_ += n;
   }
   std::size_t left() const { return end_ - at_; }
-  [[noreturn]] void fail(const std::string& what) const {
-    throw Error(ErrorCode::BadInput, "DDO file '" + path_ + "' " + what +
-                                         "; delete it or rebuild it (logrid ddo --rebuild)");
+  // Records `what` as the failure unless one came first; returns the first.
+  Status fail(const std::string& what) {
+    if (status_.ok()) {
+      status_ = Status(ErrorCode::BadInput, "DDO file '" + path_ + "' " + what +
+                                                "; delete it or rebuild it (logrid ddo --rebuild)");
+    }
+    return status_;
   }
+  bool failed() const { return !status_.ok(); }
+  const Status& status() const { return status_; }
 
  private:
   const std::vector<unsigned char>& bytes_;
   std::size_t end_;
   std::size_t at_ = 0;
   const std::string& path_;
+  Status status_;
 };
 
 std::size_t maskBytesPerFace(std::uint32_t regions) { return regions / 8; }
@@ -76,7 +88,7 @@ std::uint64_t payloadChecksum(const unsigned char* data, std::size_t bytes) {
   return h;
 }
 
-void saveOctree(const Octree& octree, const FileExpectation& scene, const std::string& path) {
+Status trySaveOctree(const Octree& octree, const FileExpectation& scene, const std::string& path) {
   Writer w;
   w.putBytes(kMagic, sizeof kMagic);
   w.put(kFileVersion);
@@ -114,43 +126,45 @@ void saveOctree(const Octree& octree, const FileExpectation& scene, const std::s
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     if (!out) {
-      throw Error(ErrorCode::Environment, "cannot write the DDO file '" + temporary +
-                                              "': check that its folder exists and is writable");
+      return Status(ErrorCode::Environment, "cannot write the DDO file '" + temporary +
+                                                "': check that its folder exists and is writable");
     }
     out.write(reinterpret_cast<const char*>(w.bytes().data()), std::streamsize(w.bytes().size()));
     if (!out.flush()) {
-      throw Error(ErrorCode::Environment,
-                  "writing the DDO file '" + temporary + "' failed (disk full?)");
+      return Status(ErrorCode::Environment,
+                    "writing the DDO file '" + temporary + "' failed (disk full?)");
     }
   }
   if (std::rename(temporary.c_str(), path.c_str()) != 0) {
     std::remove(temporary.c_str());
-    throw Error(ErrorCode::Environment, "cannot rename '" + temporary + "' to '" + path + "'");
+    return Status(ErrorCode::Environment, "cannot rename '" + temporary + "' to '" + path + "'");
   }
+  return {};
 }
 
 namespace {
 
-std::vector<unsigned char> readWholeFile(const std::string& path) {
+Result<std::vector<unsigned char>> readWholeFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) {
-    throw Error(ErrorCode::Environment,
-                "cannot read the DDO file '" + path + "': check the path and its permissions");
+    return Status(ErrorCode::Environment,
+                  "cannot read the DDO file '" + path + "': check the path and its permissions");
   }
   const std::streamoff size = in.tellg();
   std::vector<unsigned char> bytes(size > 0 ? std::size_t(size) : 0);
   in.seekg(0);
   if (!bytes.empty()) in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size()));
-  if (!in) throw Error(ErrorCode::Environment, "reading the DDO file '" + path + "' failed");
+  if (!in) return Status(ErrorCode::Environment, "reading the DDO file '" + path + "' failed");
   return bytes;
 }
 
 // The magic, the version and the checksum; returns the size of the checked payload.
-std::size_t checkEnvelope(const std::vector<unsigned char>& bytes, const std::string& path) {
+Result<std::size_t> checkEnvelope(const std::vector<unsigned char>& bytes,
+                                  const std::string& path) {
   if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) {
-    throw Error(ErrorCode::BadInput, "'" + path +
-                                         "' is not a DDO file (its first bytes are not "
-                                         "\"logrdDDO\"); pass the .ddo file logrid wrote");
+    return Status(ErrorCode::BadInput, "'" + path +
+                                           "' is not a DDO file (its first bytes are not "
+                                           "\"logrdDDO\"); pass the .ddo file logrid wrote");
   }
   Reader header(bytes, bytes.size(), path);
   {
@@ -158,21 +172,24 @@ std::size_t checkEnvelope(const std::vector<unsigned char>& bytes, const std::st
     header.getBytes(magic, 8);
   }
   const auto version = header.get<std::uint32_t>();
+  if (header.failed()) return header.status();
   if (version != kFileVersion) {
     std::ostringstream out;
     out << "has format version " << version << ", this logrid reads version " << kFileVersion;
-    header.fail(out.str());
+    return header.fail(out.str());
   }
-  if (bytes.size() < 8 + 4 + 8) header.fail("is truncated");
+  if (bytes.size() < 8 + 4 + 8) return header.fail("is truncated");
   const std::size_t body = bytes.size() - 8;
   std::uint64_t stored;
   std::memcpy(&stored, bytes.data() + body, 8);
-  if (stored != payloadChecksum(bytes.data(), body)) header.fail("is corrupt (checksum mismatch)");
+  if (stored != payloadChecksum(bytes.data(), body)) {
+    return header.fail("is corrupt (checksum mismatch)");
+  }
   return body;
 }
 
 // The scene the file was built for, and the octree's parameters, against what is asked.
-OctreeParams readParams(Reader& r, const FileExpectation& expect) {
+Result<OctreeParams> readParams(Reader& r, const FileExpectation& expect) {
   {
     char magic[8];
     r.getBytes(magic, 8);
@@ -181,6 +198,7 @@ OctreeParams readParams(Reader& r, const FileExpectation& expect) {
   const auto checksum = r.get<std::uint64_t>();
   const auto triangles = r.get<std::uint64_t>();
   const auto objects = r.get<std::uint64_t>();
+  if (r.failed()) return r.status();
   if (checksum != expect.scene_checksum || triangles != expect.triangles ||
       objects != expect.objects) {
     std::ostringstream out;
@@ -188,7 +206,7 @@ OctreeParams readParams(Reader& r, const FileExpectation& expect) {
         << " objects, checksum " << std::hex << checksum << std::dec << "; this scene has "
         << expect.triangles << " triangles, " << expect.objects << " objects, checksum " << std::hex
         << expect.scene_checksum << std::dec << ")";
-    r.fail(out.str());
+    return r.fail(out.str());
   }
   OctreeParams p;
   for (double& v : p.root_lo) v = r.get<double>();
@@ -197,9 +215,10 @@ OctreeParams readParams(Reader& r, const FileExpectation& expect) {
   p.leaf_triangles = r.get<std::uint32_t>();
   p.max_depth = r.get<std::uint32_t>();
   p.face_margin = r.get<double>();
+  if (r.failed()) return r.status();
   if (!RegionLayout::forCount(p.regions) || !(p.root_side > 0) || p.max_depth > 24 ||
       !(p.face_margin >= 0)) {
-    r.fail("has invalid parameters");
+    return r.fail("has invalid parameters");
   }
   if ((expect.regions && expect.regions != p.regions) ||
       (expect.leaf_triangles && expect.leaf_triangles != p.leaf_triangles)) {
@@ -208,7 +227,7 @@ OctreeParams readParams(Reader& r, const FileExpectation& expect) {
         << " triangles per leaf, not the " << (expect.regions ? expect.regions : p.regions)
         << " and " << (expect.leaf_triangles ? expect.leaf_triangles : p.leaf_triangles)
         << " asked for";
-    r.fail(out.str());
+    return r.fail(out.str());
   }
   return p;
 }
@@ -231,8 +250,8 @@ std::vector<OctreeNode> readNodes(Reader& r, std::uint64_t count) {
 }
 
 // The structure must be one the run time can walk without checks.
-void checkStructure(const std::vector<OctreeNode>& nodes, const std::vector<ObjectId>& objects,
-                    const OctreeParams& p, const FileExpectation& expect, Reader& r) {
+Status checkStructure(const std::vector<OctreeNode>& nodes, const std::vector<ObjectId>& objects,
+                      const OctreeParams& p, const FileExpectation& expect, Reader& r) {
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     const OctreeNode& n = nodes[i];
     const bool bad_children =
@@ -243,7 +262,7 @@ void checkStructure(const std::vector<OctreeNode>& nodes, const std::vector<Obje
     if (bad_children || bad_objects || bad_level) {
       std::ostringstream out;
       out << "describes an inconsistent octree (node " << i << ")";
-      r.fail(out.str());
+      return r.fail(out.str());
     }
     std::uint32_t c = n.first_child;
     for (int octant = 0; octant < 8; ++octant) {
@@ -251,40 +270,50 @@ void checkStructure(const std::vector<OctreeNode>& nodes, const std::vector<Obje
       const OctreeNode& child = nodes[c++];
       bool ok = child.level == n.level + 1;
       for (int a = 0; a < 3; ++a) ok = ok && child.cell[a] == 2 * n.cell[a] + ((octant >> a) & 1u);
-      if (!ok) r.fail("describes an inconsistent octree");
+      if (!ok) return r.fail("describes an inconsistent octree");
     }
-    if (i == 0 && (n.cell[0] | n.cell[1] | n.cell[2]) != 0)
-      r.fail("describes an inconsistent octree");
+    if (i == 0 && (n.cell[0] | n.cell[1] | n.cell[2]) != 0) {
+      return r.fail("describes an inconsistent octree");
+    }
   }
   for (ObjectId id : objects) {
-    if (id >= expect.objects) r.fail("names an object the scene does not have");
+    if (id >= expect.objects) return r.fail("names an object the scene does not have");
   }
+  return {};
 }
 
 }  // namespace
 
-Octree loadOctree(const std::string& path, const FileExpectation& expect) {
-  const std::vector<unsigned char> bytes = readWholeFile(path);
-  const std::size_t body = checkEnvelope(bytes, path);
-  Reader r(bytes, body, path);
-  const OctreeParams p = readParams(r, expect);
+Result<Octree> tryLoadOctree(const std::string& path, const FileExpectation& expect) {
+  const Result<std::vector<unsigned char>> read = readWholeFile(path);
+  if (!read) return read.status();
+  const std::vector<unsigned char>& bytes = read.value();
+  const Result<std::size_t> body = checkEnvelope(bytes, path);
+  if (!body) return body.status();
+  Reader r(bytes, body.value(), path);
+  const Result<OctreeParams> params = readParams(r, expect);
+  if (!params) return params.status();
+  const OctreeParams& p = params.value();
   const auto node_count = r.get<std::uint64_t>();
   const auto object_count = r.get<std::uint64_t>();
+  if (r.failed()) return r.status();
   constexpr std::size_t kNodeBytes = 6 * 4 + 3 * 4 + 4 * 4 + 2;
   const std::size_t per_face = maskBytesPerFace(p.regions);
   if (node_count == 0 || node_count > r.left() / kNodeBytes || object_count > r.left() / 4 ||
       r.left() != node_count * kNodeBytes + object_count * 4 + node_count * kFaces * per_face) {
-    r.fail("is truncated or has inconsistent sizes");
+    return r.fail("is truncated or has inconsistent sizes");
   }
   std::vector<OctreeNode> nodes = readNodes(r, node_count);
   std::vector<ObjectId> object_list(object_count);
   r.getBytes(object_list.data(), object_count * sizeof(ObjectId));
-  checkStructure(nodes, object_list, p, expect, r);
+  if (r.failed()) return r.status();
+  if (Status s = checkStructure(nodes, object_list, p, expect, r); !s) return s;
   Octree octree(p, std::move(nodes), std::move(object_list));
   for (std::uint64_t& m : octree.mutableMasks()) {
     m = 0;
     r.getBytes(&m, per_face);
   }
+  if (r.failed()) return r.status();
   return octree;
 }
 

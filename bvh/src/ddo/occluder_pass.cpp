@@ -2,8 +2,6 @@
 
 #include <algorithm>
 
-#include "logrid/error.hpp"
-
 namespace logrid::ddo {
 namespace {
 
@@ -37,21 +35,25 @@ OccluderPass::OccluderPass(const Octree& octree, Drawer drawer, const SelectorSe
                            const OccluderBudget& budget)
     : selector_(octree, settings), drawer_(std::move(drawer)), budget_(budget) {}
 
-Result<std::uint64_t> OccluderPass::beginFrame(const Camera& camera, const ProjectionSettings& projection,
-                                       bool draw, std::vector<DrawnArea>& drawn) {
+Result<std::uint64_t> OccluderPass::beginFrame(const Camera& camera,
+                                               const ProjectionSettings& projection, bool draw,
+                                               std::vector<DrawnArea>& drawn) {
   if (draw && !drawer_) {
     return Status(ErrorCode::InvalidArgument,
-                "ddo::OccluderPass: asked to draw its occluders (ddo+log) but made without a "
-                "drawer; pass one, e.g. gl::OccluderRenderer's draw into the frame's framebuffer");
+                  "ddo::OccluderPass: asked to draw its occluders (ddo+log) but made without a "
+                  "drawer; pass one, e.g. gl::OccluderRenderer's draw into the frame's "
+                  "framebuffer");
   }
   drawn_.clear();
   quads_.clear();
   pass_stats_ = {};
-  selector_.select(camera, {}, stats_, projection);
+  if (Status s = selector_.trySelect(camera, {}, stats_, projection); !s) return s;
   pass_stats_.candidates = selector_.occluders().size();
   if (!draw) return stats_.faces_selected;
   choose(camera, projection);
-  if (!drawn_.empty()) drawer_(drawn_, camera);
+  if (!drawn_.empty()) {
+    if (Status s = drawer_(drawn_, camera); !s) return s;
+  }
   for (const Occluder& o : drawn_) {
     drawn.push_back({o.rect, o.far_key});
     quads_.push_back(quadOf(o));

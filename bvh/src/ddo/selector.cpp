@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <string>
+#include <utility>
 
 #include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
@@ -112,7 +114,8 @@ struct Selector::Frame {
 
   ProjectionSettings settings;
 
-  Frame(const Camera& c, const ProjectionSettings& s) : camera(c), projector(c, s), settings(s) {}
+  Frame(const Camera& c, Projector p, const ProjectionSettings& s)
+      : camera(c), projector(std::move(p)), settings(s) {}
 
   bool inFrontOfNear(const double* p) const {
     const double* m = camera.view_projection.m;
@@ -191,11 +194,13 @@ Selector::Selector(const Octree& octree, const SelectorSettings& settings)
   object_stamp_.assign(octree.objects().empty() ? 0 : std::size_t(largest) + 1, 0);
 }
 
-void Selector::select(const Camera& camera, const std::function<void(ObjectId)>& draw,
-                      SelectionStats& stats, const ProjectionSettings& projection) {
+Status Selector::trySelect(const Camera& camera, const std::function<void(ObjectId)>& draw,
+                           SelectionStats& stats, const ProjectionSettings& projection) {
   const auto start = std::chrono::steady_clock::now();
   stats = {};
-  Frame frame(camera, projection);  // validates the camera
+  Result<Projector> projector = Projector::create(camera, projection);
+  if (!projector) return projector.status();
+  Frame frame(camera, std::move(projector).value(), projection);
   frame.draw = &draw;
   frame.stats = &stats;
   frame.clear_key = frame.projector.clearKey();
@@ -246,6 +251,7 @@ void Selector::select(const Camera& camera, const std::function<void(ObjectId)>&
   finishOccluders(frame);
   stats.occluders = occluders_.size();
   stats.seconds = secondsSince(start);
+  return {};
 }
 
 void Selector::visit(std::uint32_t n, Frame& frame) {

@@ -32,8 +32,8 @@ class OccluderSource {
   // Selects this frame's occluders for `camera` (forgetting the last frame's). With
   // `draw`, also draws them into the application's depth buffer, with a depth test that
   // keeps the nearer fragment, and appends each one's pixels and farthest key to `drawn`.
-  // Returns how many occluders it selected, or an error if it cannot serve the camera,
-  // or cannot draw when asked to.
+  // Returns how many occluders it selected, or the error (logrid/error.hpp) if it cannot
+  // serve the camera, or cannot draw when asked to.
   virtual Result<std::uint64_t> beginFrame(const Camera& camera,
                                            const ProjectionSettings& projection, bool draw,
                                            std::vector<DrawnArea>& drawn) = 0;

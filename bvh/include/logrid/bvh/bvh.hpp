@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "logrid/error.hpp"
 #include "logrid/hierarchy.hpp"
 #include "logrid/types.hpp"
 
@@ -75,15 +76,22 @@ class FlatHierarchy : public Hierarchy {
   std::size_t memoryBytes() const;
   std::uint32_t depth() const;
 
+  // Both refits come in both forms (logrid/error.hpp): tryRefit() returns the error,
+  // refit() throws it as logrid::Error.
+  //
   // Recomputes every box after objects moved: a leaf's box becomes the union of its
   // objects' boxes (object_boxes indexed by ObjectId), an inner node's the union of its
   // children's. The topology stays; quality degrades if objects move far (rebuild then).
-  // Throws logrid::Error, leaving the boxes unchanged, if an object id is out of range of
-  // object_boxes or an object's box is not finite with min <= max (naming the first).
+  // Fails, leaving the boxes unchanged, if an object id is out of range of object_boxes
+  // (ErrorCode::InvalidArgument) or an object's box is not finite with min <= max
+  // (ErrorCode::BadInput), naming the first.
+  Status tryRefit(const std::vector<Aabb>& object_boxes);
   void refit(const std::vector<Aabb>& object_boxes);
   // Refits only the leaves holding the `moved` objects and their ancestors; every other
   // object's box must be as at the last build or refit. Same checks as refit() for the
   // moved objects (duplicates are fine). Returns the number of boxes recomputed.
+  Result<std::size_t> tryRefit(const std::vector<Aabb>& object_boxes,
+                               const std::vector<ObjectId>& moved);
   std::size_t refit(const std::vector<Aabb>& object_boxes, const std::vector<ObjectId>& moved);
   // The sum of the surface areas of all node boxes: the SAH cost of the tree with unit
   // traversal and intersection costs, times the root's area. Grows as refitted boxes
@@ -114,8 +122,13 @@ class FlatHierarchy : public Hierarchy {
   mutable std::uint64_t links_revision_ = 0;
 };
 
+// The builders come in both forms (logrid/error.hpp): tryBuildOver...() returns the
+// hierarchy or the error, buildOver...() throws the error as logrid::Error. Either fails
+// with ErrorCode::InvalidArgument for arguments validateBuildArgs() refuses.
+//
 // One leaf per at most max_leaf_size objects; object i has box boxes[i]. Boxes must be
-// valid (finite, min <= max): throws logrid::Error naming the first bad one.
+// valid (finite, min <= max): ErrorCode::BadInput naming the first bad one.
+Result<FlatHierarchy> tryBuildOverBoxes(const std::vector<Aabb>& boxes, const BuildArgs& args = {});
 FlatHierarchy buildOverBoxes(const std::vector<Aabb>& boxes, const BuildArgs& args = {});
 
 // The result of building over triangles: the hierarchy, whose leaves each hold one
@@ -127,10 +140,31 @@ struct TriangleHierarchy {
   std::vector<std::uint32_t> chunk_first;     // chunks + 1 entries
 };
 
-// positions: xyz per vertex; indices: three per triangle. Throws logrid::Error for an
+// positions: xyz per vertex; indices: three per triangle. ErrorCode::BadInput for an
 // index out of range or a non-finite position (naming the first one).
+Result<TriangleHierarchy> tryBuildOverTriangles(const std::vector<float>& positions,
+                                                const std::vector<std::uint32_t>& indices,
+                                                BuildArgs args = {1500, 2, 0});
 TriangleHierarchy buildOverTriangles(const std::vector<float>& positions,
                                      const std::vector<std::uint32_t>& indices,
                                      BuildArgs args = {1500, 2, 0});
+
+#if LOGRID_HAS_EXCEPTIONS
+inline void FlatHierarchy::refit(const std::vector<Aabb>& object_boxes) {
+  logrid::orThrow(tryRefit(object_boxes));
+}
+inline std::size_t FlatHierarchy::refit(const std::vector<Aabb>& object_boxes,
+                                        const std::vector<ObjectId>& moved) {
+  return logrid::orThrow(tryRefit(object_boxes, moved));
+}
+inline FlatHierarchy buildOverBoxes(const std::vector<Aabb>& boxes, const BuildArgs& args) {
+  return logrid::orThrow(tryBuildOverBoxes(boxes, args));
+}
+inline TriangleHierarchy buildOverTriangles(const std::vector<float>& positions,
+                                            const std::vector<std::uint32_t>& indices,
+                                            BuildArgs args) {
+  return logrid::orThrow(tryBuildOverTriangles(positions, indices, args));
+}
+#endif
 
 }  // namespace logrid::bvh

@@ -36,6 +36,7 @@
 #include "logrid/camera.hpp"
 #include "logrid/culler.hpp"
 #include "logrid/depth_source.hpp"
+#include "logrid/error.hpp"
 #include "logrid/hierarchy.hpp"
 
 namespace logrid::bvh {
@@ -77,9 +78,13 @@ struct MeasureStats {
 
 class MotionHierarchy : public Hierarchy {
  public:
-  // Throws logrid::Error naming the object when a box is not finite with min <= max or
-  // an id is out of range; the hierarchy is then unchanged for that object.
-  virtual UpdateStats update(const MotionUpdate& update) = 0;
+  // The update, in both forms (logrid/error.hpp): tryUpdate() returns the error,
+  // update() throws it as logrid::Error. Fails when boxes or moved is missing or an id
+  // is out of range (ErrorCode::InvalidArgument) or a box is not finite with min <= max
+  // (ErrorCode::BadInput), naming the object; the hierarchy is then unchanged for that
+  // object.
+  virtual Result<UpdateStats> tryUpdate(const MotionUpdate& update) = 0;
+  UpdateStats update(const MotionUpdate& update);
   // An observer for the culler of the coming frame, recording the tested nodes' boxes
   // and answers; nullptr when the hierarchy uses no feedback.
   virtual CullObserver* observer() { return nullptr; }
@@ -142,10 +147,25 @@ struct MotionDesc {
 // Returns an empty string if the settings are usable, else a message naming the field.
 std::string validateMotionDesc(const MotionDesc& desc);
 
-// Builds a hierarchy of `kind` over `boxes` (object i has box boxes[i]). Throws
-// logrid::Error for invalid settings or a bad box (naming it).
+// Builds a hierarchy of `kind` over `boxes` (object i has box boxes[i]). In both forms
+// (logrid/error.hpp): fails with ErrorCode::InvalidArgument for settings
+// validateMotionDesc() refuses and ErrorCode::BadInput for a bad box (naming it).
+Result<std::unique_ptr<MotionHierarchy>> tryMakeMotionHierarchy(MotionKind kind,
+                                                                const std::vector<Aabb>& boxes,
+                                                                const MotionDesc& desc = {});
 std::unique_ptr<MotionHierarchy> makeMotionHierarchy(MotionKind kind,
                                                      const std::vector<Aabb>& boxes,
                                                      const MotionDesc& desc = {});
+
+#if LOGRID_HAS_EXCEPTIONS
+inline UpdateStats MotionHierarchy::update(const MotionUpdate& update) {
+  return logrid::orThrow(tryUpdate(update));
+}
+inline std::unique_ptr<MotionHierarchy> makeMotionHierarchy(MotionKind kind,
+                                                            const std::vector<Aabb>& boxes,
+                                                            const MotionDesc& desc) {
+  return logrid::orThrow(tryMakeMotionHierarchy(kind, boxes, desc));
+}
+#endif
 
 }  // namespace logrid::bvh

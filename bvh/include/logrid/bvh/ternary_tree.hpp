@@ -88,9 +88,14 @@ namespace logrid::bvh {
 
 class TernaryTree final : public MotionHierarchy {
  public:
-  // Builds the tree over `boxes` (object i has boxes[i]). Throws logrid::Error for
-  // invalid settings (validateMotionDesc) or a bad box.
+  // Builds the tree over `boxes` (object i has boxes[i]). The result form
+  // (logrid/error.hpp): the tree, or ErrorCode::InvalidArgument for settings
+  // validateMotionDesc() refuses, ErrorCode::BadInput for a bad box (naming it).
+  static Result<TernaryTree> create(const std::vector<Aabb>& boxes, const TernaryDesc& desc = {});
+  // The throwing form: throws logrid::Error where create() fails.
   TernaryTree(const std::vector<Aabb>& boxes, const TernaryDesc& desc = {});
+  TernaryTree(TernaryTree&&) noexcept;
+  TernaryTree& operator=(TernaryTree&&) noexcept;
   ~TernaryTree() override;
 
   // Hierarchy. Nodes whose subtree holds no object are not shown to the culler.
@@ -113,7 +118,7 @@ class TernaryTree final : public MotionHierarchy {
   std::uint64_t revision() const override { return revision_; }
 
   // MotionHierarchy.
-  UpdateStats update(const MotionUpdate& update) override;
+  Result<UpdateStats> tryUpdate(const MotionUpdate& update) override;
   CullObserver* observer() override;
   MeasureStats measure(const Camera& camera, DepthSource& depth) override;
   std::size_t objectTotal() const override { return objects_.size(); }
@@ -147,6 +152,9 @@ class TernaryTree final : public MotionHierarchy {
   std::uint32_t subtreeObjects(NodeId node) const { return nodes_[node].subtree_objects; }
 
  private:
+  struct Checked {};  // the settings and boxes were validated
+  TernaryTree(Checked, const std::vector<Aabb>& boxes, const TernaryDesc& desc);
+
   static constexpr std::uint32_t kNone = ~std::uint32_t{0};
   struct Node {
     Aabb cell;
@@ -205,5 +213,10 @@ class TernaryTree final : public MotionHierarchy {
   std::vector<std::uint32_t> recompute_;  // scratch
   std::unique_ptr<Recorder> recorder_;
 };
+
+#if LOGRID_HAS_EXCEPTIONS
+inline TernaryTree::TernaryTree(const std::vector<Aabb>& boxes, const TernaryDesc& desc)
+    : TernaryTree(logrid::orThrow(create(boxes, desc))) {}
+#endif
 
 }  // namespace logrid::bvh

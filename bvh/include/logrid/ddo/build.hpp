@@ -37,6 +37,7 @@
 
 #include "logrid/ddo/mesh.hpp"
 #include "logrid/ddo/octree.hpp"
+#include "logrid/error.hpp"
 
 namespace logrid::ddo {
 
@@ -84,9 +85,21 @@ struct BuildReport {
   std::uint32_t threads = 0;
 };
 
-// Builds the octree and every face's bitmask. Throws logrid::Error(InvalidArgument) for
-// bad arguments and logrid::Error(BadInput) for a mesh validateSceneMesh() refuses.
+// Builds the octree and every face's bitmask. In both forms (logrid/error.hpp):
+// tryBuildOctree() returns the octree or the error, buildOctree() throws the error as
+// logrid::Error. Fails with ErrorCode::InvalidArgument for arguments validateBuildArgs()
+// refuses and ErrorCode::BadInput for a mesh validateSceneMesh() refuses. `progress` must
+// not throw.
+Result<Octree> tryBuildOctree(const SceneMesh& mesh, const BuildArgs& args = {},
+                              const ProgressCallback& progress = {}, BuildReport* report = nullptr);
 Octree buildOctree(const SceneMesh& mesh, const BuildArgs& args = {},
                    const ProgressCallback& progress = {}, BuildReport* report = nullptr);
+
+#if LOGRID_HAS_EXCEPTIONS
+inline Octree buildOctree(const SceneMesh& mesh, const BuildArgs& args,
+                          const ProgressCallback& progress, BuildReport* report) {
+  return logrid::orThrow(tryBuildOctree(mesh, args, progress, report));
+}
+#endif
 
 }  // namespace logrid::ddo

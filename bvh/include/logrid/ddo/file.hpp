@@ -13,6 +13,7 @@
 #include <string>
 
 #include "logrid/ddo/octree.hpp"
+#include "logrid/error.hpp"
 
 namespace logrid::ddo {
 
@@ -31,13 +32,30 @@ struct FileExpectation {
 // words, then the remaining bytes).
 std::uint64_t payloadChecksum(const unsigned char* data, std::size_t bytes);
 
-// Throws logrid::Error(Environment) when the file cannot be written (naming the path).
+// Saving and loading come in both forms (logrid/error.hpp): trySaveOctree() and
+// tryLoadOctree() return the error, saveOctree() and loadOctree() throw it as
+// logrid::Error.
+//
+// Fails with ErrorCode::Environment when the file cannot be written (naming the path).
+Status trySaveOctree(const Octree& octree, const FileExpectation& scene, const std::string& path);
 void saveOctree(const Octree& octree, const FileExpectation& scene, const std::string& path);
 
-// Throws logrid::Error naming the path and what to do: Environment when it cannot be
-// read; BadInput when it is not a DDO file, has another format version, is truncated or
-// corrupt, was built for another scene (stale: the scene's checksum or counts differ) or
-// with other parameters than `expect` asks for, or describes an inconsistent octree.
+// Fails naming the path and what to do: ErrorCode::Environment when it cannot be read;
+// ErrorCode::BadInput when it is not a DDO file, has another format version, is
+// truncated or corrupt, was built for another scene (stale: the scene's checksum or
+// counts differ) or with other parameters than `expect` asks for, or describes an
+// inconsistent octree.
+Result<Octree> tryLoadOctree(const std::string& path, const FileExpectation& expect);
 Octree loadOctree(const std::string& path, const FileExpectation& expect);
+
+#if LOGRID_HAS_EXCEPTIONS
+inline void saveOctree(const Octree& octree, const FileExpectation& scene,
+                       const std::string& path) {
+  logrid::orThrow(trySaveOctree(octree, scene, path));
+}
+inline Octree loadOctree(const std::string& path, const FileExpectation& expect) {
+  return logrid::orThrow(tryLoadOctree(path, expect));
+}
+#endif
 
 }  // namespace logrid::ddo

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "logrid/ddo/selector.hpp"
+#include "logrid/error.hpp"
 #include "logrid/occluder_source.hpp"
 
 namespace logrid::ddo {
@@ -46,16 +47,19 @@ struct OccluderPassStats {
 class OccluderPass final : public OccluderSource {
  public:
   // Draws `occluders` into the application's depth buffer for `camera` (depth only, with
-  // the depth test that keeps the nearer fragment).
-  using Drawer = std::function<void(const std::vector<Occluder>& occluders, const Camera& camera)>;
+  // the depth test that keeps the nearer fragment). Returns what failed, if anything
+  // (gl::OccluderRenderer::tryDraw's Status); beginFrame() returns it.
+  using Drawer =
+      std::function<Status(const std::vector<Occluder>& occluders, const Camera& camera)>;
 
   // `octree` must outlive the pass. Without a drawer the pass serves ddo only.
   explicit OccluderPass(const Octree& octree, Drawer drawer = {},
                         const SelectorSettings& settings = {}, const OccluderBudget& budget = {});
 
   // Selects for `camera`; returns the faces selected into the map, or, with `draw`, the
-  // occluders drawn (those that pay, OccluderBudget). Throws logrid::Error for an invalid
-  // camera, or when asked to draw without a drawer.
+  // occluders drawn (those that pay, OccluderBudget). Fails with
+  // ErrorCode::InvalidArgument for an invalid camera (Selector::trySelect) or when asked
+  // to draw without a drawer, and with the drawer's error.
   Result<std::uint64_t> beginFrame(const Camera& camera, const ProjectionSettings& projection,
                                    bool draw, std::vector<DrawnArea>& drawn) override;
   bool occludes(const PixelRect& rect, float threshold) const override;

@@ -48,6 +48,7 @@
 #include "logrid/camera.hpp"
 #include "logrid/ddo/occlusion_map.hpp"
 #include "logrid/ddo/octree.hpp"
+#include "logrid/error.hpp"
 #include "logrid/projection.hpp"
 
 namespace logrid::ddo {
@@ -99,8 +100,11 @@ class Selector {
  public:
   explicit Selector(const Octree& octree, const SelectorSettings& settings = {});
 
-  // One frame. `draw` (may be empty) gets each object of each visible leaf once.
-  // Throws logrid::Error for an invalid camera (validateCamera).
+  // One frame. `draw` (may be empty) gets each object of each visible leaf once. In both
+  // forms (logrid/error.hpp): fails with ErrorCode::InvalidArgument for an invalid camera
+  // (validateCamera) or projection settings (validateProjectionSettings).
+  Status trySelect(const Camera& camera, const std::function<void(ObjectId)>& draw,
+                   SelectionStats& stats, const ProjectionSettings& projection = {});
   void select(const Camera& camera, const std::function<void(ObjectId)>& draw,
               SelectionStats& stats, const ProjectionSettings& projection = {});
 
@@ -135,5 +139,12 @@ class Selector {
   std::vector<std::uint32_t> object_stamp_;
   std::uint32_t stamp_ = 0;
 };
+
+#if LOGRID_HAS_EXCEPTIONS
+inline void Selector::select(const Camera& camera, const std::function<void(ObjectId)>& draw,
+                             SelectionStats& stats, const ProjectionSettings& projection) {
+  logrid::orThrow(trySelect(camera, draw, stats, projection));
+}
+#endif
 
 }  // namespace logrid::ddo

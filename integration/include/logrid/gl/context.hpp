@@ -8,13 +8,17 @@
 //                Mesa's software device. The default where such a device exists.
 // The context renders into framebuffer objects (framebuffer.hpp); it has no surface.
 //
-// Every failure throws logrid::Error with what failed and what to install or change.
+// Every failure is reported with what failed and what to install or change, in both
+// forms (logrid/error.hpp): Context::create() and the try...() calls return it, the
+// Context constructor and the other calls throw it as logrid::Error.
 #pragma once
 
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
+
+#include "logrid/error.hpp"
 
 namespace logrid::gl {
 
@@ -45,25 +49,38 @@ struct ContextInfo {
 
 class Context {
  public:
-  // Creates the context and makes it current on the calling thread.
+  // Creates the context and makes it current on the calling thread. The result form:
+  // the context, or ErrorCode::InvalidArgument for a bad desc, ErrorCode::Environment or
+  // ErrorCode::Unsupported for what the platform lacks, ErrorCode::Runtime for a failure
+  // of EGL or GL.
+  static Result<std::unique_ptr<Context>> create(const ContextDesc& desc = {});
+  // The throwing form: throws logrid::Error where create() fails.
   explicit Context(const ContextDesc& desc = {});
   ~Context();
   Context(const Context&) = delete;
   Context& operator=(const Context&) = delete;
 
   const ContextInfo& info() const;
+  // Fails with ErrorCode::Runtime when EGL cannot make the context current.
+  Status tryMakeCurrent();
   void makeCurrent();
 
-  // Throws logrid::Error naming `where` if GL reported an error (glGetError, and in
-  // debug contexts any error-type debug message) since the last check.
+  // ErrorCode::Runtime naming `where` if GL reported an error (glGetError, and in debug
+  // contexts any error-type debug message) since the last check.
+  Status tryCheck(const char* where) const;
   void check(const char* where) const;
 
  private:
+  struct Unopened {};
+  explicit Context(Unopened);  // opens nothing: open() does, and the destructor closes it
+  Status open(const ContextDesc& desc);
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
 
 // The same check for code that does not hold the Context (uses the current one).
+Status tryCheckGlErrors(const char* where);
 void checkGlErrors(const char* where);
 
 // For a context the application made (e.g. a window's, through GLFW or SDL): if the
@@ -72,5 +89,14 @@ void checkGlErrors(const char* where);
 // framebuffers, renderer and depth sources need only a current OpenGL 4.5 core context,
 // whoever made it.
 bool installDebugOutput();
+
+#if LOGRID_HAS_EXCEPTIONS
+inline Context::Context(const ContextDesc& desc) : Context(Unopened{}) {
+  logrid::orThrow(open(desc));
+}
+inline void Context::makeCurrent() { logrid::orThrow(tryMakeCurrent()); }
+inline void Context::check(const char* where) const { logrid::orThrow(tryCheck(where)); }
+inline void checkGlErrors(const char* where) { logrid::orThrow(tryCheckGlErrors(where)); }
+#endif
 
 }  // namespace logrid::gl

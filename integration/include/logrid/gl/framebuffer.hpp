@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "logrid/camera.hpp"
+#include "logrid/error.hpp"
 
 namespace logrid::zread {
 class GlStateGuard;
@@ -40,10 +41,13 @@ std::uint32_t depthInternalFormat(DepthFormat format);
 
 class Framebuffer {
  public:
-  // Requires a current context. Throws logrid::Error when a side is 0 or exceeds the
-  // driver's limits, the sample count exceeds the driver's, the depth set-up holds an
-  // unknown enum value, the format is not renderable, memory runs out or the framebuffer
-  // is incomplete, each with the value that failed.
+  // Requires a current context. The result form (logrid/error.hpp): the framebuffer, or
+  // ErrorCode::InvalidArgument when a side is 0 or exceeds the driver's limits or the
+  // depth set-up holds an unknown enum value, ErrorCode::Unsupported when the sample
+  // count exceeds the driver's or the format is not renderable, ErrorCode::Runtime when
+  // memory runs out or GL fails, each with the value that failed.
+  static Result<std::unique_ptr<Framebuffer>> create(const FramebufferDesc& desc);
+  // The throwing form: throws logrid::Error where create() fails.
   explicit Framebuffer(const FramebufferDesc& desc);
   ~Framebuffer();
   Framebuffer(const Framebuffer&) = delete;
@@ -71,17 +75,25 @@ class Framebuffer {
 
   // Read-backs, rows bottom-up. Depth and IDs of a multisampled framebuffer come per
   // sample: samples() values per pixel, pixel (x, y)'s at ((y * width + x) * samples()).
-  // Colour is resolved (averaged) to one value per pixel.
-  std::vector<std::uint8_t> readColor() const;       // width * height * 4, RGBA
-  std::vector<float> readDepth() const;              // window depth as float
-  std::vector<std::uint32_t> readObjectIds() const;  // requires object_ids
+  // Colour is resolved (averaged) to one value per pixel. In both forms: the values or
+  // the error (ErrorCode::Runtime for GL's; readObjectIds() without object_ids:
+  // ErrorCode::InvalidArgument).
+  Result<std::vector<std::uint8_t>> tryReadColor() const;       // width * height * 4, RGBA
+  Result<std::vector<float>> tryReadDepth() const;              // window depth as float
+  Result<std::vector<std::uint32_t>> tryReadObjectIds() const;  // requires object_ids
+  std::vector<std::uint8_t> readColor() const;
+  std::vector<float> readDepth() const;
+  std::vector<std::uint32_t> readObjectIds() const;
 
   static constexpr std::uint32_t kNoObject = 0xFFFFFFFFu;
 
  private:
+  struct Unmade {};
+  Framebuffer(Unmade, const FramebufferDesc& desc);  // no GL objects: make() makes them
+  Status make();
   void release();
-  void readSamples(int kind, std::uint32_t texture, std::uint32_t values_per_pixel,
-                   void* dst) const;
+  Status readSamples(int kind, std::uint32_t texture, std::uint32_t values_per_pixel,
+                     void* dst) const;
   struct SampleReader;
 
   FramebufferDesc desc_;
@@ -93,5 +105,20 @@ class Framebuffer {
   std::unique_ptr<zread::GlStateGuard> guard_;  // read-backs leave the app's state alone
   mutable std::unique_ptr<SampleReader> sample_reader_;
 };
+
+#if LOGRID_HAS_EXCEPTIONS
+inline Framebuffer::Framebuffer(const FramebufferDesc& desc) : Framebuffer(Unmade{}, desc) {
+  logrid::orThrow(make());
+}
+inline std::vector<std::uint8_t> Framebuffer::readColor() const {
+  return logrid::orThrow(tryReadColor());
+}
+inline std::vector<float> Framebuffer::readDepth() const {
+  return logrid::orThrow(tryReadDepth());
+}
+inline std::vector<std::uint32_t> Framebuffer::readObjectIds() const {
+  return logrid::orThrow(tryReadObjectIds());
+}
+#endif
 
 }  // namespace logrid::gl

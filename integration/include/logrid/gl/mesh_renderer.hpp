@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "logrid/camera.hpp"
+#include "logrid/error.hpp"
 #include "logrid/types.hpp"
 
 namespace logrid::gl {
@@ -64,8 +65,12 @@ enum class Pass : std::uint8_t {
 
 class MeshRenderer {
  public:
-  // Uploads the mesh (requires a current GL 4.5 context). Throws logrid::Error when
-  // draws reference indices or vertices outside the arrays, or GL runs out of memory.
+  // Uploads the mesh (requires a current GL 4.5 context). The result form
+  // (logrid/error.hpp): the renderer, or ErrorCode::InvalidArgument when draws reference
+  // indices or vertices outside the arrays or the colours do not match the vertices,
+  // ErrorCode::Runtime when GL runs out of memory or fails.
+  static Result<std::unique_ptr<MeshRenderer>> create(const RenderMesh& mesh);
+  // The throwing form: throws logrid::Error where create() fails.
   explicit MeshRenderer(const RenderMesh& mesh);
   ~MeshRenderer();
   MeshRenderer(const MeshRenderer&) = delete;
@@ -81,12 +86,17 @@ class MeshRenderer {
   void end();
 
   // Gives object `id` a transform (until cleared), or takes it away. Takes effect at the
-  // next draw; cheap (one uniform update per draw of a transformed object).
+  // next draw; cheap (one uniform update per draw of a transformed object). In both
+  // forms: ErrorCode::InvalidArgument for an unknown object or a non-finite transform.
+  Status trySetTransform(ObjectId id, const ObjectTransform& transform);
   void setTransform(ObjectId id, const ObjectTransform& transform);
   void clearTransform(ObjectId id);
   bool hasTransform(ObjectId id) const { return id < moving_.size() && moving_[id]; }
 
  private:
+  struct Empty {};
+  explicit MeshRenderer(Empty);  // nothing uploaded: upload() does
+  Status upload(const RenderMesh& mesh);
   void bindIdentity();
   struct Programs;
   std::unique_ptr<Programs> programs_;
@@ -108,5 +118,14 @@ class MeshRenderer {
   std::vector<ObjectTransform> transforms_;
   std::vector<std::uint8_t> moving_;
 };
+
+#if LOGRID_HAS_EXCEPTIONS
+inline MeshRenderer::MeshRenderer(const RenderMesh& mesh) : MeshRenderer(Empty{}) {
+  logrid::orThrow(upload(mesh));
+}
+inline void MeshRenderer::setTransform(ObjectId id, const ObjectTransform& transform) {
+  logrid::orThrow(trySetTransform(id, transform));
+}
+#endif
 
 }  // namespace logrid::gl

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "logrid/camera.hpp"
+#include "logrid/error.hpp"
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/types.hpp"
 
@@ -53,11 +54,24 @@ struct OracleFrame {
 //                 least every one in the view frustum) with the frame's depth test,
 //                 writing its id to colour attachment 1 (layout(location = 1) out uint in
 //                 GLSL; gl::MeshRenderer does it in Pass::ObjectIds).
-// Needs the current context. Throws logrid::Error (InvalidArgument) for a framebuffer
-// without an ID attachment or of another size or depth set-up (convention, clip range,
-// format) than the camera, or an invalid camera, and for a GL error during the pass.
+// Needs the current context. In both forms (logrid/error.hpp): tryObjectIdOracle()
+// returns the frame or the error, objectIdOracle() throws it as logrid::Error. Fails with
+// ErrorCode::InvalidArgument for a framebuffer without an ID attachment or of another
+// size or depth set-up (convention, clip range, format) than the camera, or an invalid
+// camera, and with ErrorCode::Runtime for a GL error during the pass.
+Result<OracleFrame> tryObjectIdOracle(const Framebuffer& framebuffer, const Camera& camera,
+                                      const std::vector<Aabb>& object_boxes,
+                                      const std::function<void()>& draw_ids);
 OracleFrame objectIdOracle(const Framebuffer& framebuffer, const Camera& camera,
                            const std::vector<Aabb>& object_boxes,
                            const std::function<void()>& draw_ids);
+
+#if LOGRID_HAS_EXCEPTIONS
+inline OracleFrame objectIdOracle(const Framebuffer& framebuffer, const Camera& camera,
+                                  const std::vector<Aabb>& object_boxes,
+                                  const std::function<void()>& draw_ids) {
+  return logrid::orThrow(tryObjectIdOracle(framebuffer, camera, object_boxes, draw_ids));
+}
+#endif
 
 }  // namespace logrid::gl

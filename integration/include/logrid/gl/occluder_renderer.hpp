@@ -20,6 +20,7 @@
 
 #include "logrid/camera.hpp"
 #include "logrid/ddo/selector.hpp"
+#include "logrid/error.hpp"
 
 namespace logrid::zread {
 class GlStateGuard;
@@ -29,7 +30,10 @@ namespace logrid::gl {
 
 class OccluderRenderer {
  public:
-  // Requires a current GL 4.5 context.
+  // Requires a current GL 4.5 context. The result form (logrid/error.hpp): the renderer,
+  // or ErrorCode::Runtime for a GL error.
+  static Result<std::unique_ptr<OccluderRenderer>> create();
+  // The throwing form: throws logrid::Error where create() fails.
   OccluderRenderer();
   ~OccluderRenderer();
   OccluderRenderer(const OccluderRenderer&) = delete;
@@ -37,13 +41,20 @@ class OccluderRenderer {
 
   // Draws the quads (two triangles each, one draw call) into the depth attachment of
   // `framebuffer` (0: the default framebuffer), which is camera.width x camera.height,
-  // for `camera`, the camera the occluders were selected for. Throws logrid::Error for
+  // for `camera`, the camera the occluders were selected for. In both forms: fails for
   // what zread::GlStateGuard refuses (conditional rendering, unpaused transform feedback,
-  // a pending GL error) and for a GL error of the draw.
+  // a pending GL error) and for a GL error of the draw. tryDraw() is what a
+  // ddo::OccluderPass::Drawer returns.
+  Status tryDraw(const std::vector<ddo::Occluder>& occluders, const Camera& camera,
+                 std::uint32_t framebuffer);
   void draw(const std::vector<ddo::Occluder>& occluders, const Camera& camera,
             std::uint32_t framebuffer);
 
  private:
+  struct Empty {};
+  explicit OccluderRenderer(Empty);  // no GL objects: make() makes them
+  Status make();
+
   struct Program;
   std::unique_ptr<Program> program_;
   std::unique_ptr<zread::GlStateGuard> guard_;
@@ -52,5 +63,15 @@ class OccluderRenderer {
   std::size_t capacity_ = 0;  // floats the buffer holds
   std::vector<float> vertices_;
 };
+
+#if LOGRID_HAS_EXCEPTIONS
+inline OccluderRenderer::OccluderRenderer() : OccluderRenderer(Empty{}) {
+  logrid::orThrow(make());
+}
+inline void OccluderRenderer::draw(const std::vector<ddo::Occluder>& occluders,
+                                   const Camera& camera, std::uint32_t framebuffer) {
+  logrid::orThrow(tryDraw(occluders, camera, framebuffer));
+}
+#endif
 
 }  // namespace logrid::gl
