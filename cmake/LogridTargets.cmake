@@ -26,6 +26,10 @@ function(logrid_add_library target alias)
     $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   logrid_configure_target(${target})
+  if(NOT LOGRID_EXCEPTIONS AND CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
+    # Nothing in the libraries throws or catches (logrid/error.hpp): they build without.
+    target_compile_options(${target} PRIVATE -fno-exceptions)
+  endif()
   install(TARGETS ${target} EXPORT logridTargets
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <tuple>
 #include <utility>
 
 #include "logrid/gl/context.hpp"
@@ -74,9 +75,7 @@ void main() {}
 }  // namespace
 
 struct MeshRenderer::Programs {
-  zread::Program shaded{"mesh shaded", kVertex, kShaded};
-  zread::Program ids{"mesh ids", kVertex, kIds};
-  zread::Program depth{"mesh depth", kVertex, kDepthOnly};
+  std::unique_ptr<zread::Program> shaded, ids, depth;
 };
 
 MeshRenderer::MeshRenderer(Empty) {}
@@ -108,6 +107,14 @@ Status MeshRenderer::upload(const RenderMesh& mesh) {
                       std::to_string(vertices) + " vertices");
   }
   programs_ = std::make_unique<Programs>();
+  for (auto [program, name, fragment] :
+       {std::tuple{&programs_->shaded, "mesh shaded", kShaded},
+        std::tuple{&programs_->ids, "mesh ids", kIds},
+        std::tuple{&programs_->depth, "mesh depth", kDepthOnly}}) {
+    Result<std::unique_ptr<zread::Program>> made = zread::Program::create(name, kVertex, fragment);
+    if (!made) return made.status();
+    *program = std::move(made).value();
+  }
   draws_ = mesh.draws;
   if (Status s = tryCheckGlErrors("MeshRenderer: before upload"); !s) return s;
   index_type_ = small ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
@@ -160,9 +167,9 @@ MeshRenderer::~MeshRenderer() {
 
 void MeshRenderer::begin(Pass pass, const Camera& camera) {
   pass_ = pass;
-  const zread::Program& program = pass == Pass::Shaded      ? programs_->shaded
-                                  : pass == Pass::ObjectIds ? programs_->ids
-                                                            : programs_->depth;
+  const zread::Program& program = pass == Pass::Shaded      ? *programs_->shaded
+                                  : pass == Pass::ObjectIds ? *programs_->ids
+                                                            : *programs_->depth;
   program.use();
   // The shader subtracts the origin in float, i.e. the origin rounded to float: far from
   // zero that is up to half a float ulp away from render_origin (4 units at 1e8).

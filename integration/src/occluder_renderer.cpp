@@ -23,7 +23,7 @@ void main() {}
 }  // namespace
 
 struct OccluderRenderer::Program {
-  zread::Program program{"ddo occluders", kVertex, kFragment};
+  std::unique_ptr<zread::Program> program;
 };
 
 OccluderRenderer::OccluderRenderer(Empty) {}
@@ -35,7 +35,10 @@ Result<std::unique_ptr<OccluderRenderer>> OccluderRenderer::create() {
 }
 
 Status OccluderRenderer::make() {
-  program_ = std::make_unique<Program>();
+  Result<std::unique_ptr<zread::Program>> program =
+      zread::Program::create("ddo occluders", kVertex, kFragment);
+  if (!program) return program.status();
+  program_ = std::make_unique<Program>(Program{std::move(program).value()});
   guard_ = std::make_unique<zread::GlStateGuard>();
   glCreateVertexArrays(1, &vao_);
   glCreateBuffers(1, &buffer_);
@@ -77,7 +80,7 @@ Status OccluderRenderer::tryDraw(const std::vector<ddo::Occluder>& occluders, co
                                        ? GL_ZERO_TO_ONE
                                        : GL_NEGATIVE_ONE_TO_ONE);
   // The guard leaves the scissor test on over the whole framebuffer: nothing is cut.
-  program_->program.use();
+  program_->program->use();
   glBindVertexArray(vao_);
   glDrawArrays(GL_TRIANGLES, 0, GLsizei(vertices_.size() / 3));
   if (!scope.check("OccluderRenderer: glDrawArrays")) return guard_->takeError();

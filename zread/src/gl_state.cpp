@@ -333,7 +333,7 @@ bool GlStateGuard::Scope::prepareDraw(std::uint32_t framebuffer, std::int32_t wi
     }
     draw_saved_ = true;
   }
-  prepareProgram();
+  if (!prepareProgram()) return false;
 
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer);
   glDisable(GL_CULL_FACE);

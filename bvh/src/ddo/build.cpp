@@ -75,7 +75,9 @@ Result<Octree> tryBuildOctree(const SceneMesh& mesh, const BuildArgs& args,
 
   tell("index", 0, 1);
   t0 = Clock::now();
-  const detail::SegmentIndex index(mesh, threads);
+  Result<detail::SegmentIndex> built_index = detail::SegmentIndex::create(mesh, threads);
+  if (!built_index) return built_index.status();
+  const detail::SegmentIndex& index = *built_index;
   r.index_ms = msSince(t0);
   tell("index", 1, 1);
 

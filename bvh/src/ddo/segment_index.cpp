@@ -2,15 +2,22 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace logrid::ddo::detail {
 
-SegmentIndex::SegmentIndex(const SceneMesh& mesh, unsigned threads) : mesh_(mesh) {
+Result<SegmentIndex> SegmentIndex::create(const SceneMesh& mesh, unsigned threads) {
   bvh::BuildArgs args;
   args.max_leaf_size = 8;
   args.max_children = 2;
   args.threads = threads;
-  tree_ = bvh::buildOverTriangles(*mesh.positions, *mesh.indices, args);
+  Result<bvh::TriangleHierarchy> tree = bvh::tryBuildOverTriangles(*mesh.positions, *mesh.indices, args);
+  if (!tree) return tree.status();
+  return SegmentIndex(mesh, std::move(tree).value());
+}
+
+SegmentIndex::SegmentIndex(const SceneMesh& mesh, bvh::TriangleHierarchy tree)
+    : mesh_(mesh), tree_(std::move(tree)) {
   if (!tree_.hierarchy.nodes().empty()) {
     const Aabb& root = tree_.hierarchy.nodes().front().box;
     const double extent =

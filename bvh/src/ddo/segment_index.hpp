@@ -27,7 +27,8 @@ struct SegmentHit {
 
 class SegmentIndex {
  public:
-  SegmentIndex(const SceneMesh& mesh, unsigned threads);
+  // The index over `mesh`'s triangles, or the BVH build's error (a triangle it refuses).
+  static Result<SegmentIndex> create(const SceneMesh& mesh, unsigned threads);
 
   // Appends to `out` every non-degenerate triangle inside `slab` that the segment a-b
   // crosses or grazes. Returns false as soon as one grazes (Degenerate), leaving `out`
@@ -44,6 +45,7 @@ class SegmentIndex {
   std::size_t memoryBytes() const;
 
  private:
+  SegmentIndex(const SceneMesh& mesh, bvh::TriangleHierarchy tree);
   // Triangle t's corners, in double.
   void corners(std::uint32_t t, double v[3][3]) const;
   // Runs visit(triangle, inside_slab_known) for the triangles of every leaf whose box the

@@ -16,8 +16,9 @@ namespace {
 class EmptyDepth : public logrid::DepthSource {
  public:
   logrid::DepthSourceTraits traits() const override { return {"empty", true, false}; }
-  void beginFrame(const logrid::Camera& camera) override {
+  logrid::Status beginFrame(const logrid::Camera& camera) override {
     clear_ = logrid::clearKey(camera.depth);
+    return {};
   }
   void submit(const logrid::AreaRequest* requests, std::size_t count,
               logrid::AreaAnswer* answers) override {
