@@ -35,8 +35,7 @@ Status fail(std::size_t object, const std::string& what) {
 
 }  // namespace
 
-Result<std::uint32_t> OccluderMeshes::tryAddObject(const float* positions,
-                                                   std::size_t vertex_count,
+Result<std::uint32_t> OccluderMeshes::tryAddObject(const float* positions, std::size_t vertex_count,
                                                    const std::uint32_t* indices,
                                                    std::size_t index_count, const Aabb* box) {
   const std::size_t id = objects_.size();

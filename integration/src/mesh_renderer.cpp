@@ -107,10 +107,9 @@ Status MeshRenderer::upload(const RenderMesh& mesh) {
                       std::to_string(vertices) + " vertices");
   }
   programs_ = std::make_unique<Programs>();
-  for (auto [program, name, fragment] :
-       {std::tuple{&programs_->shaded, "mesh shaded", kShaded},
-        std::tuple{&programs_->ids, "mesh ids", kIds},
-        std::tuple{&programs_->depth, "mesh depth", kDepthOnly}}) {
+  for (auto [program, name, fragment] : {std::tuple{&programs_->shaded, "mesh shaded", kShaded},
+                                         std::tuple{&programs_->ids, "mesh ids", kIds},
+                                         std::tuple{&programs_->depth, "mesh depth", kDepthOnly}}) {
     Result<std::unique_ptr<zread::Program>> made = zread::Program::create(name, kVertex, fragment);
     if (!made) return made.status();
     *program = std::move(made).value();

@@ -24,7 +24,9 @@ class ConfigReader {
  public:
   explicit ConfigReader(const std::string& origin) : origin_(origin) {}
 
-  void bad(const std::string& what) { error_.note(Status(ErrorCode::BadInput, origin_ + ": " + what)); }
+  void bad(const std::string& what) {
+    error_.note(Status(ErrorCode::BadInput, origin_ + ": " + what));
+  }
   bool failed() const { return error_.failed(); }
   Status takeError() { return error_.take(); }
 
@@ -42,7 +44,8 @@ class ConfigReader {
   void flag(const Json& parent, const char* key, bool& out) {
     const Json* v = parent.find(key);
     if (!v) return;
-    if (v->kind != Json::Kind::Bool) return bad(std::string("\"") + key + "\" is not true or false");
+    if (v->kind != Json::Kind::Bool)
+      return bad(std::string("\"") + key + "\" is not true or false");
     out = v->boolean;
   }
 
@@ -76,7 +79,8 @@ class ConfigReader {
   void lookahead(const Json& parent, std::uint32_t& out) {
     const Json* v = parent.find("lookahead");
     if (v && v->kind == Json::Kind::String) {
-      if (v->text != "all") return bad("\"lookahead\" is \"" + v->text + "\"; use a count or \"all\"");
+      if (v->text != "all")
+        return bad("\"lookahead\" is \"" + v->text + "\"; use a count or \"all\"");
       out = kUnlimitedLookahead;
       return;
     }

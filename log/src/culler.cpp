@@ -208,21 +208,21 @@ class SourceAccess {
 Status Culler::prepare(const Camera& camera, const CullSources& sources) {
   // The method as the application named it (auto's needs are those of what it runs).
   const MethodInfo& info = methodInfo(desc_.method);
-  for (const Status& given :
-       {require(!info.needs.queries || sources.queries, info,
-                "tests boxes with hardware occlusion queries",
-                "an OcclusionQueries (e.g. zread::BoxQuerySource)"),
-        require(!info.needs.depth || sources.depth, info, "reads the depth buffer",
-                "a DepthSource"),
-        require(!info.needs.occluders || sources.occluders, info,
-                "begins with an occluder pre-pass", "an OccluderSource (e.g. ddo::OccluderPass)")}) {
+  for (const Status& given : {require(!info.needs.queries || sources.queries, info,
+                                      "tests boxes with hardware occlusion queries",
+                                      "an OcclusionQueries (e.g. zread::BoxQuerySource)"),
+                              require(!info.needs.depth || sources.depth, info,
+                                      "reads the depth buffer", "a DepthSource"),
+                              require(!info.needs.occluders || sources.occluders, info,
+                                      "begins with an occluder pre-pass",
+                                      "an OccluderSource (e.g. ddo::OccluderPass)")}) {
     if (!given) return given;
   }
   if (info.needs.depth_values && !sources.depth->traits().reads_depth) {
-    return Status(ErrorCode::InvalidArgument, std::string("culler: method ") + info.name +
-                                                  " needs a depth source that reads depth values; '" +
-                                                  sources.depth->traits().name +
-                                                  "' only answers counts");
+    return Status(ErrorCode::InvalidArgument,
+                  std::string("culler: method ") + info.name +
+                      " needs a depth source that reads depth values; '" +
+                      sources.depth->traits().name + "' only answers counts");
   }
   Result<Projector> projector = Projector::create(camera, desc_.projection);  // the camera
   if (!projector) return projector.status();
@@ -245,7 +245,8 @@ Status Culler::prepare(const Camera& camera, const CullSources& sources) {
 }
 
 Status Culler::tryBeginFrame(const Camera& camera, const Hierarchy& hierarchy,
-                             const CullSources& sources, const std::vector<DrawnArea>& drawn_before) {
+                             const CullSources& sources,
+                             const std::vector<DrawnArea>& drawn_before) {
   if (in_frame_) {
     return Status(ErrorCode::InvalidArgument,
                   "Culler::beginFrame: the last frame was not ended; call nextBatch() until it "

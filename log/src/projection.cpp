@@ -58,7 +58,6 @@ Result<Projector> Projector::create(const Camera& camera, const ProjectionSettin
 
 Projector::Projector(Checked, const Camera& camera, const ProjectionSettings& settings)
     : camera_(camera), settings_(settings) {
-
   origin_ = camera.render_origin;
   const Mat4d render = multiply(camera.view_projection, translation(origin_));
   for (int i = 0; i < 16; ++i) {

@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "logrid/grid.hpp"
 #include "logrid/depth_pyramid.hpp"
 #include "logrid/error.hpp"
+#include "logrid/grid.hpp"
 
 namespace logrid::detail {
 
@@ -101,15 +101,17 @@ class GridTester final : public BoxTester {
 class PyramidTester final : public BoxTester {
  public:
   Status beginFrame(const Camera& camera, float clear_key, const CullSources& sources) override {
-    assert(sources.depth && "PyramidTester: the culler checks that the method's depth source is given");
+    assert(sources.depth &&
+           "PyramidTester: the culler checks that the method's depth source is given");
     source_ = dynamic_cast<KeyReader*>(sources.depth);
     if (!source_) {
-      return Status(ErrorCode::InvalidArgument,
-                  std::string("culler: method hzb builds its pyramid from the keys of whole areas; "
-                              "the depth source '") +
-                      sources.depth->traits().name +
-                      "' is not a logrid::KeyReader (depth_source.hpp); derive it from "
-                      "logrid::PixelSource, or pick a method of the lazy grid");
+      return Status(
+          ErrorCode::InvalidArgument,
+          std::string("culler: method hzb builds its pyramid from the keys of whole areas; "
+                      "the depth source '") +
+              sources.depth->traits().name +
+              "' is not a logrid::KeyReader (depth_source.hpp); derive it from "
+              "logrid::PixelSource, or pick a method of the lazy grid");
     }
     if (!pyramid_ || width_ != camera.width || height_ != camera.height) {
       pyramid_ = std::make_unique<DepthPyramid>(camera.width, camera.height);
@@ -163,9 +165,7 @@ class RectCountTester final : public BoxTester {
     answers_.assign(requests_.size(), AreaAnswer{});
     source_->submit(requests_.data(), requests_.size(), answers_.data());
   }
-  Visibility resolve(std::size_t index) override {
-    return shows(answers_[index].count);
-  }
+  Visibility resolve(std::size_t index) override { return shows(answers_[index].count); }
   void clearBatch() override {
     requests_.clear();
     answers_.clear();

@@ -18,8 +18,8 @@
 #include "cli/machine.hpp"
 #include "cli/option_checks.hpp"
 #include "cli/options.hpp"
-#include "cli/report.hpp"
 #include "cli/readers.hpp"
+#include "cli/report.hpp"
 #include "logrid/costs.hpp"
 #include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
@@ -74,12 +74,12 @@ struct SourceTimes {
   double pixel_s = 0;
 };
 
-SourceTimes measureSource(const ReaderInfo& reader, const gl::Framebuffer& fb,
-                          const Camera& camera, std::uint32_t repeats) {
+SourceTimes measureSource(const ReaderInfo& reader, const gl::Framebuffer& fb, const Camera& camera,
+                          std::uint32_t repeats) {
   static const PreparedScene kNoScene{};
-  const ReaderContext context{kNoScene,     fb.handle(), camera.width,        camera.height,
-                              camera.depth, nullptr,     nullptr,             ProjectionSettings{},
-                              Method::LogZfar};
+  const ReaderContext context{kNoScene,      fb.handle(),          camera.width,
+                              camera.height, camera.depth,         nullptr,
+                              nullptr,       ProjectionSettings{}, Method::LogZfar};
   std::unique_ptr<FrameReader> frame_reader = reader.make(context);
   DepthSource& source = frame_reader->source();
   const float clear[4] = {0, 0, 0, 1};
@@ -189,7 +189,8 @@ int runCalibrate(const CalibrateOptions& o) {
       "in flight; availability polls %s (a poll %s a query's setup).\n",
       std::min(nq, 1024.0), poll ? "used" : "not used",
       poll ? "costs no more than" : "costs more than");
-  const CullerCostsFile costs = measureCosts(p, machineLine(machineInfo(context)), o.size, o.repeats);
+  const CullerCostsFile costs =
+      measureCosts(p, machineLine(machineInfo(context)), o.size, o.repeats);
   std::printf("The auto method's cost model (logrid/costs.hpp), per depth source:\n");
   std::printf("  %-11s %12s %12s %12s %12s %12s %12s\n", "source", "flush", "pixel", "box test",
               "triangle", "draw", "query");

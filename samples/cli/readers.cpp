@@ -138,7 +138,8 @@ const std::vector<ReaderInfo>& readerTable() {
       {"readpixels-per-read",
        "readpixels with the GL state saved and restored around every read instead of once "
        "per batch (for comparison)",
-       true, true, [](const ReaderContext& c) { return std::make_unique<PerReadReader>(c.framebuffer); }},
+       true, true,
+       [](const ReaderContext& c) { return std::make_unique<PerReadReader>(c.framebuffer); }},
       {"pbo", "a ring of pixel-buffer objects with fences: one wait per batch", true, true,
        [](const ReaderContext& c) {
          return std::make_unique<GlReader<zread::PboSource>>(c.framebuffer);

@@ -35,10 +35,11 @@ class ReadbackSource final : public logrid::PixelSource {
 
   logrid::Status beginFrame(const logrid::Camera& camera) override {
     if (camera.width != width_ || camera.height != height_ ||
-        camera.depth.convention != convention_ || camera.depth.format != logrid::DepthFormat::D32F) {
+        camera.depth.convention != convention_ ||
+        camera.depth.format != logrid::DepthFormat::D32F) {
       return logrid::Status(logrid::ErrorCode::InvalidArgument,
-                            "ReadbackSource: the camera's viewport " + std::to_string(camera.width) +
-                                "x" + std::to_string(camera.height) +
+                            "ReadbackSource: the camera's viewport " +
+                                std::to_string(camera.width) + "x" + std::to_string(camera.height) +
                                 " or depth set-up differs from the read-back buffer's " +
                                 std::to_string(width_) + "x" + std::to_string(height_) +
                                 " (32-bit float); build the camera for this buffer");

@@ -16,9 +16,9 @@
 // near plane, every pixel centre inside the exact projected hull of its corners must lie
 // in the projected rectangle, the box may not be called outside, and its occlusion
 // threshold may not exceed the exact nearest key of its corners.
-#include <cstdlib>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <optional>
 #include <vector>

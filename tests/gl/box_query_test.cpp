@@ -4,9 +4,9 @@
 // do not depend on the GL state the application left, and that state is restored item by
 // item; the calibration of nohc's hardware parameters measures valid times and restores
 // the application's program unless the application deleted it.
-#include <limits>
 #include <epoxy/gl.h>
 #include <gtest/gtest.h>
+#include <limits>
 
 #include <random>
 

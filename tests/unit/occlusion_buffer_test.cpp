@@ -113,9 +113,8 @@ TEST(OcclusionBufferTest, BadUseIsAClearError) {
   OcclusionBuffer buffer(m);
   test::expectError([&] { buffer.drawObject(0); }, ErrorCode::InvalidArgument,
                     {"between beginFrame() and endFrame()"});
-  orThrow(buffer.beginFrame(test::randomCamera(1, 32, 32, DepthConvention::Standard,
-                                               ClipDepthRange::NegativeOneToOne,
-                                               DepthFormat::D32F)));
+  orThrow(buffer.beginFrame(test::randomCamera(
+      1, 32, 32, DepthConvention::Standard, ClipDepthRange::NegativeOneToOne, DepthFormat::D32F)));
   test::expectError([&] { buffer.drawObject(3); }, ErrorCode::InvalidArgument,
                     {"object 3", "1 objects"});
   Camera broken;

@@ -56,9 +56,8 @@ TEST(ReadbackSourceTest, CullsWithoutMissesAndCopiesOncePerBatch) {
 }
 
 TEST(ReadbackSourceTest, RefusesACameraForAnotherBuffer) {
-  example::ReadbackSource source(64, 64, DepthConvention::Standard, [] {
-    return static_cast<const float*>(nullptr);
-  });
+  example::ReadbackSource source(64, 64, DepthConvention::Standard,
+                                 [] { return static_cast<const float*>(nullptr); });
   Camera cam = test::boxCamera(32, 64, DepthConvention::Standard, 0.0);
   const Status refused = source.beginFrame(cam);
   EXPECT_EQ(refused.code(), ErrorCode::InvalidArgument);

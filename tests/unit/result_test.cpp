@@ -80,8 +80,8 @@ class FailingSource final : public DepthSource, public KeyReader {
   void submit(const AreaRequest* requests, std::size_t count, AreaAnswer* answers) override {
     for (std::size_t i = 0; i < count; ++i) {
       if (++requests_ == fail_at) {
-        fail(Status(ErrorCode::Runtime, "FailingSource: the renderer lost request " +
-                                            std::to_string(requests_)));
+        fail(Status(ErrorCode::Runtime,
+                    "FailingSource: the renderer lost request " + std::to_string(requests_)));
         answers[i] = conservativeAnswer(requests[i]);
       } else {
         inner_.submit(requests + i, 1, answers + i);
@@ -100,9 +100,8 @@ class FailingSource final : public DepthSource, public KeyReader {
 };
 
 // One frame through the result forms; returns the objects drawn, or the first error.
-Result<std::set<ObjectId>> pullFrame(Culler& culler, const test::BoxWorld& world,
-                                     const Camera& cam, cpu::SoftwareDepthBuffer& depth,
-                                     DepthSource& source) {
+Result<std::set<ObjectId>> pullFrame(Culler& culler, const test::BoxWorld& world, const Camera& cam,
+                                     cpu::SoftwareDepthBuffer& depth, DepthSource& source) {
   depth.clear();
   cpu::SoftwareRasterizer raster(cam, depth, nullptr);
   if (Status begun = culler.tryBeginFrame(cam, world.hierarchy, {&source}); !begun) return begun;

@@ -65,8 +65,7 @@ double roundToFloat(double x) {
 
 }  // namespace
 
-BoxQuerySource::BoxQuerySource(std::uint32_t framebuffer, QueryTarget target,
-                               GlStatePolicy state)
+BoxQuerySource::BoxQuerySource(std::uint32_t framebuffer, QueryTarget target, GlStatePolicy state)
     : framebuffer_(framebuffer),
       target_(target == QueryTarget::SamplesPassed ? GL_SAMPLES_PASSED
                                                    : GL_ANY_SAMPLES_PASSED_CONSERVATIVE),
@@ -133,8 +132,8 @@ bool BoxQuerySource::preparePass(GlStateGuard::Scope& scope, std::uint32_t progr
   // Depth test with the convention's function, no writes; the boxes' clip space is the
   // camera's (lower-left origin, its depth mode). The scissor box is the whole viewport
   // until scissor() moves it.
-  if (!scope.prepareDraw(framebuffer_, std::int32_t(camera_.width),
-                         std::int32_t(camera_.height), depth_func_, false)) {
+  if (!scope.prepareDraw(framebuffer_, std::int32_t(camera_.width), std::int32_t(camera_.height),
+                         depth_func_, false)) {
     return false;
   }
   scope.clipControl(GL_LOWER_LEFT, clip_depth_mode_);
@@ -267,8 +266,7 @@ bool BoxQuerySource::ready(QueryHandle h) {
 std::uint32_t BoxQuerySource::result(QueryHandle h) {
   constexpr std::uint32_t kVisible = std::numeric_limits<std::uint32_t>::max();
   if (h >= open_.size() || !open_[h]) {
-    fail(Status(ErrorCode::InvalidArgument, "BoxQuerySource::result: handle " +
-                                                std::to_string(h) +
+    fail(Status(ErrorCode::InvalidArgument, "BoxQuerySource::result: handle " + std::to_string(h) +
                                                 " was not issued or was read already"));
     return kVisible;
   }

@@ -87,7 +87,8 @@ class Bench {
         GL_FRAMEBUFFER_COMPLETE) {
       return Status(ErrorCode::Environment,
                     "calibration: the driver cannot render to an RGBA8 + 32F depth framebuffer "
-                    "of " + std::to_string(size) + " pixels square");
+                    "of " +
+                        std::to_string(size) + " pixels square");
     }
     return bench;
   }

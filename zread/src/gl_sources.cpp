@@ -275,7 +275,8 @@ Status QuerySource::beginFrame(const Camera& camera) {
   depth_ = camera.depth;
   width_ = std::int32_t(camera.width);
   height_ = std::int32_t(camera.height);
-  if (!pending_.empty()) return Status(ErrorCode::Runtime, "QuerySource: a batch was never collected");
+  if (!pending_.empty())
+    return Status(ErrorCode::Runtime, "QuerySource: a batch was never collected");
   return {};
 }
 

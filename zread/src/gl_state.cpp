@@ -163,7 +163,7 @@ void GlStateGuard::closeOtherWindow(GlStateGuard& guard) {
     GlStateGuard* other = t_open_window;
     const bool access = other->inAccess();
     other->access_ = false;
-    other->closeWindow(true);  // its errors wait for its own endAccess() or takeError()
+    other->closeWindow(true);          // its errors wait for its own endAccess() or takeError()
     if (access) other->beginAccess();  // its next scope opens a new window
   }
 }
@@ -181,7 +181,8 @@ GlStateGuard::Scope::Scope(GlStateGuard& guard, const char* who) : guard_(guard)
   open();
 }
 
-GlStateGuard::Scope::Scope(GlStateGuard& guard, const char* who, Window) : guard_(guard), who_(who) {
+GlStateGuard::Scope::Scope(GlStateGuard& guard, const char* who, Window)
+    : guard_(guard), who_(who) {
   open();
 }
 
@@ -221,7 +222,8 @@ Result<bool> GlStateGuard::Scope::conditionalRenderingActive(std::uint32_t probe
   if (e == GL_INVALID_OPERATION) return true;
   if (e != GL_NO_ERROR) {
     return Status(ErrorCode::Runtime, "GlStateGuard: the conditional-rendering probe failed with " +
-                                          errorName(e) + "; the driver does not follow GL 4.5 here");
+                                          errorName(e) +
+                                          "; the driver does not follow GL 4.5 here");
   }
   glEndConditionalRender();
   return false;
@@ -258,8 +260,10 @@ bool GlStateGuard::Scope::refuseUnsavable() {
   }
   GLint feedback = 0, active = 0, paused = 0;
   LOGRID_STATE_QUERY(glGetIntegerv(GL_TRANSFORM_FEEDBACK_BINDING, &feedback));
-  LOGRID_STATE_QUERY(glGetTransformFeedbackiv(GLuint(feedback), GL_TRANSFORM_FEEDBACK_ACTIVE, &active));
-  LOGRID_STATE_QUERY(glGetTransformFeedbackiv(GLuint(feedback), GL_TRANSFORM_FEEDBACK_PAUSED, &paused));
+  LOGRID_STATE_QUERY(
+      glGetTransformFeedbackiv(GLuint(feedback), GL_TRANSFORM_FEEDBACK_ACTIVE, &active));
+  LOGRID_STATE_QUERY(
+      glGetTransformFeedbackiv(GLuint(feedback), GL_TRANSFORM_FEEDBACK_PAUSED, &paused));
   if (active && !paused) {
     fail(Status(ErrorCode::InvalidArgument,
                 std::string(who_) +
@@ -274,8 +278,8 @@ bool GlStateGuard::Scope::refuseUnsavable() {
 bool GlStateGuard::Scope::prepareDraw(std::uint32_t framebuffer, std::int32_t width,
                                       std::int32_t height, std::uint32_t depth_func,
                                       bool depth_write, bool color_write) {
-  if (window_) return window_->prepareDraw(framebuffer, width, height, depth_func, depth_write,
-                                           color_write);
+  if (window_)
+    return window_->prepareDraw(framebuffer, width, height, depth_func, depth_write, color_write);
   if (failed_) return false;
   if (!draw_saved_ && saving()) {
     if (!refuseUnsavable()) return false;
@@ -436,13 +440,13 @@ bool GlStateGuard::Scope::bindTexture(std::uint32_t unit, std::uint32_t target,
     unit_taken |= t.unit == unit;
   }
   if (binding == 0 || textures_saved_ == kMaxTextures || unit_taken) {
-    fail(Status(
-        ErrorCode::InvalidArgument,
-        std::string(who_) + ": bindTexture: " +
-            (binding == 0 ? "unknown texture target " + errorName(target)
-             : unit_taken
-                 ? "texture unit " + std::to_string(unit) + " is already bound in this scope"
-                 : "more than " + std::to_string(kMaxTextures) + " textures in one scope")));
+    fail(
+        Status(ErrorCode::InvalidArgument,
+               std::string(who_) + ": bindTexture: " +
+                   (binding == 0 ? "unknown texture target " + errorName(target)
+                    : unit_taken
+                        ? "texture unit " + std::to_string(unit) + " is already bound in this scope"
+                        : "more than " + std::to_string(kMaxTextures) + " textures in one scope")));
     return false;
   }
   TextureState unsaved;  // ApplicationManaged: nothing is saved
@@ -462,7 +466,8 @@ bool GlStateGuard::Scope::bindTexture(std::uint32_t unit, std::uint32_t target,
   LOGRID_STATE_QUERY(glGetTextureLevelParameteriv(texture, 0, GL_TEXTURE_INTERNAL_FORMAT, &format));
   s.has_depth_stencil_mode = format == GL_DEPTH24_STENCIL8 || format == GL_DEPTH32F_STENCIL8;
   if (s.has_depth_stencil_mode && saving()) {
-    LOGRID_STATE_QUERY(glGetTextureParameteriv(texture, GL_DEPTH_STENCIL_TEXTURE_MODE, &s.depth_stencil_mode));
+    LOGRID_STATE_QUERY(
+        glGetTextureParameteriv(texture, GL_DEPTH_STENCIL_TEXTURE_MODE, &s.depth_stencil_mode));
   }
   s.has_levels = target != GL_TEXTURE_2D_MULTISAMPLE && target != GL_TEXTURE_2D_MULTISAMPLE_ARRAY &&
                  target != GL_TEXTURE_RECTANGLE;

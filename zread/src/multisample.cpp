@@ -56,8 +56,8 @@ Result<DepthAttachment> tryDescribeDepthAttachment(const char* who, std::uint32_
   if (type == GL_NONE) {
     return Status(ErrorCode::InvalidArgument,
                   std::string(who) + ": framebuffer " + std::to_string(framebuffer) +
-                    " has no depth attachment; logrid reads the depth buffer the application "
-                    "draws into, so attach one (depth texture or renderbuffer)");
+                      " has no depth attachment; logrid reads the depth buffer the application "
+                      "draws into, so attach one (depth texture or renderbuffer)");
   }
   if (type == GL_FRAMEBUFFER_DEFAULT) {
     GLint samples = 0;
@@ -100,20 +100,20 @@ Status tryCheckMultisample(const char* who, const DepthAttachment& a, const Came
   if (a.samples == 0) return {};
   if (a.object_type == GL_FRAMEBUFFER_DEFAULT) {
     return Status(ErrorCode::Unsupported,
-                std::string(who) + ": the default framebuffer is multisampled (" +
-                    std::to_string(a.samples) +
-                    " samples); its samples cannot be read one by one, so logrid cannot take "
-                    "the farthest of them. Render into a framebuffer object with a "
-                    "multisampled depth texture or renderbuffer, and resolve colour to the "
-                    "window afterwards");
+                  std::string(who) + ": the default framebuffer is multisampled (" +
+                      std::to_string(a.samples) +
+                      " samples); its samples cannot be read one by one, so logrid cannot take "
+                      "the farthest of them. Render into a framebuffer object with a "
+                      "multisampled depth texture or renderbuffer, and resolve colour to the "
+                      "window afterwards");
   }
   if (!camera.multisample) {
     return Status(ErrorCode::InvalidArgument,
-                std::string(who) + ": framebuffer " + std::to_string(a.framebuffer) + " has " +
-                    std::to_string(a.samples) +
-                    " depth samples per pixel but Camera::multisample is false; set it, so "
-                    "that a box counts every pixel it touches (samples lie away from pixel "
-                    "centres)");
+                  std::string(who) + ": framebuffer " + std::to_string(a.framebuffer) + " has " +
+                      std::to_string(a.samples) +
+                      " depth samples per pixel but Camera::multisample is false; set it, so "
+                      "that a box counts every pixel it touches (samples lie away from pixel "
+                      "centres)");
   }
   return {};
 }

@@ -37,8 +37,7 @@ Result<GLuint> compileStage(const std::string& name, GLenum stage, const char* s
 
 }  // namespace
 
-Result<std::unique_ptr<Program>> Program::create(const std::string& name,
-                                                 const char* vertex_source,
+Result<std::unique_ptr<Program>> Program::create(const std::string& name, const char* vertex_source,
                                                  const char* fragment_source) {
   std::unique_ptr<Program> program(new Program(name));
   if (Status built = program->build(vertex_source, fragment_source); !built) return built;

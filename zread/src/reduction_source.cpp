@@ -109,7 +109,6 @@ std::string perWorkgroupKernel(int rb, int ab) {
 float down(float v) { return std::nextafter(v, -std::numeric_limits<float>::infinity()); }
 float up(float v) { return std::nextafter(v, std::numeric_limits<float>::infinity()); }
 
-
 // Binding points and the texture unit used, from the top of their ranges so that an
 // application's usual low bindings are not touched (they are restored anyway).
 struct Bindings {
@@ -309,8 +308,8 @@ bool ReductionSource::dispatch(Slot& slot, const AreaRequest* requests, std::siz
         if (!made) scope.fail(made.status());
         if (made) resolver_ = std::move(made).value();
       }
-      if (resolver_ &&
-          !resolver_->resolve(scope, attachment_, depth_.convention, rects_.data(), rects_.size())) {
+      if (resolver_ && !resolver_->resolve(scope, attachment_, depth_.convention, rects_.data(),
+                                           rects_.size())) {
         return false;
       }
       texture = resolver_ ? resolver_->depthTexture() : 0;

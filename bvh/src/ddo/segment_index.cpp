@@ -11,7 +11,8 @@ Result<SegmentIndex> SegmentIndex::create(const SceneMesh& mesh, unsigned thread
   args.max_leaf_size = 8;
   args.max_children = 2;
   args.threads = threads;
-  Result<bvh::TriangleHierarchy> tree = bvh::tryBuildOverTriangles(*mesh.positions, *mesh.indices, args);
+  Result<bvh::TriangleHierarchy> tree =
+      bvh::tryBuildOverTriangles(*mesh.positions, *mesh.indices, args);
   if (!tree) return tree.status();
   return SegmentIndex(mesh, std::move(tree).value());
 }

@@ -17,8 +17,8 @@
 
 #include <string>
 
-#include "logrid/error.hpp"
 #include "logrid/culler.hpp"
+#include "logrid/error.hpp"
 
 namespace logrid {
 

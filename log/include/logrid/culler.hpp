@@ -251,8 +251,8 @@ class Culler {
   // depth clear (noteDepthCleared()). `hierarchy` and the sources must live until
   // endFrame(). They fail as cullFrame() does; an error ends the frame (nothing of it is
   // left to draw, and the next beginFrame() starts afresh).
-  Status tryBeginFrame(const Camera& camera, const Hierarchy& hierarchy,
-                       const CullSources& sources, const std::vector<DrawnArea>& drawn_before = {});
+  Status tryBeginFrame(const Camera& camera, const Hierarchy& hierarchy, const CullSources& sources,
+                       const std::vector<DrawnArea>& drawn_before = {});
   Result<DrawBatch> tryNextBatch();
   // Ends the frame once nextBatch() returned an empty batch, and returns what it did
   // (FrameStats::seconds: from beginFrame() to here, the application's drawing included).
@@ -493,12 +493,8 @@ inline void Culler::noteDepthCleared() { orThrow(tryNoteDepthCleared()); }
 inline void Culler::noteDepthCleared(float window_depth) {
   orThrow(tryNoteDepthCleared(window_depth));
 }
-inline void Culler::reportFrameTime(double seconds) {
-  orThrow(tryReportFrameTime(seconds));
-}
-inline BoxProjection Culler::project(const Aabb& box) const {
-  return orThrow(tryProject(box));
-}
+inline void Culler::reportFrameTime(double seconds) { orThrow(tryReportFrameTime(seconds)); }
+inline BoxProjection Culler::project(const Aabb& box) const { return orThrow(tryProject(box)); }
 #endif
 
 }  // namespace logrid

@@ -62,7 +62,7 @@ class [[nodiscard]] Status {
 template <typename T>
 class [[nodiscard]] Result {
  public:
-  Result(T value) : value_(std::move(value)) {}  // NOLINT: a value converts
+  Result(T value) : value_(std::move(value)) {}       // NOLINT: a value converts
   Result(Status error) : status_(std::move(error)) {  // NOLINT: so does an error
     assert(!status_.ok() && "Result: an ok Status carries no value");
   }

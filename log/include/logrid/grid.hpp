@@ -43,8 +43,8 @@
 
 #include "logrid/coverage.hpp"
 #include "logrid/depth_source.hpp"
-#include "logrid/grid_settings.hpp"
 #include "logrid/error.hpp"
+#include "logrid/grid_settings.hpp"
 #include "logrid/stats.hpp"
 #include "logrid/types.hpp"
 

@@ -29,8 +29,7 @@ void expect(bool ok, const char* what, const logrid::Status& status = {}) {
 // An error with `code` whose message names `part`.
 void expectError(const logrid::Status& status, logrid::ErrorCode code, const char* part,
                  const char* what) {
-  expect(!status.ok() && status.code() == code &&
-             status.message().find(part) != std::string::npos,
+  expect(!status.ok() && status.code() == code && status.message().find(part) != std::string::npos,
          what, status);
   if (!status.ok()) std::printf("consumer_nothrow: %s: %s\n", what, status.message().c_str());
 }
@@ -81,8 +80,8 @@ int main() {
   std::printf("consumer_nothrow: drew %zu of %zu objects\n", drawn.size(), boxes.size());
 
   // The callback form.
-  const logrid::Result<logrid::FrameStats> callback = culler->tryCullFrame(
-      camera, *hierarchy, {depth->get()}, [&](logrid::ObjectId) {});
+  const logrid::Result<logrid::FrameStats> callback =
+      culler->tryCullFrame(camera, *hierarchy, {depth->get()}, [&](logrid::ObjectId) {});
   expect(callback.ok() && callback->objects_drawn == 1, "tryCullFrame", callback.status());
 
   // What a user can get wrong.
@@ -94,8 +93,8 @@ int main() {
   broken.width = 0;
   expectError(culler->tryBeginFrame(broken, *hierarchy, {depth->get()}),
               logrid::ErrorCode::InvalidArgument, "viewport", "an invalid camera");
-  expectError(culler->tryNextBatch().status(), logrid::ErrorCode::InvalidArgument,
-              "inside a frame", "a batch outside a frame");
+  expectError(culler->tryNextBatch().status(), logrid::ErrorCode::InvalidArgument, "inside a frame",
+              "a batch outside a frame");
   logrid::Camera wider = camera;
   wider.width = 128;
   wider.view_projection = logrid::multiply(

@@ -227,7 +227,7 @@ class OcclusionBuffer final : public DepthSource, public KeyReader {
   const OcclusionBufferStats& stats() const;
 
  private:
-  struct Checked {};  // the descriptor was validated
+  struct Checked {};                                               // the descriptor was validated
   static Checked checkedOrThrow(const OcclusionBufferDesc& desc);  // the throwing form's check
   OcclusionBuffer(Checked, const OccluderMeshes& meshes, const OcclusionBufferDesc& desc);
 

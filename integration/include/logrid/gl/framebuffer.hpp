@@ -113,9 +113,7 @@ inline Framebuffer::Framebuffer(const FramebufferDesc& desc) : Framebuffer(Unmad
 inline std::vector<std::uint8_t> Framebuffer::readColor() const {
   return logrid::orThrow(tryReadColor());
 }
-inline std::vector<float> Framebuffer::readDepth() const {
-  return logrid::orThrow(tryReadDepth());
-}
+inline std::vector<float> Framebuffer::readDepth() const { return logrid::orThrow(tryReadDepth()); }
 inline std::vector<std::uint32_t> Framebuffer::readObjectIds() const {
   return logrid::orThrow(tryReadObjectIds());
 }

@@ -65,9 +65,7 @@ class OccluderRenderer {
 };
 
 #if LOGRID_HAS_EXCEPTIONS
-inline OccluderRenderer::OccluderRenderer() : OccluderRenderer(Empty{}) {
-  logrid::orThrow(make());
-}
+inline OccluderRenderer::OccluderRenderer() : OccluderRenderer(Empty{}) { logrid::orThrow(make()); }
 inline void OccluderRenderer::draw(const std::vector<ddo::Occluder>& occluders,
                                    const Camera& camera, std::uint32_t framebuffer) {
   logrid::orThrow(tryDraw(occluders, camera, framebuffer));

@@ -47,9 +47,7 @@ std::string rendererName();
 inline HardwareParameters measureHardwareParameters(const CalibrationDesc& desc) {
   return logrid::orThrow(tryMeasureHardwareParameters(desc));
 }
-inline HardwareParameters hardwareParameters() {
-  return logrid::orThrow(tryHardwareParameters());
-}
+inline HardwareParameters hardwareParameters() { return logrid::orThrow(tryHardwareParameters()); }
 #endif
 
 }  // namespace logrid::zread

@@ -23,9 +23,9 @@
 //
 // beginFrame() checks the framebuffer's depth attachment against Camera::depth.format
 // and returns an error if they differ, or if it is multisampled and Camera::multisample
-// is false (or if the source could not be made: a shader the driver does not compile). The pixel readers read multisampled depth through
-// MultisampleResolver (multisample.hpp): the farthest sample of each pixel, as 32-bit
-// float; the query source counts samples.
+// is false (or if the source could not be made: a shader the driver does not compile). The pixel
+// readers read multisampled depth through MultisampleResolver (multisample.hpp): the farthest
+// sample of each pixel, as 32-bit float; the query source counts samples.
 //
 // Every source sets the GL state its draws and reads depend on and restores the
 // application's exactly (GlStateGuard, gl_state.hpp); it refuses conditional rendering,
@@ -52,8 +52,8 @@
 #include <memory>
 #include <vector>
 
-#include "logrid/pixel_source.hpp"
 #include "logrid/depth_source.hpp"
+#include "logrid/pixel_source.hpp"
 #include "logrid/zread/gl_state.hpp"
 #include "logrid/zread/multisample.hpp"
 #include "logrid/zread/program.hpp"

@@ -186,7 +186,8 @@ class GlStateGuard::Scope {
   // afterwards: they are saved here). Fails, before setting anything, if conditional
   // rendering or unpaused transform feedback is active.
   [[nodiscard]] bool prepareDraw(std::uint32_t framebuffer, std::int32_t width, std::int32_t height,
-                   std::uint32_t depth_func, bool depth_write, bool color_write = false);
+                                 std::uint32_t depth_func, bool depth_write,
+                                 bool color_write = false);
   // Moves the scissor box (index 0) after prepareDraw().
   void scissor(const PixelRect& rect);
   // Sets glClipControl(origin, depth_mode) (e.g. GL_LOWER_LEFT, GL_ZERO_TO_ONE), saving

@@ -15,8 +15,7 @@ namespace logrid::zread {
 
 class Program {
  public:
-  static Result<std::unique_ptr<Program>> create(const std::string& name,
-                                                 const char* vertex_source,
+  static Result<std::unique_ptr<Program>> create(const std::string& name, const char* vertex_source,
                                                  const char* fragment_source);
   // A compute program.
   static Result<std::unique_ptr<Program>> create(const std::string& name,

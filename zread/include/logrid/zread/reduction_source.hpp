@@ -14,12 +14,12 @@
 //
 // Needs the framebuffer's depth attachment to be a 2D depth texture (a renderbuffer
 // cannot be read by a shader) or multisampled: beginFrame() returns an error (Unsupported)
-// otherwise, as it does where the context has no compute shaders (below OpenGL 4.3). A multisampled buffer (Camera::multisample set) is reduced from its resolve,
-// the farthest sample of each pixel (multisample.hpp). The application's texture and
-// sampler state do not matter: the dispatch binds its own sampler and sets the texture's
-// swizzle, depth-stencil mode and base level for its duration (GlStateGuard).
-// D16 and D24 values reach the shader as normalised floats; their answers are widened
-// by one float step (nearest key down, farthest up, counts at a threshold one step
+// otherwise, as it does where the context has no compute shaders (below OpenGL 4.3). A multisampled
+// buffer (Camera::multisample set) is reduced from its resolve, the farthest sample of each pixel
+// (multisample.hpp). The application's texture and sampler state do not matter: the dispatch binds
+// its own sampler and sets the texture's swizzle, depth-stencil mode and base level for its
+// duration (GlStateGuard). D16 and D24 values reach the shader as normalised floats; their answers
+// are widened by one float step (nearest key down, farthest up, counts at a threshold one step
 // nearer) so that the conversion's rounding never makes them less conservative than
 // the CPU kernels' exact ones. D32F answers are exact.
 #pragma once
