@@ -18,8 +18,11 @@
 //   begins; everything drawn during it is what the culler hands out (or is announced
 //   with Culler::noteDrawn), drawn with a depth test that keeps the nearer fragment and
 //   depth writes on.
-// * Errors: invalid input and an environment logrid cannot work in throw logrid::Error
-//   (error.hpp) with a message that names the value and what to do.
+// * Errors: invalid input and an environment logrid cannot work in are an ErrorCode and
+//   a message that names the value and what to do (error.hpp), in two forms: the result
+//   forms (Culler::create(), tryBeginFrame(), ...: a Status or a Result, never an
+//   exception; for builds with -fno-exceptions) and the throwing forms used below
+//   (logrid::Error; inline, where exceptions are enabled).
 //
 // ---- The smallest integration (README.md, "Integrating logrid") ----------------------
 //
@@ -39,7 +42,7 @@
 
 // Conventions: ids, boxes, matrices, depth conventions and formats, pixel rectangles.
 #include "logrid/types.hpp"
-// Errors: logrid::Error and its codes.
+// Errors: Status, Result, ErrorCode; logrid::Error where exceptions are enabled.
 #include "logrid/error.hpp"
 // The camera: matrix, viewport, depth set-up; matrix helpers; validateCamera().
 #include "logrid/camera.hpp"
