@@ -9,11 +9,8 @@
 # Each step's command and output are printed when it fails.
 cmake_minimum_required(VERSION 3.20)
 
-foreach(var BINARY_DIR CONSUMER_DIR WORK_DIR)
-  if(NOT DEFINED ${var})
-    message(FATAL_ERROR "run_consumer.cmake: -D${var}=... is required")
-  endif()
-endforeach()
+include("${CMAKE_CURRENT_LIST_DIR}/../cmake/script_steps.cmake")
+logrid_require(run_consumer.cmake BINARY_DIR CONSUMER_DIR WORK_DIR)
 if(NOT CONFIG)
   set(CONFIG Release)
 endif()
@@ -23,38 +20,16 @@ set(build "${WORK_DIR}/build")
 file(REMOVE_RECURSE "${WORK_DIR}")
 file(MAKE_DIRECTORY "${WORK_DIR}")
 
-# run_step(<name> <command>...): runs the command; on failure stops with its output.
-function(run_step name)
-  message(STATUS "install_consumer: ${name}")
-  execute_process(COMMAND ${ARGN}
-    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
-  if(NOT rc EQUAL 0)
-    string(REPLACE ";" " " cmd "${ARGN}")
-    # NOTICE prints the output as it is; FATAL_ERROR would re-wrap compiler messages.
-    message(NOTICE "command: ${cmd}\n--- output of step '${name}' ---\n${out}--- end of output ---")
-    message(FATAL_ERROR "install_consumer: step '${name}' failed (exit status ${rc})")
-  endif()
-  set(step_output "${out}" PARENT_SCOPE)
-endfunction()
-
-run_step("install" "${CMAKE_COMMAND}" --install "${BINARY_DIR}" --prefix "${prefix}"
-         --config "${CONFIG}")
+logrid_run_step(install_consumer "install"
+                "${CMAKE_COMMAND}" --install "${BINARY_DIR}" --prefix "${prefix}"
+                --config "${CONFIG}")
 
 set(configure_args -S "${CONSUMER_DIR}" -B "${build}" "-DCMAKE_PREFIX_PATH=${prefix}"
                    "-DCMAKE_BUILD_TYPE=${CONFIG}"
                    # Only the scratch prefix may satisfy find_package(logrid).
                    -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
-if(GENERATOR)
-  list(APPEND configure_args -G "${GENERATOR}")
-endif()
-if(MAKE_PROGRAM)
-  list(APPEND configure_args "-DCMAKE_MAKE_PROGRAM=${MAKE_PROGRAM}")
-endif()
-if(CXX_COMPILER)
-  # The same compiler as logrid's build: its static libraries carry that ABI.
-  list(APPEND configure_args "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}")
-endif()
-run_step("configure" "${CMAKE_COMMAND}" ${configure_args})
+logrid_tool_args(configure_args)
+logrid_run_step(install_consumer "configure" "${CMAKE_COMMAND}" ${configure_args})
 
 # The package must come from the scratch prefix, not from some other installed logrid.
 file(STRINGS "${build}/CMakeCache.txt" found_dir REGEX "^logrid_DIR:")
@@ -67,15 +42,15 @@ if(NOT at EQUAL 0)
                       "not the scratch prefix '${real_prefix}'\n${step_output}")
 endif()
 
-run_step("build" "${CMAKE_COMMAND}" --build "${build}" --config "${CONFIG}")
+logrid_run_step(install_consumer "build" "${CMAKE_COMMAND}" --build "${build}" --config "${CONFIG}")
 
 set(exe_dir "${build}")
 if(NOT EXISTS "${exe_dir}/consumer_core")
   set(exe_dir "${build}/${CONFIG}")  # multi-configuration generators
 endif()
-run_step("run consumer_core" "${exe_dir}/consumer_core")
+logrid_run_step(install_consumer "run consumer_core" "${exe_dir}/consumer_core")
 message(NOTICE "${step_output}")
-run_step("run consumer_glm" "${exe_dir}/consumer_glm")
+logrid_run_step(install_consumer "run consumer_glm" "${exe_dir}/consumer_glm")
 message(NOTICE "${step_output}")
-run_step("run consumer_nothrow" "${exe_dir}/consumer_nothrow")
+logrid_run_step(install_consumer "run consumer_nothrow" "${exe_dir}/consumer_nothrow")
 message(NOTICE "${step_output}")

@@ -16,11 +16,8 @@
 # Each step's command and output are printed when it fails.
 cmake_minimum_required(VERSION 3.20)
 
-foreach(var BINARY_DIR CONSUMER_DIR WORK_DIR VERSION PKG_CONFIG CXX_COMPILER)
-  if(NOT DEFINED ${var})
-    message(FATAL_ERROR "run_pkgconfig.cmake: -D${var}=... is required")
-  endif()
-endforeach()
+include("${CMAKE_CURRENT_LIST_DIR}/../cmake/script_steps.cmake")
+logrid_require(run_pkgconfig.cmake BINARY_DIR CONSUMER_DIR WORK_DIR VERSION PKG_CONFIG CXX_COMPILER)
 if(NOT CONFIG)
   set(CONFIG Release)
 endif()

@@ -11,11 +11,8 @@
 # Each step's command and output are printed when it fails.
 cmake_minimum_required(VERSION 3.20)
 
-foreach(var SOURCE_DIR WORK_DIR)
-  if(NOT DEFINED ${var})
-    message(FATAL_ERROR "run_nothrow.cmake: -D${var}=... is required")
-  endif()
-endforeach()
+include("${CMAKE_CURRENT_LIST_DIR}/../cmake/script_steps.cmake")
+logrid_require(run_nothrow.cmake SOURCE_DIR WORK_DIR)
 if(NOT CONFIG)
   set(CONFIG Release)
 endif()
@@ -23,47 +20,18 @@ if(NOT JOBS)
   set(JOBS 2)
 endif()
 
-# The scratch build is kept between runs (only reconfigured); it starts afresh when the
-# source tree moved.
 set(build "${WORK_DIR}/build")
-if(EXISTS "${build}/CMakeCache.txt")
-  file(STRINGS "${build}/CMakeCache.txt" home REGEX "^CMAKE_HOME_DIRECTORY:")
-  if(NOT home STREQUAL "CMAKE_HOME_DIRECTORY:INTERNAL=${SOURCE_DIR}")
-    file(REMOVE_RECURSE "${build}")
-  endif()
-endif()
+logrid_scratch_build("${build}" "${SOURCE_DIR}")
 file(MAKE_DIRECTORY "${WORK_DIR}")
-
-# run_step(<name> <command>...): runs the command; on failure stops with its output.
-function(run_step name)
-  message(STATUS "nothrow_build: ${name}")
-  execute_process(COMMAND ${ARGN}
-    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
-  if(NOT rc EQUAL 0)
-    string(REPLACE ";" " " cmd "${ARGN}")
-    message(NOTICE "command: ${cmd}\n--- output of step '${name}' ---\n${out}--- end of output ---")
-    message(FATAL_ERROR "nothrow_build: step '${name}' failed (exit status ${rc})")
-  endif()
-  set(step_output "${out}" PARENT_SCOPE)
-endfunction()
 
 set(configure_args -S "${SOURCE_DIR}" -B "${build}" "-DCMAKE_BUILD_TYPE=${CONFIG}"
     -DLOGRID_EXCEPTIONS=OFF -DLOGRID_WERROR=ON -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
-if(GENERATOR)
-  list(APPEND configure_args -G "${GENERATOR}")
-endif()
-if(MAKE_PROGRAM)
-  list(APPEND configure_args "-DCMAKE_MAKE_PROGRAM=${MAKE_PROGRAM}")
-endif()
-if(CXX_COMPILER)
-  list(APPEND configure_args "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}")
-endif()
-if(COMPILER_LAUNCHER)
-  list(APPEND configure_args "-DCMAKE_CXX_COMPILER_LAUNCHER=${COMPILER_LAUNCHER}")
-endif()
-run_step("configure with LOGRID_EXCEPTIONS=OFF" "${CMAKE_COMMAND}" ${configure_args})
-run_step("build the libraries" "${CMAKE_COMMAND}" --build "${build}" --config "${CONFIG}"
-         --parallel ${JOBS})
+logrid_tool_args(configure_args)
+logrid_run_step(nothrow_build "configure with LOGRID_EXCEPTIONS=OFF"
+                "${CMAKE_COMMAND}" ${configure_args})
+logrid_run_step(nothrow_build "build the libraries"
+                "${CMAKE_COMMAND}" --build "${build}" --config "${CONFIG}"
+                --parallel ${JOBS})
 
 # Every library source was compiled with -fno-exceptions.
 file(READ "${build}/compile_commands.json" commands)
@@ -88,10 +56,12 @@ file(GLOB_RECURSE archives "${build}/*.a")
 set(used "")
 set(defined "")
 foreach(archive IN LISTS archives)
-  run_step("list the symbols of ${archive}" "${NM}" -C --undefined-only "${archive}")
+  logrid_run_step(nothrow_build "symbols used by ${archive}"
+                  "${NM}" -C --undefined-only "${archive}")
   string(REGEX MATCHALL "U logrid::[^\n]*" found "${step_output}")
   list(APPEND used ${found})
-  run_step("list the symbols of ${archive}" "${NM}" -C --defined-only "${archive}")
+  logrid_run_step(nothrow_build "symbols defined in ${archive}"
+                  "${NM}" -C --defined-only "${archive}")
   string(REGEX MATCHALL "[TWVu] logrid::[^\n]*" found "${step_output}")
   list(APPEND defined ${found})
 endforeach()
@@ -105,9 +75,10 @@ if(used)
                       "defines (a throwing form?):\n  ${missing}")
 endif()
 
-run_step("install and build the consumer against it" "${CMAKE_COMMAND}"
-         "-DBINARY_DIR=${build}" "-DCONSUMER_DIR=${SOURCE_DIR}/tests/install/consumer"
-         "-DWORK_DIR=${WORK_DIR}/consumer" "-DCONFIG=${CONFIG}" "-DGENERATOR=${GENERATOR}"
-         "-DMAKE_PROGRAM=${MAKE_PROGRAM}" "-DCXX_COMPILER=${CXX_COMPILER}"
-         -P "${SOURCE_DIR}/tests/install/run_consumer.cmake")
+logrid_run_step(nothrow_build "install and build the consumer against it"
+                "${CMAKE_COMMAND}"
+                "-DBINARY_DIR=${build}" "-DCONSUMER_DIR=${SOURCE_DIR}/tests/install/consumer"
+                "-DWORK_DIR=${WORK_DIR}/consumer" "-DCONFIG=${CONFIG}" "-DGENERATOR=${GENERATOR}"
+                "-DMAKE_PROGRAM=${MAKE_PROGRAM}" "-DCXX_COMPILER=${CXX_COMPILER}"
+                -P "${SOURCE_DIR}/tests/install/run_consumer.cmake")
 message(NOTICE "${step_output}")
