@@ -379,7 +379,7 @@ class Culler {
   // `ordered`: drawn in two-list order (in front of every box still to be tested, up to
   // rounding); else remembered in unordered_.
   void noteDrawnWith(const DrawnArea& area, bool ordered);
-  // Throws unless called during a frame.
+  // An error (InvalidArgument, naming `who`) unless called during a frame.
   Status requireFrame(const char* who) const;
 
   // For `auto`: this frame's setting chosen, with the method (log-state or log-zfar)
