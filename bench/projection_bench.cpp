@@ -1,12 +1,15 @@
 // The conservative box projection (Projector::project): boxes per second for a
 // 1280 x 960 camera, per depth convention, over 4096 random boxes in front of the eye
 // (each projected to a pixel rectangle, a depth-key range and its margin): one box a
-// call, batches of a node's children, and the frustum-only test.
+// call, batches of a node's children, and the frustum-only test; and the same two
+// batch calls over the nodes a traversal opens on the city's hierarchy.
 #include <benchmark/benchmark.h>
 
 #include <random>
 #include <vector>
 
+#include "city_hierarchy.hpp"
+#include "logrid/hierarchy.hpp"
 #include "logrid/projection.hpp"
 
 namespace logrid {
@@ -97,6 +100,96 @@ void BM_Frustum(benchmark::State& state) {
   state.SetLabel(setup.label(reversed));
 }
 BENCHMARK(BM_Frustum)->ArgName("reversed")->Arg(0)->Arg(1);
+
+// The city's hierarchy seen from its street camera (city_hierarchy.hpp): the nodes whose
+// children a view-frustum-culling traversal projects (every node it opens: those whose
+// box is not outside the view), found once. An iteration asks the hierarchy for one such
+// node's children in one call (Hierarchy::children, through the interface as the
+// traversal asks) and tests them in one call; items are boxes.
+struct CitySetup {
+  Projector projector;
+  std::vector<NodeId> opened;
+  std::size_t boxes = 0, outside = 0;  // over all opened nodes' children
+
+  explicit CitySetup(bool reversed)
+      : projector(cityCamera(reversed ? DepthSetup{DepthConvention::Reversed,
+                                                   ClipDepthRange::ZeroToOne, DepthFormat::D32F}
+                                      : DepthSetup{})) {
+    const Hierarchy& h = cityHierarchy();
+    std::vector<NodeId> stack{h.root()}, ids;
+    std::vector<Aabb> child_boxes;
+    std::vector<BoxProjection> out;
+    while (!stack.empty()) {
+      const NodeId node = stack.back();
+      stack.pop_back();
+      const std::uint32_t count = h.childCount(node);
+      if (count == 0) continue;
+      ids.resize(count), child_boxes.resize(count), out.resize(count);
+      h.children(node, ids.data(), child_boxes.data());
+      projector.project(child_boxes.data(), count, out.data());
+      opened.push_back(node);
+      for (std::uint32_t c = 0; c < count; ++c) {
+        ++boxes;
+        if (out[c].cls == ProjectionClass::Outside) {
+          ++outside;
+        } else {
+          stack.push_back(ids[c]);
+        }
+      }
+    }
+  }
+  const char* label(bool reversed) const { return reversed ? "city, reversed" : "city, standard"; }
+};
+
+// Projector::project over the children of the opened nodes of the city.
+void BM_ProjectCity(benchmark::State& state) {
+  const bool reversed = state.range(0) != 0;
+  const CitySetup setup(reversed);
+  const Hierarchy& hierarchy = cityHierarchy();
+  constexpr std::uint32_t kMaxChildren = 8;  // bvh/'s largest node
+  NodeId ids[kMaxChildren];
+  Aabb boxes[kMaxChildren];
+  BoxProjection out[kMaxChildren];
+  std::size_t i = 0;
+  std::int64_t tested = 0;
+  for (auto _ : state) {
+    const std::uint32_t count = hierarchy.children(setup.opened[i], ids, boxes);
+    setup.projector.project(boxes, count, out);
+    benchmark::DoNotOptimize(out);
+    tested += count;
+    i = i + 1 == setup.opened.size() ? 0 : i + 1;
+  }
+  state.SetItemsProcessed(tested);
+  state.counters["nodes"] = double(setup.opened.size());
+  state.counters["outside"] = double(setup.outside) / double(setup.boxes);
+  state.SetLabel(setup.label(reversed));
+}
+BENCHMARK(BM_ProjectCity)->ArgName("reversed")->Arg(0)->Arg(1);
+
+// Projector::outsideFrustum (frustum only) over the same children.
+void BM_FrustumCity(benchmark::State& state) {
+  const bool reversed = state.range(0) != 0;
+  const CitySetup setup(reversed);
+  const Hierarchy& hierarchy = cityHierarchy();
+  constexpr std::uint32_t kMaxChildren = 8;
+  NodeId ids[kMaxChildren];
+  Aabb boxes[kMaxChildren];
+  std::uint8_t outside[kMaxChildren];
+  std::size_t i = 0;
+  std::int64_t tested = 0;
+  for (auto _ : state) {
+    const std::uint32_t count = hierarchy.children(setup.opened[i], ids, boxes);
+    setup.projector.outsideFrustum(boxes, count, outside);
+    benchmark::DoNotOptimize(outside);
+    tested += count;
+    i = i + 1 == setup.opened.size() ? 0 : i + 1;
+  }
+  state.SetItemsProcessed(tested);
+  state.counters["nodes"] = double(setup.opened.size());
+  state.counters["outside"] = double(setup.outside) / double(setup.boxes);
+  state.SetLabel(setup.label(reversed));
+}
+BENCHMARK(BM_FrustumCity)->ArgName("reversed")->Arg(0)->Arg(1);
 
 }  // namespace
 }  // namespace logrid

@@ -1,8 +1,8 @@
 // The traversal's overhead per hierarchy node (Culler::cullFrame without rendering):
 // frustum test, projection, grid test and the two lists, over a synthetic hierarchy (20,000
-// random boxes, or the 19,040 walls of a city-like street grid) and a 640 x 480 software
-// depth buffer. The draw callback draws nothing,
-// so what is measured is logrid's own cost; the depth buffer is the same every frame:
+// random boxes, or the 19,040 walls of a city-like street grid, city_hierarchy.hpp) and a 640 x 480
+// software depth buffer. The draw callback draws nothing, so what is measured is logrid's own cost;
+// the depth buffer is the same every frame:
 //   empty     nothing drawn: every box in view is visible (tests decided by free tiles,
 //             and by reads of the tiles under boxes drawn earlier in the frame);
 //   occluder  a wall, drawn before the frame (announced as drawn_before), covers the
@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "city_hierarchy.hpp"
 #include "logrid/bvh/bvh.hpp"
 #include "logrid/cpu/software_depth.hpp"
 #include "logrid/culler.hpp"
@@ -41,56 +42,24 @@ const bvh::FlatHierarchy& hierarchy() {
   return h;
 }
 
-// A city-like hierarchy: the street grid of the city scene (samples/scene/city.cpp: 76 m
-// blocks, 24 m streets, 1190 blocks) with four buildings a block, 4 to 20 storeys of
-// 3.5 m, each wall one object (the city's hierarchy is built over chunks of its facade
-// triangles: thin boxes along the walls, about 23,000 of them at scale 1): 19,040 walls.
-const bvh::FlatHierarchy& cityHierarchy() {
-  static const bvh::FlatHierarchy h = [] {
-    constexpr int kBlocks = 34, kBlocksZ = 35;
-    constexpr float kPitch = 100, kLot = 38, kGap = 2;  // a 76 m block and its street
-    std::mt19937 rng(7);
-    std::uniform_int_distribution<int> storeys(4, 20);
-    std::vector<Aabb> boxes;
-    for (int bx = 0; bx < kBlocks; ++bx) {
-      for (int bz = 0; bz < kBlocksZ; ++bz) {
-        const float x0 = float(bx - kBlocks / 2) * kPitch;
-        const float z0 = float(bz - kBlocksZ / 2) * kPitch;
-        for (int lot = 0; lot < 4; ++lot) {
-          const float lx = x0 + float(lot & 1) * kLot + kGap;
-          const float lz = z0 + float(lot >> 1) * kLot + kGap;
-          const float side = kLot - 2 * kGap, top = 3.5f * float(storeys(rng));
-          const float t = 0.35f;  // walls' depth: the window boxes stand out
-          boxes.push_back({{lx, 0, lz}, {lx + side, top, lz + t}});
-          boxes.push_back({{lx, 0, lz + side - t}, {lx + side, top, lz + side}});
-          boxes.push_back({{lx, 0, lz}, {lx + t, top, lz + side}});
-          boxes.push_back({{lx + side - t, 0, lz}, {lx + side, top, lz + side}});
-        }
-      }
-    }
-    bvh::BuildArgs args;
-    args.threads = 1;
-    return bvh::buildOverBoxes(boxes, args);
-  }();
-  return h;
-}
-
 void BM_Traversal(benchmark::State& state) {
   const auto method = static_cast<Method>(state.range(0));
   const bool occluder = state.range(1) != 0;
   const bool city = state.range(2) != 0;
 
-  Camera camera;
-  camera.width = kWidth;
-  camera.height = kHeight;
   // Random boxes: from outside the field, looking across it. City: at eye height in a
-  // street, looking along it.
-  const DVec3 eye = city ? DVec3{-12, 1.7, -1650} : DVec3{0, 2, 190};
-  const DVec3 target = city ? DVec3{-12, 1.7, 0} : DVec3{0, 2, 0};
-  camera.view_projection =
-      multiply(perspective(1.0, double(kWidth) / kHeight, 0.3, city ? 4000 : 600, {}),
-               lookAt(eye, target, {0, 1, 0}));
-  camera.render_origin = eye;
+  // street, looking along it (cityCamera()).
+  Camera camera;
+  if (city) {
+    camera = cityCamera({});
+  } else {
+    camera.width = kWidth;
+    camera.height = kHeight;
+    const DVec3 eye{0, 2, 190};
+    camera.view_projection = multiply(perspective(1.0, double(kWidth) / kHeight, 0.3, 600, {}),
+                                      lookAt(eye, {0, 2, 0}, {0, 1, 0}));
+    camera.render_origin = eye;
+  }
   const bvh::FlatHierarchy& boxes = city ? cityHierarchy() : hierarchy();
 
   cpu::SoftwareDepthBuffer depth(kWidth, kHeight, DepthConvention::Standard);

@@ -79,25 +79,296 @@ Projector::Projector(Checked, const Camera& camera, const ProjectionSettings& se
   key_sign_ = reversed ? -1.0 : 1.0;
   quantisation_ = quantisationStep(camera.depth.format) * settings.quantisation_scale;
   snap_px_ = settings.subpixel_bits >= 16 ? 0.0 : std::ldexp(0.5, -settings.subpixel_bits);
+  half_width_ = 0.5 * camera.width;
+  half_height_ = 0.5 * camera.height;
+  error_scale_ = settings.render_error_ulps * kUnitRoundoff;
   clear_key_ = logrid::clearKey(camera.depth);
   near_key_ = logrid::nearPlaneKey(camera.depth);
 }
 
+// The batch kernels
+// -----------------
+// project(boxes, count, out) and outsideFrustum(boxes, count, outside) compute what
+// projectWith() computes, laid out as structure of arrays over a box's eight corners
+// (a value per corner, corner i with bits x: 1, y: 2, z: 4), so that each step is a few
+// vector operations instead of eight scalar ones. Every value is the one the reference
+// path computes, by the same operations in the same order: the corner sums as
+// cornerSums() adds them, the plane distances as planeDistance(), the window
+// coordinates and error terms as windowBounds(). Only the reductions over the corners
+// (the smallest and largest window x, y and key, the largest errors) are taken in
+// another order, a tree instead of corner by corner, and they give the same values:
+//   * a NaN value is skipped in both (std::min(acc, v) keeps acc when v is NaN; the tree
+//     first replaces a NaN by the starting value, +-infinity or 0);
+//   * the minimum and maximum of doubles that are not NaN do not depend on the order,
+//     except which of +0 and -0 is kept when both occur as the extreme. Neither order
+//     can meet both: window x and y are (ndc + 1) * half, and a sum that is zero is +0
+//     (round to nearest), so they are never -0; a key is +-(depth_scale z + offset),
+//     whose inner sum is +0 where it is zero (a zero offset adds +0), so every zero key
+//     is +0 with the standard convention and -0 with the reversed one; the error terms
+//     are sums of products of magnitudes, never -0.
+// A box that reaches the near plane (its clipped outline has up to 20 points) takes the
+// reference path; tests/unit/projection_test.cpp compares both paths field by field.
+//
+// Built with GCC's vector extension (other compilers run the reference path box by box),
+// the kernels are compiled twice on x86-64 (target_clones, chosen once at load time by
+// the CPU), each with every step inlined (flatten): for AVX2 and for the baseline (SSE2).
+// Not for FMA: a fused multiply-add rounds once where the reference
+// rounds twice, and the answers would change (logrid_core is compiled with
+// -ffp-contract=off for the same reason, log/CMakeLists.txt).
+#if defined(__GNUC__) && !defined(__clang__)
+#define LOGRID_PROJECTION_VECTORS 1
+#else
+#define LOGRID_PROJECTION_VECTORS 0
+#endif
+#if defined(__x86_64__) && defined(__ELF__) && defined(__has_attribute)
+#if __has_attribute(target_clones)
+#define LOGRID_PROJECTION_CLONES __attribute__((target_clones("avx2", "default"), flatten))
+#endif
+#endif
+#ifndef LOGRID_PROJECTION_CLONES
+#define LOGRID_PROJECTION_CLONES
+#endif
+
+struct Projector::Kernel {
+  // The steps projectWith() shares with the batch kernels.
+  static bool validBox(const Aabb& box) {
+    return finite(box.min) && finite(box.max) && box.min.x <= box.max.x && box.min.y <= box.max.y &&
+           box.min.z <= box.max.z;
+  }
+
+  static PixelRect pixelRect(const Projector& p, const WindowBounds& b, double widen_x,
+                             double widen_y) {
+    const std::int32_t w_px = static_cast<std::int32_t>(p.camera_.width);
+    const std::int32_t h_px = static_cast<std::int32_t>(p.camera_.height);
+    PixelRect rect;
+    if (p.camera_.multisample) {
+      // Every pixel the widened footprint touches.
+      rect.x0 = clampToInt(std::floor(b.x_min - widen_x), 0, w_px);
+      rect.x1 = clampToInt(std::ceil(b.x_max + widen_x), 0, w_px);
+      rect.y0 = clampToInt(std::floor(b.y_min - widen_y), 0, h_px);
+      rect.y1 = clampToInt(std::ceil(b.y_max + widen_y), 0, h_px);
+    } else {
+      // Pixels whose centre i + 0.5 lies in the widened footprint.
+      rect.x0 = clampToInt(std::ceil(b.x_min - widen_x - 0.5), 0, w_px);
+      rect.x1 = clampToInt(std::floor(b.x_max + widen_x - 0.5) + 1.0, 0, w_px);
+      rect.y0 = clampToInt(std::ceil(b.y_min - widen_y - 0.5), 0, h_px);
+      rect.y1 = clampToInt(std::floor(b.y_max + widen_y - 0.5) + 1.0, 0, h_px);
+    }
+    return rect;
+  }
+
+  // What projectWith() answers from the window bounds of a box not outside the frustum,
+  // written field by field into `out` (the batch kernel writes straight into its array:
+  // a whole BoxProjection built and copied costs as much as the rest of the kernel).
+  static void fromBounds(const Projector& p, const WindowBounds& b, bool crosses_near,
+                         Extent* extent, BoxProjection& out) {
+    if (!(b.x_min <= b.x_max) || !(b.y_min <= b.y_max) || !(b.key_min <= b.key_max) ||
+        !std::isfinite(b.err_z)) {
+      out = p.visibleEverywhere(ProjectionClass::Invalid);
+      return;
+    }
+
+    const double k = p.error_scale_;
+    const double widen_x = k * b.err_x + p.snap_px_;
+    const double widen_y = k * b.err_y + p.snap_px_;
+    if (extent) *extent = {widen_x, widen_y, b.w_min, b.w_max};
+    const PixelRect rect = pixelRect(p, b, widen_x, widen_y);
+    out.rect = rect;
+
+    const double far_plane_key = p.clear_key_;
+    const double key_min = std::clamp(b.key_min, double(p.near_key_), far_plane_key);
+    const double key_max = std::clamp(b.key_max, double(p.near_key_), far_plane_key);
+    const double largest_key = std::max(std::fabs(key_min), std::fabs(key_max));
+    out.far_key = roundUp(key_max);
+    out.margin = roundUp(p.quantisation_ + k * (b.err_z + largest_key));
+    out.widen_x = roundUp(widen_x);
+    out.widen_y = roundUp(widen_y);
+
+    if (crosses_near) {
+      out.cls = ProjectionClass::CrossesNear;
+      out.near_key = p.near_key_;
+    } else {
+      out.near_key = roundDown(key_min);
+      // Covering no pixel centre, the box draws nothing.
+      out.cls = rect.empty() ? ProjectionClass::Outside : ProjectionClass::Inside;
+    }
+  }
+
+#if LOGRID_PROJECTION_VECTORS
+  // Every function below is inlined into the kernels (flatten), so no vector crosses a
+  // call and the ABI note on passing them does not apply. GCC reports it at the end of
+  // the file, so it stays off to the end of the file.
+#pragma GCC diagnostic ignored "-Wpsabi"
+  // Four lanes of doubles (GCC's vector extension: one AVX register, or two SSE2
+  // registers in the baseline clone); a value of the eight corners is two of them,
+  // corners 0-3 and 4-7. Lane-wise operations round exactly as the scalar ones.
+  using V4 = double __attribute__((vector_size(32)));
+  using M4 = decltype(V4{} < V4{});  // a lane mask: all bits set or none
+
+  static V4 splat(double x) { return V4{x, x, x, x}; }
+  static V4 magnitude(const V4& v) { return (V4)((M4)v & ~(M4)splat(-0.0)); }
+  static bool allLanes(const M4& m) { return (m[0] & m[1] & m[2] & m[3]) != 0; }
+  static bool anyLane(const M4& m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
+
+  // Clip row r of the eight corners: ((m[r] qx + m[4 + r] qy) + m[8 + r] qz) + m[12 + r],
+  // summed as cornerSums() sums it.
+  static void cornerRows(const double* m, const double qx[2], const double qy[2],
+                         const double qz[2], V4 out[4][2]) {
+    const V4 px = {qx[0], qx[1], qx[0], qx[1]};
+    const V4 py = {qy[0], qy[0], qy[1], qy[1]};
+    for (int r = 0; r < 4; ++r) {
+      const V4 xy = splat(m[r]) * px + splat(m[4 + r]) * py;
+      out[r][0] = (xy + splat(m[8 + r] * qz[0])) + splat(m[12 + r]);
+      out[r][1] = (xy + splat(m[8 + r] * qz[1])) + splat(m[12 + r]);
+    }
+  }
+
+  // The box's corners relative to the render origin (q) and their clip positions (c).
+  struct Box {
+    double qx[2], qy[2], qz[2];
+    V4 c[4][2];
+    V4 to_near[2];  // planeDistance(near_plane_, corner)
+  };
+
+  static void clip(const Projector& p, const Aabb& box, Box& k) {
+    k.qx[0] = double(box.min.x) - p.origin_.x, k.qx[1] = double(box.max.x) - p.origin_.x;
+    k.qy[0] = double(box.min.y) - p.origin_.y, k.qy[1] = double(box.max.y) - p.origin_.y;
+    k.qz[0] = double(box.min.z) - p.origin_.z, k.qz[1] = double(box.max.z) - p.origin_.z;
+    cornerRows(p.render_, k.qx, k.qy, k.qz, k.c);
+  }
+
+  static V4 planeDistance(const double* plane, const Box& k, int h) {
+    return splat(plane[0]) * k.c[0][h] + splat(plane[1]) * k.c[1][h] + splat(plane[2]) * k.c[2][h] +
+           splat(plane[3]) * k.c[3][h];
+  }
+
+  // outsideOnePlane(): all eight corners beyond one plane; fills k.to_near.
+  static bool outside(const Projector& p, Box& k) {
+    const V4 zero = splat(0.0);
+    M4 beyond[6];
+    for (int h = 0; h < 2; ++h) {
+      k.to_near[h] = planeDistance(p.near_plane_, k, h);
+      const V4 w = k.c[3][h], x = k.c[0][h], y = k.c[1][h];
+      const M4 m[6] = {w + x < zero, w - x < zero,        w + y < zero,
+                       w - y < zero, k.to_near[h] < zero, planeDistance(p.far_plane_, k, h) < zero};
+      for (int j = 0; j < 6; ++j) beyond[j] = h == 0 ? m[j] : beyond[j] & m[j];
+    }
+    bool out = false;
+    for (const M4& m : beyond) out |= allLanes(m);
+    return out;
+  }
+
+  // std::min(acc, v) and std::max(acc, v), as windowBounds() accumulates, lane-wise.
+  static V4 lower(const V4& acc, const V4& v) { return v < acc ? v : acc; }  // minpd's rule
+  static V4 upper(const V4& acc, const V4& v) { return acc < v ? v : acc; }
+  static double lower(double acc, double v) { return v < acc ? v : acc; }
+  static double upper(double acc, double v) { return acc < v ? v : acc; }
+  // The least and the greatest of the eight values (two halves) as the accumulation from
+  // kInf (least) or `start` gives them: NaNs skipped (see the reduction argument above).
+  static double least(const V4 v[2]) {
+    const V4 inf = splat(kInf);
+    const V4 m = lower(lower(inf, v[0]), lower(inf, v[1]));
+    return lower(lower(m[0], m[2]), lower(m[1], m[3]));
+  }
+  static double greatest(const V4 v[2], double start) {
+    const V4 s = splat(start);
+    const V4 m = upper(upper(s, v[0]), upper(s, v[1]));
+    return upper(upper(m[0], m[2]), upper(m[1], m[3]));
+  }
+
+  // windowBounds() over the eight corners of a box in front of the near plane; false
+  // where a corner lies at or behind the eye.
+  static bool windowBounds(const Projector& p, const Box& k, WindowBounds& b) {
+    const V4 zero = splat(0.0);
+    if (anyLane(~(k.c[3][0] > zero) | ~(k.c[3][1] > zero))) return false;
+    const double ax[2] = {std::fabs(k.qx[0]), std::fabs(k.qx[1])};
+    const double ay[2] = {std::fabs(k.qy[0]), std::fabs(k.qy[1])};
+    const double az[2] = {std::fabs(k.qz[0]), std::fabs(k.qz[1])};
+    V4 s[4][2];
+    cornerRows(p.render_abs_, ax, ay, az, s);
+    const V4 one = splat(1.0), half_w = splat(p.half_width_), half_h = splat(p.half_height_);
+    const V4 depth_scale = splat(p.depth_scale_);
+    V4 wx[2], wy[2], key[2], ex[2], ey[2], ez[2];
+    for (int h = 0; h < 2; ++h) {
+      const V4 inv_w = one / k.c[3][h];
+      const V4 xn = k.c[0][h] * inv_w, yn = k.c[1][h] * inv_w, zn = k.c[2][h] * inv_w;
+      wx[h] = (xn + one) * half_w;
+      wy[h] = (yn + one) * half_h;
+      key[h] = splat(p.key_sign_) * (depth_scale * zn + splat(p.depth_offset_));
+      ex[h] = (s[0][h] + magnitude(xn) * s[3][h]) * inv_w * half_w;
+      ey[h] = (s[1][h] + magnitude(yn) * s[3][h]) * inv_w * half_h;
+      ez[h] = (s[2][h] + magnitude(zn) * s[3][h]) * inv_w * depth_scale;
+    }
+    b.x_min = least(wx), b.x_max = greatest(wx, -kInf);
+    b.y_min = least(wy), b.y_max = greatest(wy, -kInf);
+    b.key_min = least(key), b.key_max = greatest(key, -kInf);
+    b.err_x = greatest(ex, 0.0), b.err_y = greatest(ey, 0.0), b.err_z = greatest(ez, 0.0);
+    return true;  // w_min and w_max stay unset: only queryBox() needs them
+  }
+
+  LOGRID_PROJECTION_CLONES
+  static void project(const Projector& p, const Aabb* boxes, std::size_t count,
+                      BoxProjection* out) {
+    for (std::size_t i = 0; i < count; ++i) {
+      const Aabb& box = boxes[i];
+      if (!validBox(box)) {
+        out[i] = p.visibleEverywhere(ProjectionClass::Invalid);
+        continue;
+      }
+      Box k;
+      clip(p, box, k);
+      if (outside(p, k)) {
+        out[i] = BoxProjection{};
+        out[i].cls = ProjectionClass::Outside;
+        continue;
+      }
+      if (anyLane((k.to_near[0] < splat(0.0)) | (k.to_near[1] < splat(0.0)))) {
+        out[i] = p.projectWith(box, nullptr);  // clipped by the reference path
+        continue;
+      }
+      WindowBounds b;
+      if (windowBounds(p, k, b)) {
+        fromBounds(p, b, false, nullptr, out[i]);
+      } else {
+        out[i] = p.visibleEverywhere(ProjectionClass::CrossesNear);
+      }
+    }
+  }
+
+  LOGRID_PROJECTION_CLONES
+  static void outsideFrustum(const Projector& p, const Aabb* boxes, std::size_t count,
+                             std::uint8_t* result) {
+    for (std::size_t i = 0; i < count; ++i) {
+      if (!validBox(boxes[i])) {
+        result[i] = 0;
+        continue;
+      }
+      Box k;
+      clip(p, boxes[i], k);
+      result[i] = outside(p, k);
+    }
+  }
+#else
+  // Other compilers (Clang among them, whose vectors lack the conditional operator used
+  // above): the reference path, box by box.
+  static void project(const Projector& p, const Aabb* boxes, std::size_t count,
+                      BoxProjection* out) {
+    for (std::size_t i = 0; i < count; ++i) out[i] = p.projectWith(boxes[i], nullptr);
+  }
+  static void outsideFrustum(const Projector& p, const Aabb* boxes, std::size_t count,
+                             std::uint8_t* result) {
+    for (std::size_t i = 0; i < count; ++i) result[i] = p.outsideFrustum(boxes[i]);
+  }
+#endif
+};
+
 BoxProjection Projector::project(const Aabb& box) const { return projectWith(box, nullptr); }
 
-void Projector::project(const Aabb* boxes, std::size_t count, BoxProjection* out) const {
-  for (std::size_t i = 0; i < count; ++i) out[i] = projectWith(boxes[i], nullptr);
-}
-
 bool Projector::outsideFrustum(const Aabb& box) const {
-  if (!validBox(box)) return false;
+  if (!Kernel::validBox(box)) return false;
   Corners corners;
   clipCorners(box, corners);
   return outsideOnePlane(corners);
-}
-
-void Projector::outsideFrustum(const Aabb* boxes, std::size_t count, std::uint8_t* outside) const {
-  for (std::size_t i = 0; i < count; ++i) outside[i] = outsideFrustum(boxes[i]);
 }
 
 BoxProjection Projector::visibleEverywhere(ProjectionClass cls) const {
@@ -109,11 +380,6 @@ BoxProjection Projector::visibleEverywhere(ProjectionClass cls) const {
   out.far_key = clear_key_;
   out.margin = 0;
   return out;
-}
-
-bool Projector::validBox(const Aabb& box) {
-  return finite(box.min) && finite(box.max) && box.min.x <= box.max.x && box.min.y <= box.max.y &&
-         box.min.z <= box.max.z;
 }
 
 namespace {
@@ -225,8 +491,8 @@ int Projector::clipToNear(const Corners& k, ClipPoint* points, bool& crosses_nea
 }
 
 bool Projector::windowBounds(const ClipPoint* points, int count, WindowBounds& b) const {
-  const double half_w = 0.5 * camera_.width;
-  const double half_h = 0.5 * camera_.height;
+  const double half_w = half_width_;
+  const double half_h = half_height_;
   for (int i = 0; i < count; ++i) {
     const ClipPoint& p = points[i];
     const double w = p.c[3];
@@ -248,28 +514,8 @@ bool Projector::windowBounds(const ClipPoint* points, int count, WindowBounds& b
   return true;
 }
 
-PixelRect Projector::pixelRect(const WindowBounds& b, double widen_x, double widen_y) const {
-  const std::int32_t w_px = static_cast<std::int32_t>(camera_.width);
-  const std::int32_t h_px = static_cast<std::int32_t>(camera_.height);
-  PixelRect rect;
-  if (camera_.multisample) {
-    // Every pixel the widened footprint touches.
-    rect.x0 = clampToInt(std::floor(b.x_min - widen_x), 0, w_px);
-    rect.x1 = clampToInt(std::ceil(b.x_max + widen_x), 0, w_px);
-    rect.y0 = clampToInt(std::floor(b.y_min - widen_y), 0, h_px);
-    rect.y1 = clampToInt(std::ceil(b.y_max + widen_y), 0, h_px);
-  } else {
-    // Pixels whose centre i + 0.5 lies in the widened footprint.
-    rect.x0 = clampToInt(std::ceil(b.x_min - widen_x - 0.5), 0, w_px);
-    rect.x1 = clampToInt(std::floor(b.x_max + widen_x - 0.5) + 1.0, 0, w_px);
-    rect.y0 = clampToInt(std::ceil(b.y_min - widen_y - 0.5), 0, h_px);
-    rect.y1 = clampToInt(std::floor(b.y_max + widen_y - 0.5) + 1.0, 0, h_px);
-  }
-  return rect;
-}
-
 BoxProjection Projector::projectWith(const Aabb& box, Extent* extent) const {
-  if (!validBox(box)) return visibleEverywhere(ProjectionClass::Invalid);
+  if (!Kernel::validBox(box)) return visibleEverywhere(ProjectionClass::Invalid);
   Corners corners;
   clipCorners(box, corners);
   BoxProjection out;
@@ -283,35 +529,7 @@ BoxProjection Projector::projectWith(const Aabb& box, Extent* extent) const {
   const int count = clipToNear(corners, points, crosses_near);
   WindowBounds b;
   if (!windowBounds(points, count, b)) return visibleEverywhere(ProjectionClass::CrossesNear);
-  if (!(b.x_min <= b.x_max) || !(b.y_min <= b.y_max) || !(b.key_min <= b.key_max) ||
-      !std::isfinite(b.err_z)) {
-    return visibleEverywhere(ProjectionClass::Invalid);
-  }
-
-  const double k = settings_.render_error_ulps * kUnitRoundoff;
-  const double widen_x = k * b.err_x + snap_px_;
-  const double widen_y = k * b.err_y + snap_px_;
-  if (extent) *extent = {widen_x, widen_y, b.w_min, b.w_max};
-  out.rect = pixelRect(b, widen_x, widen_y);
-
-  const double far_plane_key = clear_key_;
-  const double key_min = std::clamp(b.key_min, double(near_key_), far_plane_key);
-  const double key_max = std::clamp(b.key_max, double(near_key_), far_plane_key);
-  const double largest_key = std::max(std::fabs(key_min), std::fabs(key_max));
-  out.near_key = roundDown(key_min);
-  out.far_key = roundUp(key_max);
-  out.margin = roundUp(quantisation_ + k * (b.err_z + largest_key));
-  out.widen_x = roundUp(widen_x);
-  out.widen_y = roundUp(widen_y);
-
-  if (crosses_near) {
-    out.cls = ProjectionClass::CrossesNear;
-    out.near_key = near_key_;
-  } else if (out.rect.empty()) {
-    out.cls = ProjectionClass::Outside;  // covers no pixel centre: draws nothing
-  } else {
-    out.cls = ProjectionClass::Inside;
-  }
+  Kernel::fromBounds(*this, b, crosses_near, extent, out);
   return out;
 }
 
@@ -363,6 +581,14 @@ std::optional<QueryBox> Projector::queryBox(const Aabb& box) const {
     return std::nullopt;
   }
   return out;
+}
+
+void Projector::project(const Aabb* boxes, std::size_t count, BoxProjection* out) const {
+  Kernel::project(*this, boxes, count, out);
+}
+
+void Projector::outsideFrustum(const Aabb* boxes, std::size_t count, std::uint8_t* outside) const {
+  Kernel::outsideFrustum(*this, boxes, count, outside);
 }
 
 }  // namespace logrid

@@ -1,8 +1,13 @@
 // Conservative box projection: rectangles, depth keys, classes and margins.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
 #include <random>
+#include <vector>
 
 #include "logrid/error.hpp"
 #include "logrid/projection.hpp"
@@ -278,6 +283,154 @@ TEST(ProjectionTest, PerspectiveMapsNearAndFarToTheConventionsDepths) {
     EXPECT_NEAR(ndc(-0.5), rev ? 1.0 : low, 1e-12);
     EXPECT_NEAR(ndc(-50), rev ? low : 1.0, 1e-12);
   }
+}
+
+// The bits of a float: the batch kernels must give the very same values, signed zeros
+// included, not values that compare equal.
+std::uint32_t bitsOf(float f) {
+  std::uint32_t b;
+  std::memcpy(&b, &f, sizeof b);
+  return b;
+}
+
+// A random camera of one of the depth set-ups: perspective or orthographic, near and
+// far from 1e-4 to 1e7 (infinite far with reversed depth), eyes and render origins
+// from the origin out to 1e7, viewports from 1 x 1 to 4096 x 3072, multisampled or not,
+// and some with the margins' settings shrunk.
+struct RandomCamera {
+  Camera camera;
+  ProjectionSettings settings;
+  DVec3 eye, dir;  // where it looks from, and along
+};
+
+RandomCamera randomCamera(std::mt19937& rng, const DepthSetup& depth) {
+  std::uniform_real_distribution<double> unit(0, 1);
+  auto logUniform = [&](double lo, double hi) {
+    return std::exp(std::log(lo) + unit(rng) * (std::log(hi) - std::log(lo)));
+  };
+  RandomCamera r;
+  Camera& c = r.camera;
+  c.depth = depth;
+  c.width = 1 + std::uint32_t(unit(rng) < 0.1 ? 0 : logUniform(1, 4096));
+  c.height = 1 + std::uint32_t(unit(rng) < 0.1 ? 0 : logUniform(1, 3072));
+  c.multisample = unit(rng) < 0.3;
+  const double scale = unit(rng) < 0.3 ? 0.0 : logUniform(1, 1e7);
+  const DVec3 eye{scale * (unit(rng) - 0.5), scale * (unit(rng) - 0.5), scale * (unit(rng) - 0.5)};
+  const DVec3 dir{unit(rng) - 0.5, unit(rng) - 0.5, unit(rng) - 0.5};
+  r.eye = eye, r.dir = dir;
+  const Mat4d view = lookAt(eye, {eye.x + dir.x, eye.y + dir.y, eye.z + dir.z}, {0, 1, 0});
+  const double near = logUniform(1e-4, 10);
+  const bool infinite = depth.convention == DepthConvention::Reversed && unit(rng) < 0.3;
+  const double far =
+      infinite ? std::numeric_limits<double>::infinity() : near * logUniform(2, 1e7 / near);
+  const double aspect = double(c.width) / c.height;
+  if (unit(rng) < 0.2 && !infinite) {
+    const double half = logUniform(1e-2, 1e4);
+    c.view_projection =
+        multiply(orthographic(-half * aspect, half * aspect, -half, half, near, far, depth), view);
+  } else {
+    c.view_projection = multiply(perspective(logUniform(0.05, 3), aspect, near, far, depth), view);
+  }
+  c.render_origin = unit(rng) < 0.5 ? eye : DVec3{};
+  if (unit(rng) < 0.2) {
+    r.settings.subpixel_bits = int(unit(rng) * 17);
+    r.settings.render_error_ulps = unit(rng) * 64;
+    r.settings.quantisation_scale = unit(rng) * 2;
+  }
+  return r;
+}
+
+// Boxes around a camera: in front of it at every distance up to beyond the far plane,
+// behind it, crossing the near plane, around the eye, flat or a single point, huge and
+// far out, and invalid (NaN, infinite, inverted).
+std::vector<Aabb> randomBoxes(std::mt19937& rng, const RandomCamera& camera, std::size_t count) {
+  std::uniform_real_distribution<double> unit(0, 1);
+  std::vector<Aabb> boxes;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  for (std::size_t i = 0; i < count; ++i) {
+    const double kind = unit(rng);
+    const double reach = std::exp(std::log(1e-3) + unit(rng) * (std::log(1e9) - std::log(1e-3)));
+    // Along the view direction (both ways) at any distance, and scattered around that.
+    const double along = (unit(rng) < 0.8 ? 1 : -1) * reach * unit(rng) * 4;
+    const DVec3 o{camera.eye.x + along * camera.dir.x, camera.eye.y + along * camera.dir.y,
+                  camera.eye.z + along * camera.dir.z};
+    const double spread = unit(rng) < 0.7 ? std::fabs(along) * 0.3 : reach * 2;
+    DVec3 lo{o.x + spread * (unit(rng) - 0.5), o.y + spread * (unit(rng) - 0.5),
+             o.z + spread * (unit(rng) - 0.5)};
+    const double size = unit(rng) < 0.1 ? 0.0 : reach * unit(rng) * unit(rng);
+    DVec3 hi{lo.x + size * unit(rng), lo.y + size * unit(rng), lo.z + size * unit(rng)};
+    Aabb b{{float(lo.x), float(lo.y), float(lo.z)}, {float(hi.x), float(hi.y), float(hi.z)}};
+    if (kind < 0.02)
+      b.min.x = nan;
+    else if (kind < 0.04)
+      b.max.z = inf;
+    else if (kind < 0.06)
+      std::swap(b.min.y, b.max.y);
+    else if (kind < 0.1)
+      b.min = b.max;  // a point
+    else if (kind < 0.12)
+      b = {{-3e38f, -3e38f, -3e38f}, {3e38f, 3e38f, 3e38f}};
+    boxes.push_back(b);
+  }
+  return boxes;
+}
+
+TEST(ProjectionTest, BatchKernelsAnswerExactlyAsTheSingleBoxPath) {
+  // Projector::project(boxes, count, out) and outsideFrustum(boxes, count, outside) run
+  // the vectorised kernels; project(box) and outsideFrustum(box) the reference path.
+  // Every field must be the same, bit for bit, for every box, in every set-up.
+  const DepthSetup setups[] = {
+      {DepthConvention::Standard, ClipDepthRange::NegativeOneToOne, DepthFormat::D32F},
+      {DepthConvention::Standard, ClipDepthRange::ZeroToOne, DepthFormat::D24},
+      {DepthConvention::Standard, ClipDepthRange::NegativeOneToOne, DepthFormat::D16},
+      {DepthConvention::Reversed, ClipDepthRange::ZeroToOne, DepthFormat::D32F},
+      {DepthConvention::Reversed, ClipDepthRange::ZeroToOne, DepthFormat::D24},
+  };
+  std::mt19937 rng(26);
+  std::size_t compared = 0, inside = 0, crossing = 0, outside = 0, invalid = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const RandomCamera rc = randomCamera(rng, setups[trial % 5]);
+    const Projector projector(rc.camera, rc.settings);
+    const std::vector<Aabb> boxes = randomBoxes(rng, rc, 256);
+    std::vector<BoxProjection> batch(boxes.size());
+    std::vector<std::uint8_t> culled(boxes.size());
+    // Batches of every size a node's children come in, and one of everything.
+    for (std::size_t at = 0, n = 1; at < boxes.size(); at += n, n = n % 8 + 1) {
+      const std::size_t len = std::min(n, boxes.size() - at);
+      projector.project(boxes.data() + at, len, batch.data() + at);
+      projector.outsideFrustum(boxes.data() + at, len, culled.data() + at);
+    }
+    for (std::size_t i = 0; i < boxes.size(); ++i) {
+      const BoxProjection ref = projector.project(boxes[i]);
+      const BoxProjection& got = batch[i];
+      SCOPED_TRACE(::testing::Message() << "trial " << trial << ", box " << i);
+      ASSERT_EQ(int(got.cls), int(ref.cls));
+      ASSERT_EQ(got.rect.x0, ref.rect.x0);
+      ASSERT_EQ(got.rect.y0, ref.rect.y0);
+      ASSERT_EQ(got.rect.x1, ref.rect.x1);
+      ASSERT_EQ(got.rect.y1, ref.rect.y1);
+      ASSERT_EQ(bitsOf(got.near_key), bitsOf(ref.near_key));
+      ASSERT_EQ(bitsOf(got.far_key), bitsOf(ref.far_key));
+      ASSERT_EQ(bitsOf(got.margin), bitsOf(ref.margin));
+      ASSERT_EQ(bitsOf(got.widen_x), bitsOf(ref.widen_x));
+      ASSERT_EQ(bitsOf(got.widen_y), bitsOf(ref.widen_y));
+      ASSERT_EQ(bool(culled[i]), projector.outsideFrustum(boxes[i]));
+      ++compared;
+      switch (ref.cls) {
+        case ProjectionClass::Inside: ++inside; break;
+        case ProjectionClass::CrossesNear: ++crossing; break;
+        case ProjectionClass::Outside: ++outside; break;
+        case ProjectionClass::Invalid: ++invalid; break;
+      }
+    }
+  }
+  // Each class met often enough for the comparison to mean something.
+  EXPECT_EQ(compared, 400u * 256u);
+  EXPECT_GT(inside, 5000u);
+  EXPECT_GT(crossing, 2000u);
+  EXPECT_GT(outside, 5000u);
+  EXPECT_GT(invalid, 2000u);
 }
 
 }  // namespace

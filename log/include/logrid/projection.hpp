@@ -224,6 +224,10 @@ class Projector {
     double widen_x = 0, widen_y = 0, w_min = 0, w_max = 0;
   };
   BoxProjection projectWith(const Aabb& box, Extent* extent) const;
+  // The batch kernels (projection.cpp, "The batch kernels"): the same arithmetic as
+  // projectWith(), over the eight corners of a box at once, and the steps they share
+  // with it.
+  struct Kernel;
 
   // The steps of projectWith(). A point of the (near-clipped) box in clip space, with S:
   // the sums of the magnitudes of the terms of its clip x, y, z and w ("Why the margins
@@ -252,7 +256,6 @@ class Projector {
     double w_min = kInf, w_max = 0;
   };
   static constexpr double kInf = std::numeric_limits<double>::infinity();
-  static bool validBox(const Aabb& box);
   BoxProjection visibleEverywhere(ProjectionClass cls) const;
   void clipCorners(const Aabb& box, Corners& corners) const;
   void termMagnitudes(Corners& corners) const;
@@ -267,7 +270,6 @@ class Projector {
   int clipToNear(const Corners& corners, ClipPoint* points, bool& crosses_near) const;
   // False when a point lies at or behind the eye (w <= 0).
   bool windowBounds(const ClipPoint* points, int count, WindowBounds& bounds) const;
-  PixelRect pixelRect(const WindowBounds& bounds, double widen_x, double widen_y) const;
 
   Camera camera_;
   ProjectionSettings settings_;
@@ -281,6 +283,9 @@ class Projector {
   double key_sign_;  // +1 standard, -1 reversed
   double quantisation_;
   double snap_px_;
+  double half_width_;   // 0.5 * camera_.width: window x = (x_ndc + 1) * half_width_
+  double half_height_;  // 0.5 * camera_.height
+  double error_scale_;  // settings_.render_error_ulps * kUnitRoundoff
   float clear_key_;
   float near_key_;
 };
