@@ -23,9 +23,10 @@ std::vector<ObjectId> OracleFrame::missedBy(const std::vector<ObjectId>& drawn) 
   return missed;
 }
 
-Result<OracleFrame> tryObjectIdOracle(const Framebuffer& framebuffer, const Camera& camera,
-                                      const std::vector<Aabb>& object_boxes,
-                                      const std::function<void()>& draw_ids) {
+namespace {
+
+// The framebuffer is one the ID pass can draw the camera's frame into.
+Status checkFramebuffer(const Framebuffer& framebuffer, const Camera& camera) {
   const FramebufferDesc& fb = framebuffer.desc();
   if (!fb.object_ids) {
     return Status(ErrorCode::InvalidArgument,
@@ -47,10 +48,13 @@ Result<OracleFrame> tryObjectIdOracle(const Framebuffer& framebuffer, const Came
     out << "); create it for the camera's viewport and depth set-up";
     return Status(ErrorCode::InvalidArgument, out.str());
   }
-  const Result<Projector> made = Projector::create(camera);
-  if (!made) return made.status();
-  const Projector& projector = made.value();
+  return {};
+}
 
+Result<OracleFrame> idPass(const Framebuffer& framebuffer, const Projector& projector,
+                           const std::vector<Aabb>& object_boxes,
+                           const std::function<void()>& draw_ids) {
+  const Camera& camera = projector.camera();
   framebuffer.bind();
   framebuffer.unmask();  // whatever a depth source left set: the whole frame's IDs
   framebuffer.clearDepthAndIds();
@@ -66,7 +70,7 @@ Result<OracleFrame> tryObjectIdOracle(const Framebuffer& framebuffer, const Came
   if (Status s = tryCheckGlErrors("objectIdOracle"); !s) return s;
 
   // Per object: 1 if some fragment lies within its box's depth range, 2 if it only has
-  // fragments nearer than that. Judged with the default margins, widened
+  // fragments nearer than that. Judged with the default margins (the projector's), widened
   // kArtifactMargins times, whatever the culler's projection settings: a culler whose
   // margins are too small (or whose boxes do not enclose their geometry in depth) then
   // shows misses, not artifacts; only fragments far nearer than any interpolation of
@@ -92,6 +96,24 @@ Result<OracleFrame> tryObjectIdOracle(const Framebuffer& framebuffer, const Came
     if (state[id] == 2) out.artifacts.push_back(id);
   }
   return out;
+}
+
+}  // namespace
+
+Result<OracleFrame> tryObjectIdOracle(const Framebuffer& framebuffer, const Camera& camera,
+                                      const std::vector<Aabb>& object_boxes,
+                                      const std::function<void()>& draw_ids) {
+  if (Status s = checkFramebuffer(framebuffer, camera); !s) return s;  // first, as ever
+  const Result<Projector> made = Projector::create(camera);
+  if (!made) return made.status();
+  return idPass(framebuffer, made.value(), object_boxes, draw_ids);
+}
+
+Result<OracleFrame> tryObjectIdOracle(const Framebuffer& framebuffer, const Projector& projector,
+                                      const std::vector<Aabb>& object_boxes,
+                                      const std::function<void()>& draw_ids) {
+  if (Status s = checkFramebuffer(framebuffer, projector.camera()); !s) return s;
+  return idPass(framebuffer, projector, object_boxes, draw_ids);
 }
 
 }  // namespace logrid::gl

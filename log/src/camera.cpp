@@ -92,13 +92,33 @@ std::string validateCamera(const Camera& camera) {
   return out.str();
 }
 
-// The matrix helpers are GLM's, in double precision, with logrid's checks and messages
-// around them. GLM's clip-range choice is made per call (the _NO and _ZO variants), from
-// the DepthSetup, so no GLM_FORCE_DEPTH_ZERO_TO_ONE is defined anywhere in logrid.
+// multiply() and translation() work on Mat4d itself: a frame's matrices stay in one form
+// from the application's camera to the projector. The projections and the view matrix
+// are GLM's, in double precision, with logrid's checks and messages around them, each
+// converted once when it is made. GLM's clip-range choice is made per call (the _NO and
+// _ZO variants), from the DepthSetup, so no GLM_FORCE_DEPTH_ZERO_TO_ONE is defined
+// anywhere in logrid.
 
-Mat4d multiply(const Mat4d& a, const Mat4d& b) { return toMat4d(toGlm(a) * toGlm(b)); }
+Mat4d multiply(const Mat4d& a, const Mat4d& b) {
+  // Each element summed over k = 0..3 in order, as GLM's product sums a's columns, so
+  // that the matrices of every caller are exactly what they were when this was GLM's.
+  Mat4d r;
+  for (int c = 0; c < 4; ++c) {
+    for (int row = 0; row < 4; ++row) {
+      r(row, c) =
+          a(row, 0) * b(0, c) + a(row, 1) * b(1, c) + a(row, 2) * b(2, c) + a(row, 3) * b(3, c);
+    }
+  }
+  return r;
+}
 
-Mat4d translation(const DVec3& t) { return toMat4d(glm::translate(glm::dmat4(1.0), toGlm(t))); }
+Mat4d translation(const DVec3& t) {
+  Mat4d r;  // the identity
+  r(0, 3) = t.x;
+  r(1, 3) = t.y;
+  r(2, 3) = t.z;
+  return r;
+}
 
 Result<Mat4d> tryLookAt(const DVec3& eye, const DVec3& target, const DVec3& up) {
   // glm::lookAtRH normalises target - eye and cross(direction, up); it returns NaNs where

@@ -222,9 +222,8 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
     occluders_ =
         std::make_unique<ddo::OccluderPass>(*scene.ddo, drawer, ddo::SelectorSettings{}, budget);
   }
-  CullerDesc vfc;
+  CullerDesc vfc;  // the ID pass's: the default (safe) projection settings, as the oracle's
   vfc.method = Method::Vfc;
-  vfc.projection = config.culler.projection;
   vfc_ = std::make_unique<Culler>(vfc);
   drawn_.assign(scene.mesh.draws.size(), 0);
   if (!config.images_dir.empty()) std::filesystem::create_directories(config.images_dir);
@@ -360,15 +359,18 @@ gl::OracleFrame FrameRunner::idPass(const Camera& camera) {
   // A multisampled framebuffer gives one id and depth per sample: an object is visible
   // if any sample of it survives. Never inside a timed frame: before it (the oracle's
   // visible set) or after it (verification).
-  gl::OracleFrame found = gl::objectIdOracle(idFramebuffer(), camera, motion_.boxes, [&] {
+  // One projector for the pass: the oracle judges with it, and the movers are
+  // frustum-culled with it. The oracle needs the default settings; the ID pass's culler
+  // (vfc_) projects with them too, whatever the method under test is given.
+  const Projector projector(camera);
+  gl::OracleFrame found = gl::objectIdOracle(idFramebuffer(), projector, motion_.boxes, [&] {
     if (config_.hooks.after_clear) config_.hooks.after_clear();
     renderer_.begin(gl::Pass::ObjectIds, camera);
     vfc_->cullFrame(camera, staticHierarchy(), g_no_depth,
                     [&](ObjectId id) { renderer_.draw(id); });
     // The movers, from their own boxes at the frame's time.
-    const Projector frustum(camera, config_.culler.projection);
     for (ObjectId id = scene_.static_objects; id < motion_.boxes.size(); ++id) {
-      if (frustum.project(motion_.boxes[id]).cls != ProjectionClass::Outside) renderer_.draw(id);
+      if (projector.project(motion_.boxes[id]).cls != ProjectionClass::Outside) renderer_.draw(id);
     }
     renderer_.end();
   });
@@ -512,7 +514,7 @@ void FrameRunner::writeImages(std::size_t frame, const Camera& camera) {
     std::vector<std::uint8_t> tinted = color;
     const ddo::OcclusionMap& map = occluders_->selector().map();
     if (map.width() == camera.width && map.height() == camera.height) {
-      const float clear = Projector(camera).clearKey();
+      const float clear = clearKey(camera.depth);
       for (std::uint32_t y = 0; y < camera.height; ++y) {
         for (std::uint32_t x = 0; x < camera.width; ++x) {
           if (!(map.key(x, y) < clear)) continue;

@@ -74,8 +74,8 @@ constexpr std::uint8_t kRed[3] = {230, 40, 40}, kYellow[3] = {240, 210, 40},
                        kDark[3] = {60, 60, 60}, kLight[3] = {200, 200, 200},
                        kCyan[3] = {40, 220, 230};
 
-void wireBox(Canvas& canvas, const Camera& camera, const Aabb& box) {
-  const glm::dmat4 m = toGlm(camera.view_projection);
+// m: camera.view_projection, converted once per picture.
+void wireBox(Canvas& canvas, const Camera& camera, const glm::dmat4& m, const Aabb& box) {
   glm::dvec4 clip[8];
   for (int i = 0; i < 8; ++i) {
     clip[i] = m * glm::dvec4((i & 1) ? box.max.x : box.min.x, (i & 2) ? box.max.y : box.min.y,
@@ -165,7 +165,8 @@ std::vector<std::uint8_t> drawOverlay(const std::vector<std::uint8_t>& rgba, con
     for (const BoxProjection& p : data.tested_visible) canvas.outline(p.rect, kCyan);
   }
   for (const BoxProjection& p : data.occluded) canvas.outline(p.rect, kRed);
-  for (const Aabb& box : data.drawn_boxes) wireBox(canvas, camera, box);
+  const glm::dmat4 view_projection = toGlm(camera.view_projection);
+  for (const Aabb& box : data.drawn_boxes) wireBox(canvas, camera, view_projection, box);
   return out;
 }
 

@@ -2,7 +2,6 @@
 
 #include <cmath>
 
-#include <glm/ext/matrix_transform.hpp>
 #include <glm/geometric.hpp>
 
 #include "logrid/glm_camera.hpp"
@@ -32,11 +31,16 @@ Camera makeCamera(const CameraPose& pose, const glm::dvec3& scene_origin,
   } else {
     projection = perspective(fovy, aspect, view.near_plane, view.far_plane, view.depth);
   }
-  const glm::dmat4 world_view =
-      toGlm(lookAt(toDVec3(pose.position), toDVec3(pose.look_at), toDVec3(pose.up)));
-  // Local (scene) coordinates to world, then to eye space, all in double.
-  Camera camera = cameraFromGlm(toGlm(projection), glm::translate(world_view, scene_origin),
-                                view.width, view.height, view.depth, pose.position - scene_origin);
+  const Mat4d world_view = lookAt(toDVec3(pose.position), toDVec3(pose.look_at), toDVec3(pose.up));
+  // Local (scene) coordinates to world, then to eye space, all in double and in logrid's
+  // matrices: the pose's GLM vectors are converted once, here.
+  Camera camera;
+  camera.view_projection =
+      multiply(projection, multiply(world_view, translation(toDVec3(scene_origin))));
+  camera.width = view.width;
+  camera.height = view.height;
+  camera.depth = view.depth;
+  camera.render_origin = toDVec3(pose.position - scene_origin);
   camera.multisample = view.samples > 1;
   return camera;
 }

@@ -14,6 +14,7 @@
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
 #include "logrid/gl/object_id_oracle.hpp"
+#include "logrid/projection.hpp"
 
 namespace logrid {
 namespace {
@@ -129,6 +130,10 @@ TEST_P(ObjectIdOracleTest, IgnoresTheScissorAndColourMasksASourceLeft) {
   };
   const gl::OracleFrame full = gl::objectIdOracle(fb, cam, f.boxes, drawAll);
   EXPECT_EQ(full.visible, (std::vector<ObjectId>{kWall, kFront}));
+  // The form for a frame whose projector the application holds answers alike.
+  const gl::OracleFrame projected = gl::objectIdOracle(fb, Projector(cam), f.boxes, drawAll);
+  EXPECT_EQ(projected.visible, full.visible) << "objectIdOracle's Projector form";
+  EXPECT_EQ(projected.artifacts, full.artifacts) << "objectIdOracle's Projector form";
   leaveSourceState();
   const gl::OracleFrame empty = gl::objectIdOracle(fb, cam, f.boxes, [] {});
   EXPECT_TRUE(empty.visible.empty()) << "the last pass's IDs survived the clear";
@@ -145,15 +150,22 @@ TEST_P(ObjectIdOracleTest, RefusesAFramebufferThatCannotHoldTheFrame) {
   LOGRID_REQUIRE_GL();
   const KnownFrame f = knownFrame();
   const Camera cam = knownCamera(GetParam());
+  const Projector projector(cam);
   auto expectInvalid = [&](const gl::FramebufferDesc& desc, const char* needle) {
     gl::Framebuffer fb(desc);
+    auto drawNothing = [] { FAIL() << "drew into a wrong framebuffer"; };
     try {
-      gl::objectIdOracle(fb, cam, f.boxes, [] { FAIL() << "drew into a wrong framebuffer"; });
+      gl::objectIdOracle(fb, cam, f.boxes, drawNothing);
       FAIL() << "accepted: " << needle;
     } catch (const Error& e) {
       EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
       EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
     }
+    // The form for a frame's projector checks alike.
+    const Status s = gl::tryObjectIdOracle(fb, projector, f.boxes, drawNothing).status();
+    EXPECT_FALSE(s.ok()) << "the Projector form accepted: " << needle;
+    EXPECT_EQ(s.code(), ErrorCode::InvalidArgument);
+    EXPECT_NE(s.message().find(needle), std::string::npos) << s.message();
   };
   expectInvalid({cam.width, cam.height, cam.depth, false}, "no object-ID attachment");
   expectInvalid({cam.width + 1, cam.height, cam.depth, true}, "65x48");

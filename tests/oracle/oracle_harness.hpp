@@ -360,7 +360,7 @@ inline std::string sanitize(std::string s) {
 
 // One oracle case: a walk over a scene with one method and its settings, every frame
 // checked against the ID pass. What it must show besides zero misses (not vacuous):
-// visible objects, boxes found occluded, DDO occluders selected.
+// visible objects, boxes found occluded, DDO occluders selected, tiles recorded from them.
 struct OracleCase {
   SceneKey scene;
   samples::MethodChoice method{Method::LogState};  // with its settings (:K, :tc, schedule)
@@ -372,6 +372,7 @@ struct OracleCase {
   bool colliding = false;  // CullerDesc::detect_colliding
   bool expect_occluded = true;
   bool expect_occluders = false;
+  bool expect_occluder_tiles = false;  // ddo+log: tiles recorded full from occluders
   // Anything else of the run (the cpu reader's settings, the motion hierarchies', ...).
   std::function<void(RunConfig&)> adjust;
   std::string name;  // the gtest parameter name (sanitize()d) and the printed label
@@ -401,9 +402,10 @@ inline RunConfig configFor(const OracleCase& c, const PreparedScene& scene) {
 inline WalkTotals checkCase(const OracleCase& c, LoadedScene& scene) {
   const RunConfig config = configFor(c, scene.prepared);
   const WalkTotals t = checkedWalk(c.scene, scene, config);
-  std::printf("[ oracle ] %s: %s, %llu occluders\n",
+  std::printf("[ oracle ] %s: %s, %llu occluders, %llu tiles recorded from them\n",
               (c.name.empty() ? c.scene.name + " " + config.method.name() : c.name).c_str(),
-              summary(t).c_str(), (unsigned long long)t.occluders);
+              summary(t).c_str(), (unsigned long long)t.occluders,
+              (unsigned long long)t.occluder_tiles);
   EXPECT_EQ(t.missed, 0u) << reproducer(c.scene, config);
   EXPECT_GT(t.visible, 0u) << "no object was visible; " << reproducer(c.scene, config);
   if (c.expect_occluded) {
@@ -412,6 +414,10 @@ inline WalkTotals checkCase(const OracleCase& c, LoadedScene& scene) {
   }
   if (c.expect_occluders) {
     EXPECT_GT(t.occluders, 0u) << "no occluder was ever selected; " << reproducer(c.scene, config);
+  }
+  if (c.expect_occluder_tiles) {
+    EXPECT_GT(t.occluder_tiles, 0u)
+        << "no tile was recorded from the occluders' coverage; " << reproducer(c.scene, config);
   }
   return t;
 }

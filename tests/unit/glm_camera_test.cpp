@@ -27,6 +27,24 @@ TEST(GlmCamera, MatricesCopyElementForElementBothWays) {
   EXPECT_EQ(toGlm(v), glm::dvec3(double(0.1f), 2, 3));
 }
 
+// multiply() and translation() work on Mat4d without GLM; they compose a camera as GLM
+// did, element for element (its product sums each element's four terms in the same order), so
+// that every matrix on a frame's path is what it was when they converted to GLM and back.
+TEST(GlmCamera, MultiplyAndTranslationComposeAsGlmDid) {
+  const DepthSetup depth{DepthConvention::Reversed, ClipDepthRange::ZeroToOne};
+  const Mat4d projection = perspective(1.1, 4.0 / 3.0, 0.1, 700.0, depth);
+  const Mat4d view = lookAt({3.3, 1.7, -2.9}, {-1.1, 0.3, 5.7}, {0, 1, 0});
+  const DVec3 origin{1234.567, -0.001, 98765.4321};
+  const glm::dmat4 expected =
+      toGlm(projection) * glm::translate(toGlm(view), glm::dvec3(origin.x, origin.y, origin.z));
+  const Mat4d got = multiply(projection, multiply(view, translation(origin)));
+  for (int i = 0; i < 16; ++i) {
+    EXPECT_EQ(got.m[i], toMat4d(expected).m[i]) << "element " << i;
+  }
+  EXPECT_EQ(translation(origin).m[12], origin.x);
+  EXPECT_EQ(translation(origin).m[14], origin.z);
+}
+
 TEST(GlmCamera, ClipRangeFollowsThisTranslationUnitsGlmConfiguration) {
   // Built without GLM_FORCE_DEPTH_ZERO_TO_ONE: glm::perspective targets -1..1.
   EXPECT_EQ(glmClipDepthRange(), ClipDepthRange::NegativeOneToOne);

@@ -26,6 +26,7 @@
 #include "logrid/camera.hpp"
 #include "logrid/error.hpp"
 #include "logrid/gl/framebuffer.hpp"
+#include "logrid/projection.hpp"
 #include "logrid/types.hpp"
 
 namespace logrid::gl {
@@ -66,11 +67,29 @@ OracleFrame objectIdOracle(const Framebuffer& framebuffer, const Camera& camera,
                            const std::vector<Aabb>& object_boxes,
                            const std::function<void()>& draw_ids);
 
+// The same for a frame whose Projector the application already holds (the frame's
+// camera is projector.camera()), so that the pass builds none of its own: `projector`
+// must have the default ProjectionSettings (Projector::create(camera)), because the
+// artifacts are judged with the default margins whatever settings the culler projects
+// with (a culler whose margins are too small then shows misses, not artifacts). The
+// Camera form above is this with Projector::create(camera).
+Result<OracleFrame> tryObjectIdOracle(const Framebuffer& framebuffer, const Projector& projector,
+                                      const std::vector<Aabb>& object_boxes,
+                                      const std::function<void()>& draw_ids);
+OracleFrame objectIdOracle(const Framebuffer& framebuffer, const Projector& projector,
+                           const std::vector<Aabb>& object_boxes,
+                           const std::function<void()>& draw_ids);
+
 #if LOGRID_HAS_EXCEPTIONS
 inline OracleFrame objectIdOracle(const Framebuffer& framebuffer, const Camera& camera,
                                   const std::vector<Aabb>& object_boxes,
                                   const std::function<void()>& draw_ids) {
   return logrid::orThrow(tryObjectIdOracle(framebuffer, camera, object_boxes, draw_ids));
+}
+inline OracleFrame objectIdOracle(const Framebuffer& framebuffer, const Projector& projector,
+                                  const std::vector<Aabb>& object_boxes,
+                                  const std::function<void()>& draw_ids) {
+  return logrid::orThrow(tryObjectIdOracle(framebuffer, projector, object_boxes, draw_ids));
 }
 #endif
 
