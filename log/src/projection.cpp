@@ -1,12 +1,14 @@
 #include "logrid/projection.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <sstream>
 #include <string>
 #include <utility>
 
+#include "projection_isa.hpp"
 #include "rounding.hpp"
 
 #include "logrid/error.hpp"
@@ -110,23 +112,23 @@ Projector::Projector(Checked, const Camera& camera, const ProjectionSettings& se
 // reference path; tests/unit/projection_test.cpp compares both paths field by field.
 //
 // Built with GCC's vector extension (other compilers run the reference path box by box),
-// the kernels are compiled twice on x86-64 (target_clones, chosen once at load time by
-// the CPU), each with every step inlined (flatten): for AVX2 and for the baseline (SSE2).
-// Not for FMA: a fused multiply-add rounds once where the reference
-// rounds twice, and the answers would change (logrid_core is compiled with
-// -ffp-contract=off for the same reason, log/CMakeLists.txt).
+// the kernels are compiled twice on x86-64, each with every step inlined (flatten): for
+// the baseline (SSE2) and for AVX2; projectionIsa() (projection_isa.hpp) picks one at
+// the first batch by what the CPU reports, and a test can ask for either. Not with
+// target_clones: its resolver runs while the program is being loaded, before a
+// sanitizer's runtime is up, and an instrumented resolver crashes there. Not for FMA: a
+// fused multiply-add rounds once where the reference rounds twice, and the answers would
+// change (logrid_core is compiled with -ffp-contract=off for the same reason,
+// log/CMakeLists.txt).
 #if defined(__GNUC__) && !defined(__clang__)
 #define LOGRID_PROJECTION_VECTORS 1
 #else
 #define LOGRID_PROJECTION_VECTORS 0
 #endif
-#if defined(__x86_64__) && defined(__ELF__) && defined(__has_attribute)
-#if __has_attribute(target_clones)
-#define LOGRID_PROJECTION_CLONES __attribute__((target_clones("avx2", "default"), flatten))
-#endif
-#endif
-#ifndef LOGRID_PROJECTION_CLONES
-#define LOGRID_PROJECTION_CLONES
+#if LOGRID_PROJECTION_VECTORS && defined(__x86_64__)
+#define LOGRID_PROJECTION_AVX2 1
+#else
+#define LOGRID_PROJECTION_AVX2 0
 #endif
 
 struct Projector::Kernel {
@@ -306,7 +308,6 @@ struct Projector::Kernel {
     return true;  // w_min and w_max stay unset: only queryBox() needs them
   }
 
-  LOGRID_PROJECTION_CLONES
   static void project(const Projector& p, const Aabb* boxes, std::size_t count,
                       BoxProjection* out) {
     for (std::size_t i = 0; i < count; ++i) {
@@ -335,7 +336,6 @@ struct Projector::Kernel {
     }
   }
 
-  LOGRID_PROJECTION_CLONES
   static void outsideFrustum(const Projector& p, const Aabb* boxes, std::size_t count,
                              std::uint8_t* result) {
     for (std::size_t i = 0; i < count; ++i) {
@@ -348,6 +348,30 @@ struct Projector::Kernel {
       result[i] = outside(p, k);
     }
   }
+
+  // The entry points, one per instruction set, each with the whole kernel inlined.
+  __attribute__((flatten)) static void projectBaseline(const Projector& p, const Aabb* boxes,
+                                                       std::size_t count, BoxProjection* out) {
+    project(p, boxes, count, out);
+  }
+  __attribute__((flatten)) static void outsideBaseline(const Projector& p, const Aabb* boxes,
+                                                       std::size_t count, std::uint8_t* result) {
+    outsideFrustum(p, boxes, count, result);
+  }
+#if LOGRID_PROJECTION_AVX2
+  __attribute__((target("avx2"), flatten)) static void projectAvx2(const Projector& p,
+                                                                   const Aabb* boxes,
+                                                                   std::size_t count,
+                                                                   BoxProjection* out) {
+    project(p, boxes, count, out);
+  }
+  __attribute__((target("avx2"), flatten)) static void outsideAvx2(const Projector& p,
+                                                                   const Aabb* boxes,
+                                                                   std::size_t count,
+                                                                   std::uint8_t* result) {
+    outsideFrustum(p, boxes, count, result);
+  }
+#endif
 #else
   // Other compilers (Clang among them, whose vectors lack the conditional operator used
   // above): the reference path, box by box.
@@ -358,6 +382,14 @@ struct Projector::Kernel {
   static void outsideFrustum(const Projector& p, const Aabb* boxes, std::size_t count,
                              std::uint8_t* result) {
     for (std::size_t i = 0; i < count; ++i) result[i] = p.outsideFrustum(boxes[i]);
+  }
+  static void projectBaseline(const Projector& p, const Aabb* boxes, std::size_t count,
+                              BoxProjection* out) {
+    project(p, boxes, count, out);
+  }
+  static void outsideBaseline(const Projector& p, const Aabb* boxes, std::size_t count,
+                              std::uint8_t* result) {
+    outsideFrustum(p, boxes, count, result);
   }
 #endif
 };
@@ -584,11 +616,56 @@ std::optional<QueryBox> Projector::queryBox(const Aabb& box) const {
 }
 
 void Projector::project(const Aabb* boxes, std::size_t count, BoxProjection* out) const {
-  Kernel::project(*this, boxes, count, out);
+#if LOGRID_PROJECTION_AVX2
+  if (detail::projectionIsa() == detail::ProjectionIsa::Avx2) {
+    return Kernel::projectAvx2(*this, boxes, count, out);
+  }
+#endif
+  Kernel::projectBaseline(*this, boxes, count, out);
 }
 
 void Projector::outsideFrustum(const Aabb* boxes, std::size_t count, std::uint8_t* outside) const {
-  Kernel::outsideFrustum(*this, boxes, count, outside);
+#if LOGRID_PROJECTION_AVX2
+  if (detail::projectionIsa() == detail::ProjectionIsa::Avx2) {
+    return Kernel::outsideAvx2(*this, boxes, count, outside);
+  }
+#endif
+  Kernel::outsideBaseline(*this, boxes, count, outside);
 }
+
+namespace detail {
+namespace {
+
+ProjectionIsa widestProjectionIsa() {
+#if LOGRID_PROJECTION_AVX2
+  if (__builtin_cpu_supports("avx2")) return ProjectionIsa::Avx2;
+#endif
+  return ProjectionIsa::Baseline;
+}
+
+// The set asked for by a test; relaxed: only the value matters, not what it orders.
+std::atomic<int> forced_isa{-1};
+
+}  // namespace
+
+ProjectionIsa projectionIsa() {
+  static const ProjectionIsa widest = widestProjectionIsa();
+  const int forced = forced_isa.load(std::memory_order_relaxed);
+  return forced < 0 ? widest : static_cast<ProjectionIsa>(forced);
+}
+
+bool projectionIsaAvailable(ProjectionIsa isa) {
+  return isa == ProjectionIsa::Baseline || isa == widestProjectionIsa();
+}
+
+bool forceProjectionIsa(ProjectionIsa isa) {
+  if (!projectionIsaAvailable(isa)) return false;
+  forced_isa.store(static_cast<int>(isa), std::memory_order_relaxed);
+  return true;
+}
+
+void resetProjectionIsa() { forced_isa.store(-1, std::memory_order_relaxed); }
+
+}  // namespace detail
 
 }  // namespace logrid

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -11,6 +12,7 @@
 
 #include "logrid/error.hpp"
 #include "logrid/projection.hpp"
+#include "projection_isa.hpp"
 
 namespace logrid {
 namespace {
@@ -376,10 +378,42 @@ std::vector<Aabb> randomBoxes(std::mt19937& rng, const RandomCamera& camera, std
   return boxes;
 }
 
+// Runs the batch calls on one instruction set's kernels while it lives.
+class ForcedIsa {
+ public:
+  explicit ForcedIsa(detail::ProjectionIsa isa) : ok_(detail::forceProjectionIsa(isa)) {}
+  ~ForcedIsa() { detail::resetProjectionIsa(); }
+  ForcedIsa(const ForcedIsa&) = delete;
+  ForcedIsa& operator=(const ForcedIsa&) = delete;
+  bool ok() const { return ok_; }
+
+ private:
+  bool ok_;
+};
+
+void expectBatchKernelsAnswerAsTheSingleBoxPath();
+
 TEST(ProjectionTest, BatchKernelsAnswerExactlyAsTheSingleBoxPath) {
   // Projector::project(boxes, count, out) and outsideFrustum(boxes, count, outside) run
   // the vectorised kernels; project(box) and outsideFrustum(box) the reference path.
-  // Every field must be the same, bit for bit, for every box, in every set-up.
+  // Every field must be the same, bit for bit, for every box, in every set-up, with each
+  // instruction set's kernels this CPU can run (the baseline's always).
+  for (const auto isa : {detail::ProjectionIsa::Baseline, detail::ProjectionIsa::Avx2}) {
+    if (!detail::projectionIsaAvailable(isa)) {
+      std::printf("instruction set %d: not on this CPU or build\n", int(isa));
+      continue;
+    }
+    const ForcedIsa forced(isa);
+    ASSERT_TRUE(forced.ok());
+    ASSERT_EQ(detail::projectionIsa(), isa);
+    SCOPED_TRACE(::testing::Message() << "instruction set " << int(isa));
+    expectBatchKernelsAnswerAsTheSingleBoxPath();
+    if (HasFatalFailure()) return;
+  }
+  EXPECT_TRUE(detail::projectionIsaAvailable(detail::ProjectionIsa::Baseline));
+}
+
+void expectBatchKernelsAnswerAsTheSingleBoxPath() {
   const DepthSetup setups[] = {
       {DepthConvention::Standard, ClipDepthRange::NegativeOneToOne, DepthFormat::D32F},
       {DepthConvention::Standard, ClipDepthRange::ZeroToOne, DepthFormat::D24},
