@@ -141,21 +141,22 @@ struct CitySetup {
   const char* label(bool reversed) const { return reversed ? "city, reversed" : "city, standard"; }
 };
 
-// Projector::project over the children of the opened nodes of the city.
-void BM_ProjectCity(benchmark::State& state) {
+constexpr std::uint32_t kMaxChildren = 8;  // bvh/'s largest node
+
+// Runs `test(projector, boxes, count)` over the children of the opened nodes of the city,
+// one node an iteration; items are the boxes tested.
+template <typename Test>
+void overCityChildren(benchmark::State& state, Test test) {
   const bool reversed = state.range(0) != 0;
   const CitySetup setup(reversed);
   const Hierarchy& hierarchy = cityHierarchy();
-  constexpr std::uint32_t kMaxChildren = 8;  // bvh/'s largest node
   NodeId ids[kMaxChildren];
   Aabb boxes[kMaxChildren];
-  BoxProjection out[kMaxChildren];
   std::size_t i = 0;
   std::int64_t tested = 0;
   for (auto _ : state) {
     const std::uint32_t count = hierarchy.children(setup.opened[i], ids, boxes);
-    setup.projector.project(boxes, count, out);
-    benchmark::DoNotOptimize(out);
+    test(setup.projector, boxes, count);
     tested += count;
     i = i + 1 == setup.opened.size() ? 0 : i + 1;
   }
@@ -164,30 +165,24 @@ void BM_ProjectCity(benchmark::State& state) {
   state.counters["outside"] = double(setup.outside) / double(setup.boxes);
   state.SetLabel(setup.label(reversed));
 }
+
+// Projector::project over the children of the opened nodes of the city.
+void BM_ProjectCity(benchmark::State& state) {
+  BoxProjection out[kMaxChildren];
+  overCityChildren(state, [&](const Projector& projector, const Aabb* boxes, std::uint32_t n) {
+    projector.project(boxes, n, out);
+    benchmark::DoNotOptimize(out);
+  });
+}
 BENCHMARK(BM_ProjectCity)->ArgName("reversed")->Arg(0)->Arg(1);
 
 // Projector::outsideFrustum (frustum only) over the same children.
 void BM_FrustumCity(benchmark::State& state) {
-  const bool reversed = state.range(0) != 0;
-  const CitySetup setup(reversed);
-  const Hierarchy& hierarchy = cityHierarchy();
-  constexpr std::uint32_t kMaxChildren = 8;
-  NodeId ids[kMaxChildren];
-  Aabb boxes[kMaxChildren];
   std::uint8_t outside[kMaxChildren];
-  std::size_t i = 0;
-  std::int64_t tested = 0;
-  for (auto _ : state) {
-    const std::uint32_t count = hierarchy.children(setup.opened[i], ids, boxes);
-    setup.projector.outsideFrustum(boxes, count, outside);
+  overCityChildren(state, [&](const Projector& projector, const Aabb* boxes, std::uint32_t n) {
+    projector.outsideFrustum(boxes, n, outside);
     benchmark::DoNotOptimize(outside);
-    tested += count;
-    i = i + 1 == setup.opened.size() ? 0 : i + 1;
-  }
-  state.SetItemsProcessed(tested);
-  state.counters["nodes"] = double(setup.opened.size());
-  state.counters["outside"] = double(setup.outside) / double(setup.boxes);
-  state.SetLabel(setup.label(reversed));
+  });
 }
 BENCHMARK(BM_FrustumCity)->ArgName("reversed")->Arg(0)->Arg(1);
 

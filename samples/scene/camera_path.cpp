@@ -6,10 +6,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
-#include <filesystem>
-#include <fstream>
 #include <string_view>
-#include <system_error>
 #include <utility>
 
 #include <glm/common.hpp>
@@ -17,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "logrid/error.hpp"
+#include "scene/json_file.hpp"
 
 namespace logrid::samples {
 namespace {
@@ -502,34 +500,9 @@ CameraPath::CameraPath(std::vector<CameraKey> keys, glm::dvec3 up)
 }
 
 CameraPath CameraPath::fromJsonFile(const std::string& path) {
-  const std::string prefix = "camera path '" + path + "': ";
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    throw Error(ErrorCode::Environment, prefix + "is a directory; pass a .json file");
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    const bool exists = std::filesystem::exists(path, ec);
-    throw Error(ErrorCode::Environment,
-                prefix + (exists ? "cannot open the file for reading; check its permissions"
-                                 : "no such file; check the path"));
-  }
-  // Read at most one byte past the limit, so that neither a huge file nor an endless
-  // one (a device, a pipe) is slurped into memory.
-  std::string text;
-  char chunk[1 << 16];
-  while (text.size() <= kMaxJsonBytes) {
-    in.read(chunk, sizeof chunk);
-    text.append(chunk, static_cast<std::size_t>(in.gcount()));
-    if (!in) break;
-  }
-  if (in.bad()) {
-    throw Error(ErrorCode::Environment, prefix + "reading the file failed; check the file");
-  }
-  if (text.size() > kMaxJsonBytes) {
-    throw Error(ErrorCode::BadInput, prefix + "is larger than 64 MiB; camera path files are " +
-                                         "limited to 64 MiB, so thin out the keys");
-  }
+  const std::string text =
+      readBoundedFile(path, "camera path '" + path + "': ", kMaxJsonBytes,
+                      "camera path files are limited to 64 MiB, so thin out the keys");
   return fromJsonText(text, path);
 }
 

@@ -4,13 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <limits>
 #include <set>
 #include <sstream>
 
 #include "logrid/error.hpp"
+#include "scene/json_file.hpp"
 
 namespace logrid::samples {
 namespace {
@@ -170,24 +169,7 @@ void evaluateMotion(const Motion& motion, ObjectId first_mover, double time, Mot
 std::vector<MeshAnimation> loadMeshAnimations(const std::string& file, std::size_t object_count) {
   const std::string prefix = "motion file '" + file + "': ";
   auto fail = [&](const std::string& what) { throw Error(ErrorCode::BadInput, prefix + what); };
-  std::error_code ec;
-  if (std::filesystem::is_directory(file, ec)) {
-    throw Error(ErrorCode::Environment, prefix + "is a directory; pass a .json file");
-  }
-  std::ifstream in(file, std::ios::binary);
-  if (!in) {
-    throw Error(ErrorCode::Environment,
-                prefix + (std::filesystem::exists(file, ec) ? "cannot open the file for reading"
-                                                            : "no such file; check the path"));
-  }
-  std::string text;
-  char chunk[1 << 16];
-  while (text.size() <= kMaxJsonBytes) {
-    in.read(chunk, sizeof chunk);
-    text.append(chunk, static_cast<std::size_t>(in.gcount()));
-    if (!in) break;
-  }
-  if (text.size() > kMaxJsonBytes) fail("is larger than 64 MiB");
+  const std::string text = readBoundedFile(file, prefix, kMaxJsonBytes, "");
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);

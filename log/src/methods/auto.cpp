@@ -11,17 +11,13 @@ namespace logrid::detail {
 
 const MethodDef& autoMethod() {
   static const MethodDef def = [] {
-    MethodDef m = methodNamed(Method::Auto, "auto",
-                              "chooses per node and per frame among the exact grid settings "
-                              "from measured costs (log-state or log-zfar, K, coherence)");
     // What the frame runs is log-state's or log-zfar's (the culler switches between
     // them); the info describes the first, and what both need.
-    m.info.traversal = Traversal::TwoList;
-    m.info.semantics = TestSemantics::OcclusionState;
-    m.info.grid = GridVariant::OcclusionState;
-    m.info.needs.depth = true;
+    MethodDef m = methodLike(logStateMethod(), Method::Auto, "auto",
+                             "chooses per node and per frame among the exact grid settings "
+                             "from measured costs (log-state or log-zfar, K, coherence)");
     // Lookahead and coherence are its own choice; no approximate knob: auto is exact.
-    m.make_tester = lazyGridTester;
+    m.info.takes = {};
     return m;
   }();
   return def;

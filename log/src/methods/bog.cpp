@@ -7,14 +7,9 @@ namespace logrid::detail {
 
 const MethodDef& bogMethod() {
   static const MethodDef def = [] {
-    MethodDef m = methodNamed(Method::Bog, "bog",
-                              "busy occlusion grid: tiles refreshed right after each draw");
-    m.info.traversal = Traversal::TwoList;
-    m.info.semantics = TestSemantics::OcclusionState;
-    m.info.grid = GridVariant::OcclusionState;
-    m.info.needs.depth = true;
-    m.info.takes.temporal_coherence = true;
-    m.info.takes.visible_pixels = m.info.takes.full_fraction = m.info.takes.row_stride = true;
+    MethodDef m = methodLike(logStateMethod(), Method::Bog, "bog",
+                             "busy occlusion grid: tiles refreshed right after each draw");
+    m.info.takes.lookahead = false;  // its tiles are read after each draw, not by tests
     m.make_tester = [](const CullerDesc& desc, const MethodInfo& info) {
       return makeGridTester(desc, *info.grid, GridRefresh::Busy);
     };

@@ -9,17 +9,11 @@ namespace logrid::detail {
 const MethodDef& ddoLogMethod() {
   static const MethodDef def = [] {
     MethodDef m =
-        methodNamed(Method::DdoLog, "ddo+log",
-                    "directional discretized occluders drawn into the depth buffer first, then "
-                    "log-state");
-    m.info.traversal = Traversal::TwoList;
-    m.info.semantics = TestSemantics::OcclusionState;
-    m.info.grid = GridVariant::OcclusionState;
+        methodLike(logStateMethod(), Method::DdoLog, "ddo+log",
+                   "directional discretized occluders drawn into the depth buffer first, then "
+                   "log-state");
     m.info.occluders = OccluderUse::Drawn;
-    m.info.needs.depth = m.info.needs.occluders = true;
-    m.info.takes.lookahead = m.info.takes.temporal_coherence = true;
-    m.info.takes.visible_pixels = m.info.takes.full_fraction = m.info.takes.row_stride = true;
-    m.make_tester = lazyGridTester;
+    m.info.needs.occluders = true;
     return m;
   }();
   return def;

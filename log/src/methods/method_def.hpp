@@ -37,6 +37,20 @@ inline MethodDef methodNamed(Method method, const char* name, const char* descri
   return m;
 }
 
+// A definition built on `base`'s: the same info and functions under its own enum value,
+// name and description; the rest to change.
+inline MethodDef methodLike(const MethodDef& base, Method method, const char* name,
+                            const char* description) {
+  MethodDef m = base;
+  m.info.method = method;
+  m.info.name = name;
+  m.info.description = description;
+  return m;
+}
+
+// The definitions others are built on (each in its own file).
+const MethodDef& logStateMethod();
+
 // The definition of a method of the enum (asserts on a value outside it).
 const MethodDef& methodDef(Method method);
 

@@ -7,7 +7,6 @@
 namespace logrid {
 namespace detail {
 
-const MethodDef& logStateMethod();
 const MethodDef& logZfarMethod();
 const MethodDef& bogMethod();
 const MethodDef& hzbMethod();
