@@ -10,6 +10,7 @@
 #include "logrid/error.hpp"
 #include "logrid/gl/context.hpp"
 #include "logrid/zread/gl_state.hpp"
+#include "logrid/zread/program.hpp"
 
 namespace logrid::gl {
 
@@ -53,6 +54,92 @@ const char* statusName(GLenum status) {
   }
 }
 
+GLint integer(GLenum name) {
+  GLint value = 0;
+  glGetIntegerv(name, &value);
+  return value;
+}
+
+// The size against the driver's limits and logrid's.
+Status checkSize(const FramebufferDesc& desc) {
+  const GLint max_texture = integer(GL_MAX_TEXTURE_SIZE);
+  const GLint max_w = std::min(max_texture, integer(GL_MAX_FRAMEBUFFER_WIDTH));
+  const GLint max_h = std::min(max_texture, integer(GL_MAX_FRAMEBUFFER_HEIGHT));
+  if (desc.width >= 1 && desc.height >= 1 && GLint(desc.width) <= max_w &&
+      GLint(desc.height) <= max_h && desc.width <= kMaxViewportSide &&
+      desc.height <= kMaxViewportSide) {
+    return {};
+  }
+  const std::uint32_t limit_w = std::min(std::uint32_t(std::max(max_w, 1)), kMaxViewportSide);
+  const std::uint32_t limit_h = std::min(std::uint32_t(std::max(max_h, 1)), kMaxViewportSide);
+  return Status(ErrorCode::InvalidArgument,
+                "framebuffer: size " + sizeText(desc.width, desc.height) +
+                    " is not possible on this driver; each side must be between 1 and " +
+                    sizeText(limit_w, limit_h) +
+                    " (GL_MAX_TEXTURE_SIZE / GL_MAX_FRAMEBUFFER_*, and logrid's " +
+                    std::to_string(kMaxViewportSide) + "). " +
+                    (desc.width < 1 || desc.height < 1 ? "Pass the size in pixels, at least 1x1."
+                                                       : "Choose a smaller size."));
+}
+
+Status checkDepthSetup(const DepthSetup& d) {
+  if ((d.format == DepthFormat::D16 || d.format == DepthFormat::D24 ||
+       d.format == DepthFormat::D32F) &&
+      (d.convention == DepthConvention::Standard || d.convention == DepthConvention::Reversed) &&
+      (d.clip_range == ClipDepthRange::NegativeOneToOne ||
+       d.clip_range == ClipDepthRange::ZeroToOne)) {
+    return {};
+  }
+  std::ostringstream out;
+  out << "framebuffer: unknown depth set-up (format " << int(d.format) << ", convention "
+      << int(d.convention) << ", clip range " << int(d.clip_range)
+      << "); use the DepthFormat, DepthConvention and ClipDepthRange enumerators";
+  return Status(ErrorCode::InvalidArgument, out.str());
+}
+
+// The samples per pixel against the driver's limits for these attachments.
+Status checkSamples(const FramebufferDesc& desc) {
+  GLint limit = std::min({integer(GL_MAX_SAMPLES), integer(GL_MAX_DEPTH_TEXTURE_SAMPLES),
+                          integer(GL_MAX_COLOR_TEXTURE_SAMPLES)});
+  if (desc.object_ids) limit = std::min(limit, integer(GL_MAX_INTEGER_SAMPLES));
+  if (desc.samples <= 1 || GLint(desc.samples) <= limit) return {};
+  return Status(ErrorCode::Unsupported,
+                "framebuffer: " + std::to_string(desc.samples) +
+                    " samples per pixel requested, but this driver allows at most " +
+                    std::to_string(limit) +
+                    " for these attachments (GL_MAX_SAMPLES, GL_MAX_DEPTH_TEXTURE_SAMPLES, "
+                    "GL_MAX_COLOR_TEXTURE_SAMPLES" +
+                    (desc.object_ids ? ", GL_MAX_INTEGER_SAMPLES" : "") +
+                    "); ask for fewer, or 0 for a single-sampled framebuffer");
+}
+
+// What creating the attachments of `fbo` left: a GL error, or an incomplete framebuffer.
+Status checkCreated(const FramebufferDesc& desc, GLuint fbo) {
+  const GLenum error = glGetError();
+  if (error == GL_OUT_OF_MEMORY) {
+    return Status(ErrorCode::Runtime, "framebuffer: out of memory allocating " +
+                                          sizeText(desc.width, desc.height) +
+                                          " buffers; choose a smaller size");
+  }
+  if (error != GL_NO_ERROR) {
+    std::ostringstream out;
+    out << "framebuffer: GL error 0x" << std::hex << error << " creating a "
+        << sizeText(desc.width, desc.height) << " framebuffer with depth format "
+        << toString(desc.depth.format);
+    return Status(ErrorCode::Runtime, out.str());
+  }
+  const GLenum status = glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE) {
+    return Status(ErrorCode::Unsupported,
+                  std::string("framebuffer: incomplete (") + statusName(status) +
+                      ") with depth "
+                      "format " +
+                      toString(desc.depth.format) +
+                      "; the driver cannot render to this combination. Try depth format 32f.");
+  }
+  return tryCheckGlErrors("framebuffer: creation");
+}
+
 }  // namespace
 
 Framebuffer::Framebuffer(Unmade, const FramebufferDesc& desc) : desc_(desc) {}
@@ -66,55 +153,9 @@ Result<std::unique_ptr<Framebuffer>> Framebuffer::create(const FramebufferDesc& 
 // Whatever fails leaves no GL object behind.
 Status Framebuffer::make() {
   const FramebufferDesc& desc = desc_;
-  GLint max_texture = 0, max_fb_w = 0, max_fb_h = 0, max_rb = 0;
-  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture);
-  glGetIntegerv(GL_MAX_FRAMEBUFFER_WIDTH, &max_fb_w);
-  glGetIntegerv(GL_MAX_FRAMEBUFFER_HEIGHT, &max_fb_h);
-  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_rb);
-  const GLint max_w = std::min(max_texture, max_fb_w), max_h = std::min(max_texture, max_fb_h);
-  if (desc.width < 1 || desc.height < 1 || GLint(desc.width) > max_w ||
-      GLint(desc.height) > max_h || desc.width > kMaxViewportSide ||
-      desc.height > kMaxViewportSide) {
-    const std::uint32_t limit_w = std::min(std::uint32_t(std::max(max_w, 1)), kMaxViewportSide);
-    const std::uint32_t limit_h = std::min(std::uint32_t(std::max(max_h, 1)), kMaxViewportSide);
-    return Status(ErrorCode::InvalidArgument,
-                  "framebuffer: size " + sizeText(desc.width, desc.height) +
-                      " is not possible on this driver; each side must be between 1 and " +
-                      sizeText(limit_w, limit_h) +
-                      " (GL_MAX_TEXTURE_SIZE / GL_MAX_FRAMEBUFFER_*, and logrid's " +
-                      std::to_string(kMaxViewportSide) + "). " +
-                      (desc.width < 1 || desc.height < 1 ? "Pass the size in pixels, at least 1x1."
-                                                         : "Choose a smaller size."));
-  }
-  const DepthSetup& d = desc.depth;
-  if ((d.format != DepthFormat::D16 && d.format != DepthFormat::D24 &&
-       d.format != DepthFormat::D32F) ||
-      (d.convention != DepthConvention::Standard && d.convention != DepthConvention::Reversed) ||
-      (d.clip_range != ClipDepthRange::NegativeOneToOne &&
-       d.clip_range != ClipDepthRange::ZeroToOne)) {
-    std::ostringstream out;
-    out << "framebuffer: unknown depth set-up (format " << int(d.format) << ", convention "
-        << int(d.convention) << ", clip range " << int(d.clip_range)
-        << "); use the DepthFormat, DepthConvention and ClipDepthRange enumerators";
-    return Status(ErrorCode::InvalidArgument, out.str());
-  }
-  GLint max_samples = 0, max_depth_samples = 0, max_color_samples = 0, max_integer_samples = 0;
-  glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
-  glGetIntegerv(GL_MAX_DEPTH_TEXTURE_SAMPLES, &max_depth_samples);
-  glGetIntegerv(GL_MAX_COLOR_TEXTURE_SAMPLES, &max_color_samples);
-  glGetIntegerv(GL_MAX_INTEGER_SAMPLES, &max_integer_samples);
-  GLint limit = std::min({max_samples, max_depth_samples, max_color_samples});
-  if (desc.object_ids) limit = std::min(limit, max_integer_samples);
-  if (desc.samples > 1 && GLint(desc.samples) > limit) {
-    return Status(ErrorCode::Unsupported,
-                  "framebuffer: " + std::to_string(desc.samples) +
-                      " samples per pixel requested, but this driver allows at most " +
-                      std::to_string(limit) +
-                      " for these attachments (GL_MAX_SAMPLES, GL_MAX_DEPTH_TEXTURE_SAMPLES, "
-                      "GL_MAX_COLOR_TEXTURE_SAMPLES" +
-                      (desc.object_ids ? ", GL_MAX_INTEGER_SAMPLES" : "") +
-                      "); ask for fewer, or 0 for a single-sampled framebuffer");
-  }
+  if (Status s = checkSize(desc); !s) return s;
+  if (Status s = checkDepthSetup(desc.depth); !s) return s;
+  if (Status s = checkSamples(desc); !s) return s;
   if (Status s = tryCheckGlErrors("framebuffer: before creation"); !s) return s;
   const GLsizei w = GLsizei(desc.width), h = GLsizei(desc.height);
   const bool multi = desc.samples > 1;
@@ -144,32 +185,7 @@ Status Framebuffer::make() {
     glGetTextureLevelParameteriv(depth_, 0, GL_TEXTURE_SAMPLES, &given);
     samples_ = std::uint32_t(std::max(given, 0));
   }
-  const GLenum error = glGetError();
-  if (error == GL_OUT_OF_MEMORY) {
-    release();
-    return Status(ErrorCode::Runtime, "framebuffer: out of memory allocating " +
-                                          sizeText(desc.width, desc.height) +
-                                          " buffers; choose a smaller size");
-  }
-  if (error != GL_NO_ERROR) {
-    release();
-    std::ostringstream out;
-    out << "framebuffer: GL error 0x" << std::hex << error << " creating a "
-        << sizeText(desc.width, desc.height) << " framebuffer with depth format "
-        << toString(desc.depth.format);
-    return Status(ErrorCode::Runtime, out.str());
-  }
-  const GLenum status = glCheckNamedFramebufferStatus(fbo_, GL_FRAMEBUFFER);
-  if (status != GL_FRAMEBUFFER_COMPLETE) {
-    release();
-    return Status(ErrorCode::Unsupported,
-                  std::string("framebuffer: incomplete (") + statusName(status) +
-                      ") with depth "
-                      "format " +
-                      toString(desc.depth.format) +
-                      "; the driver cannot render to this combination. Try depth format 32f.");
-  }
-  if (Status s = tryCheckGlErrors("framebuffer: creation"); !s) {
+  if (Status s = checkCreated(desc, fbo_); !s) {
     release();
     return s;
   }
@@ -286,40 +302,19 @@ void main() {
 }
 )";
 
-Result<GLuint> computeProgram(SampleKind kind) {
+Result<std::unique_ptr<zread::Program>> computeProgram(SampleKind kind) {
   const std::string source =
       "#version 450 core\n#define KIND " + std::to_string(int(kind)) + "\n" + kSampleCompute;
-  const char* text = source.c_str();
-  const GLuint shader = glCreateShader(GL_COMPUTE_SHADER);
-  glShaderSource(shader, 1, &text, nullptr);
-  glCompileShader(shader);
-  const GLuint program = glCreateProgram();
-  glAttachShader(program, shader);
-  glLinkProgram(program);
-  glDeleteShader(shader);
-  GLint ok = 0;
-  glGetProgramiv(program, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[2048] = {};
-    glGetProgramInfoLog(program, sizeof log, nullptr, log);
-    glDeleteProgram(program);
-    return Status(
-        ErrorCode::Runtime,
-        std::string("framebuffer: the multisample read-back shader does not build: ") + log);
-  }
-  return program;
+  return zread::Program::create("framebuffer multisample read-back", source.c_str());
 }
 
 }  // namespace
 
 struct Framebuffer::SampleReader {
-  GLuint programs[3] = {};
+  std::unique_ptr<zread::Program> programs[3];
   GLuint buffer = 0;
   std::size_t capacity = 0;
   ~SampleReader() {
-    for (GLuint p : programs) {
-      if (p) glDeleteProgram(p);
-    }
     if (buffer) glDeleteBuffers(1, &buffer);
   }
 };
@@ -329,12 +324,12 @@ Status Framebuffer::readSamples(int kind, std::uint32_t texture, std::uint32_t v
                                 void* dst) const {
   if (!sample_reader_) sample_reader_ = std::make_unique<SampleReader>();
   SampleReader& r = *sample_reader_;
-  GLuint& program = r.programs[kind];
-  if (!program) {
-    const Result<GLuint> built = computeProgram(SampleKind(kind));
+  if (!r.programs[kind]) {
+    Result<std::unique_ptr<zread::Program>> built = computeProgram(SampleKind(kind));
     if (!built) return built.status();
-    program = built.value();
+    r.programs[kind] = std::move(built).value();
   }
+  const GLuint program = r.programs[kind]->handle();
   const std::size_t row_values = std::size_t(desc_.width) * values_per_pixel;
   const std::uint32_t band =
       std::uint32_t(std::max<std::size_t>(1, (std::size_t(1) << 26) / row_values));

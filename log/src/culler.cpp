@@ -262,17 +262,46 @@ Status Culler::tryBeginFrame(const Camera& camera, const Hierarchy& hierarchy,
   if (Status prepared = prepare(camera, sources); !prepared) return prepared;
   in_frame_ = true;
   const AbandonOnThrow guard([this] { abandonFrame(); });
+  if (Status begun = beginSourceFrames(camera); !begun) return failFrame(begun);
+  hierarchy_ = &hierarchy;
+  clearFrameState();
+  coherence_ = auto_ ? setting_.temporal_coherence
+                     : desc_.temporal_coherence && info.takes.temporal_coherence;
+  // auto keeps the visible nodes with objects every frame: the next may choose coherence.
+  record_visible_ = coherence_ || auto_;
+  if (!auto_) setting_ = {desc_.method, lookahead_, coherence_, false, {}};
+  setting_.approximation = frameApproximation();
+  stats_.setting = setting_;
+
+  for (const DrawnArea& area : drawn_before) noteDrawnWith(area, false);
+  if (info.occluders != OccluderUse::None) {
+    if (Status occluders = beginOccluders(camera); !occluders) return failFrame(occluders);
+  }
+  if (schedule_) {
+    beginSchedule(hierarchy);
+  } else {
+    phase_ = coherence_ ? Phase::Coherent : Phase::Traverse;
+    const NodeId root = hierarchy.root();
+    if (root != kNoNode) pushTest(root, projector_->project(hierarchy.bounds(root)));
+  }
+  return {};
+}
+
+Status Culler::beginSourceFrames(const Camera& camera) {
   DepthSource* depth = sources_.depth;
   OcclusionQueries* queries = sources_.queries;
   if (depth) {
-    if (Status begun = depth->beginFrame(camera); !begun) return failFrame(begun);
+    if (Status begun = depth->beginFrame(camera); !begun) return begun;
   }
   if (queries) {
-    if (Status begun = queries->beginQueryFrame(camera); !begun) return failFrame(begun);
+    if (Status begun = queries->beginQueryFrame(camera); !begun) return begun;
   }
   depth_before_ = depth ? depth->counters() : ReadCounters{};
   queries_before_ = queries ? queries->queryCounters() : QueryCounters{};
-  hierarchy_ = &hierarchy;
+  return {};
+}
+
+void Culler::clearFrameState() {
   stats_ = {};
   grid_counts_ = {};
   drawn_back_ = kNothingDrawn;
@@ -289,63 +318,55 @@ Status Culler::tryBeginFrame(const Camera& camera, const Hierarchy& hierarchy,
   visible_drawn_.clear();
   drawn_first_.clear();
   unordered_.clear();
-  coherence_ = auto_ ? setting_.temporal_coherence
-                     : desc_.temporal_coherence && info.takes.temporal_coherence;
-  // auto keeps the visible nodes with objects every frame: the next may choose coherence.
-  record_visible_ = coherence_ || auto_;
-  if (!auto_) setting_ = {desc_.method, lookahead_, coherence_, false, {}};
-  setting_.approximation = frameApproximation();
-  stats_.setting = setting_;
+}
 
-  for (const DrawnArea& area : drawn_before) noteDrawnWith(area, false);
-  if (info.occluders != OccluderUse::None) {
-    // The occluder pre-pass: selected for this camera, drawn first where the method
-    // reads them from the depth buffer (out of order, like drawn_before).
-    occluder_areas_.clear();
-    Result<std::uint64_t> occluders = sources_.occluders->beginFrame(
-        camera, desc_.projection, info.occluders == OccluderUse::Drawn, occluder_areas_);
-    if (!occluders) return failFrame(occluders.status());
-    stats_.occluders = *occluders;
-    for (const DrawnArea& area : occluder_areas_) noteDrawnWith(area, false);
-    // What the CPU knows of them: tiles a quad covers entirely are full, read or not.
-    if (info.occluders == OccluderUse::Drawn) {
-      const CoverageRule rule = coverageRule(camera, desc_.projection);
-      for (const DrawnQuad& quad : sources_.occluders->drawnQuads()) {
-        stats_.occluder_tiles += tester_->recordCovered(quad, rule);
-      }
+Status Culler::beginOccluders(const Camera& camera) {
+  // Selected for this camera, drawn first where the method reads them from the depth
+  // buffer (out of order, like drawn_before).
+  const OccluderUse use = method_->info.occluders;
+  occluder_areas_.clear();
+  Result<std::uint64_t> occluders = sources_.occluders->beginFrame(
+      camera, desc_.projection, use == OccluderUse::Drawn, occluder_areas_);
+  if (!occluders) return occluders.status();
+  stats_.occluders = *occluders;
+  for (const DrawnArea& area : occluder_areas_) noteDrawnWith(area, false);
+  // What the CPU knows of them: tiles a quad covers entirely are full, read or not.
+  if (use == OccluderUse::Drawn) {
+    const CoverageRule rule = coverageRule(camera, desc_.projection);
+    for (const DrawnQuad& quad : sources_.occluders->drawnQuads()) {
+      stats_.occluder_tiles += tester_->recordCovered(quad, rule);
     }
-  }
-  if (schedule_) {
-    if (schedule_hierarchy_ != &hierarchy || schedule_revision_ != hierarchy.revision()) {
-      schedule_->forget();
-      schedule_hierarchy_ = &hierarchy;
-      schedule_revision_ = hierarchy.revision();
-    }
-    if (info.grid) prefilter_ = std::make_unique<detail::GridPrefilter>(*tester_, grid_counts_);
-    detail::QueryFrame::Wiring wiring;
-    wiring.hierarchy = &hierarchy;
-    wiring.projector = projector_.get();
-    wiring.queries = sources_.queries;
-    wiring.prefilter = prefilter_.get();
-    wiring.shape = desc_.queries.shape;
-    wiring.stats = &stats_;
-    wiring.clear_epoch = &clear_epoch_;
-    wiring.undrawn = &batch_;
-    wiring.draw = [this](const detail::QueryNode& n) { drawEntry({n.order, n.id, n.projection}); };
-    if (observer_) {
-      wiring.observe = [this](const detail::QueryNode& n, Visibility v) {
-        observer_->onTested(n.id, n.projection, v);
-      };
-    }
-    query_frame_ = std::make_unique<detail::QueryFrame>(wiring, ++schedule_frame_);
-    schedule_->begin(*query_frame_);
-    phase_ = Phase::Schedule;
-  } else {
-    phase_ = coherence_ ? Phase::Coherent : Phase::Traverse;
-    const NodeId root = hierarchy.root();
-    if (root != kNoNode) pushTest(root, projector_->project(hierarchy.bounds(root)));
   }
   return {};
+}
+
+void Culler::beginSchedule(const Hierarchy& hierarchy) {
+  if (schedule_hierarchy_ != &hierarchy || schedule_revision_ != hierarchy.revision()) {
+    schedule_->forget();
+    schedule_hierarchy_ = &hierarchy;
+    schedule_revision_ = hierarchy.revision();
+  }
+  if (method_->info.grid) {
+    prefilter_ = std::make_unique<detail::GridPrefilter>(*tester_, grid_counts_);
+  }
+  detail::QueryFrame::Wiring wiring;
+  wiring.hierarchy = &hierarchy;
+  wiring.projector = projector_.get();
+  wiring.queries = sources_.queries;
+  wiring.prefilter = prefilter_.get();
+  wiring.shape = desc_.queries.shape;
+  wiring.stats = &stats_;
+  wiring.clear_epoch = &clear_epoch_;
+  wiring.undrawn = &batch_;
+  wiring.draw = [this](const detail::QueryNode& n) { drawEntry({n.order, n.id, n.projection}); };
+  if (observer_) {
+    wiring.observe = [this](const detail::QueryNode& n, Visibility v) {
+      observer_->onTested(n.id, n.projection, v);
+    };
+  }
+  query_frame_ = std::make_unique<detail::QueryFrame>(wiring, ++schedule_frame_);
+  schedule_->begin(*query_frame_);
+  phase_ = Phase::Schedule;
 }
 
 Status Culler::failFrame(Status status) {
@@ -512,7 +533,6 @@ bool Culler::afterBatchDrawn() {
 }
 
 bool Culler::traverse() {
-  const Hierarchy& hierarchy = *hierarchy_;
   for (;;) {
     // What must wait until the batch is drawn: a busy refresh, a batch of reads, a test
     // that reads.
@@ -524,91 +544,12 @@ bool Culler::traverse() {
       continue;
     }
     if (testing_) {
-      // The threshold from what is drawn now: the batch may have announced more.
-      const Entry entry = *testing_;
-      bool by_state = false;
-      const float threshold = thresholdFor(entry, by_state);
-      if (!batch_.empty() && tester_->mayRead(entry.projection.rect, threshold)) return false;
-      testing_.reset();
-      countFallback(by_state);
-      const std::uint64_t read_before = grid_counts_.tiles_read;
-      const Visibility v = tester_->test(entry.projection.rect, threshold, grid_counts_);
-      decided(entry, v, v == Visibility::Occluded || grid_counts_.tiles_read > read_before);
+      if (!testHeld()) return false;
       continue;
     }
-    // Two-list order (LOG §3, fig. 2): draw the frontmost visible node once it lies in
-    // front of the frontmost node still to be tested, or set aside for the next batch.
-    if (!draw_list_.empty()) {
-      float gate =
-          test_list_.empty() ? std::numeric_limits<float>::infinity() : test_list_.front().order;
-      if (!pending_.empty()) gate = std::min(gate, pending_.front().order);
-      if (draw_list_.front().order < gate) {
-        std::pop_heap(draw_list_.begin(), draw_list_.end(), LaterFirst{});
-        const Entry entry = draw_list_.back();
-        draw_list_.pop_back();
-        drawEntry(entry);
-        continue;
-      }
-    }
+    if (drawFrontmost()) continue;
     if (!test_list_.empty() && pending_.size() < lookahead_) {
-      std::pop_heap(test_list_.begin(), test_list_.end(), LaterFirst{});
-      const Entry entry = test_list_.back();
-      test_list_.pop_back();
-      ++stats_.nodes_visited;
-      Visibility v = Visibility::Visible;
-      bool must_test = !forced(entry, v);
-      if (must_test && auto_ &&
-          !auto_->worthTesting(entry.node, double(entry.projection.rect.area()),
-                               estimate_.costs())) {
-        // Drawing it (or opening it) is expected to cost less than testing it: visible,
-        // untested (NOHC §4.1's reasonability test; always conservative).
-        ++stats_.boxes_untested;
-        must_test = false;
-      }
-      if (must_test) {
-        if (lookahead_ > 1 && desc_.detect_colliding && !pending_.empty() &&
-            collidesWithPending(entry.projection.rect)) {
-          // §3.5: wait for the nearer boxes' answers (and draws) before asking about this
-          // one; it comes off the test-list again after the batch.
-          --stats_.nodes_visited;
-          ++stats_.colliding_waits;
-          test_list_.push_back(entry);
-          std::push_heap(test_list_.begin(), test_list_.end(), LaterFirst{});
-          resolve_due_ = true;
-          continue;
-        }
-        ++stats_.boxes_tested;
-        if (lookahead_ == 1) {
-          testing_ = entry;  // tested at the top, once the batch is drawn if it reads
-          continue;
-        }
-        bool by_state = false;
-        const float threshold = thresholdFor(entry, by_state);
-        countFallback(by_state);
-        const bool holds_objects = hierarchy.objectCount(entry.node) > 0;
-        std::optional<Visibility> planned =
-            tester_->plan(entry.projection.rect, threshold, grid_counts_, holds_objects);
-        if (!planned) {
-          if (holds_objects) {
-            pending_.push_back(entry);
-            pending_.back().by_state = by_state;
-            continue;
-          }
-          // A node without objects the records cannot decide is opened rather than waited for:
-          // its children are tested instead (what a visible answer would do anyway), so
-          // a descent through the hierarchy costs no batch per level.
-          ++stats_.nodes_opened;
-          planned = Visibility::Visible;
-        } else if (*planned == Visibility::Visible && holds_objects && !pending_.empty()) {
-          // Visible by the records, but nodes with objects in front of it are still
-          // undecided, and what they hold back from drawing may hide it: tested again after.
-          deferred_.push_back(entry);
-          continue;
-        }
-        decided(entry, *planned, *planned == Visibility::Occluded);  // from the records
-        continue;
-      }
-      finish(entry, v);
+      visitNext();
       continue;
     }
     if (!pending_.empty()) {
@@ -617,6 +558,106 @@ bool Culler::traverse() {
     }
     if (test_list_.empty()) return true;
   }
+}
+
+bool Culler::testHeld() {
+  // The threshold from what is drawn now: the batch may have announced more.
+  const Entry entry = *testing_;
+  bool by_state = false;
+  const float threshold = thresholdFor(entry, by_state);
+  if (!batch_.empty() && tester_->mayRead(entry.projection.rect, threshold)) return false;
+  testing_.reset();
+  countFallback(by_state);
+  const std::uint64_t read_before = grid_counts_.tiles_read;
+  const Visibility v = tester_->test(entry.projection.rect, threshold, grid_counts_);
+  decided(entry, v, v == Visibility::Occluded || grid_counts_.tiles_read > read_before);
+  return true;
+}
+
+bool Culler::drawFrontmost() {
+  // Two-list order (LOG §3, fig. 2): draw the frontmost visible node once it lies in
+  // front of the frontmost node still to be tested, or set aside for the next batch.
+  if (draw_list_.empty()) return false;
+  float gate =
+      test_list_.empty() ? std::numeric_limits<float>::infinity() : test_list_.front().order;
+  if (!pending_.empty()) gate = std::min(gate, pending_.front().order);
+  if (!(draw_list_.front().order < gate)) return false;
+  std::pop_heap(draw_list_.begin(), draw_list_.end(), LaterFirst{});
+  const Entry entry = draw_list_.back();
+  draw_list_.pop_back();
+  drawEntry(entry);
+  return true;
+}
+
+void Culler::visitNext() {
+  std::pop_heap(test_list_.begin(), test_list_.end(), LaterFirst{});
+  const Entry entry = test_list_.back();
+  test_list_.pop_back();
+  ++stats_.nodes_visited;
+  Visibility v = Visibility::Visible;
+  if (forced(entry, v) || untestedByCost(entry)) {
+    finish(entry, v);
+    return;
+  }
+  if (waitsForColliding(entry)) return;
+  ++stats_.boxes_tested;
+  if (lookahead_ == 1) {
+    testing_ = entry;  // tested at the top, once the batch is drawn if it reads
+    return;
+  }
+  planTest(entry);
+}
+
+bool Culler::untestedByCost(const Entry& entry) {
+  if (!auto_ ||
+      auto_->worthTesting(entry.node, double(entry.projection.rect.area()), estimate_.costs())) {
+    return false;
+  }
+  // Drawing it (or opening it) is expected to cost less than testing it: visible,
+  // untested (NOHC §4.1's reasonability test; always conservative).
+  ++stats_.boxes_untested;
+  return true;
+}
+
+bool Culler::waitsForColliding(const Entry& entry) {
+  const bool waits = lookahead_ > 1 && desc_.detect_colliding && !pending_.empty() &&
+                     collidesWithPending(entry.projection.rect);
+  if (!waits) return false;
+  // §3.5: wait for the nearer boxes' answers (and draws) before asking about this one;
+  // it comes off the test-list again after the batch.
+  --stats_.nodes_visited;
+  ++stats_.colliding_waits;
+  test_list_.push_back(entry);
+  std::push_heap(test_list_.begin(), test_list_.end(), LaterFirst{});
+  resolve_due_ = true;
+  return true;
+}
+
+void Culler::planTest(const Entry& entry) {
+  bool by_state = false;
+  const float threshold = thresholdFor(entry, by_state);
+  countFallback(by_state);
+  const bool holds_objects = hierarchy_->objectCount(entry.node) > 0;
+  std::optional<Visibility> planned =
+      tester_->plan(entry.projection.rect, threshold, grid_counts_, holds_objects);
+  if (!planned) {
+    if (holds_objects) {
+      pending_.push_back(entry);
+      pending_.back().by_state = by_state;
+      return;
+    }
+    // A node without objects the records cannot decide is opened rather than waited for:
+    // its children are tested instead (what a visible answer would do anyway), so
+    // a descent through the hierarchy costs no batch per level.
+    ++stats_.nodes_opened;
+    planned = Visibility::Visible;
+  } else if (*planned == Visibility::Visible && holds_objects && !pending_.empty()) {
+    // Visible by the records, but nodes with objects in front of it are still
+    // undecided, and what they hold back from drawing may hide it: tested again after.
+    deferred_.push_back(entry);
+    return;
+  }
+  decided(entry, *planned, *planned == Visibility::Occluded);  // from the records
 }
 
 void Culler::pushChildren(NodeId node) {

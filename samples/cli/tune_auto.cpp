@@ -20,6 +20,9 @@
 #include <cstdio>
 #include <fstream>
 #include <functional>
+#include <initializer_list>
+#include <string>
+#include <vector>
 
 #include "cli/common.hpp"
 #include "cli/config_option.hpp"
@@ -193,6 +196,123 @@ Stage methodStage(const WalkOptions& base) {
   return s;
 }
 
+// `best`, then `best` with each other value of `values` in its `field`.
+template <typename Field, typename Value>
+Stage variantStage(std::string name, const WalkOptions& best, Field WalkOptions::*field,
+                   std::initializer_list<Value> values) {
+  Stage s{std::move(name), {{best}}, 0};
+  for (const Value& v : values) {
+    if (v == best.*field) continue;
+    WalkOptions w = best;
+    w.*field = v;
+    s.candidates.push_back({w});
+  }
+  return s;
+}
+
+// Lookahead around the best grid setting's: K / 4 and K x 4.
+Stage lookaheadStage(const WalkOptions& best, const MethodChoice& choice) {
+  Stage s{"2. lookahead", {{best}}, 0};
+  for (std::uint32_t k : {*choice.lookahead / 4, *choice.lookahead * 4}) {
+    if (k < 1) continue;
+    s.candidates.push_back({withMethod(best, choiceName(*choice.method, k, choice.coherence))});
+  }
+  return s;
+}
+
+// Leaf sizes, and for the forest its trees' trunk and crown apart.
+Stage granularityStage(const WalkOptions& best, const std::string& scene) {
+  Stage s = variantStage("5. box granularity", best, &WalkOptions::leaf, {1u, 4u});
+  if (scene == "forest" && best.tree_parts == "whole") {
+    WalkOptions g = best;
+    g.tree_parts = "trunk-crown";
+    s.candidates.push_back({g});
+  }
+  return s;
+}
+
+// Each granularity needs a scene of its own: the runs alternate per repetition, and each
+// candidate's time is the median of its repetitions.
+void runGranularity(LoadedScene& scene, Stage& s, std::size_t repeat, const std::string& label) {
+  std::vector<LoadedScene> scenes;
+  for (std::size_t i = 1; i < s.candidates.size(); ++i) {
+    scenes.push_back(loadScene(s.candidates[i].options));
+  }
+  std::vector<std::vector<double>> ms(s.candidates.size());
+  for (std::size_t r = 0; r < repeat; ++r) {
+    for (std::size_t i = 0; i < s.candidates.size(); ++i) {
+      std::vector<Candidate> one{s.candidates[i]};
+      runOnScene(i == 0 ? scene : scenes[i - 1], one, 1, label);
+      ms[i].push_back(one[0].ms);
+      if (r == 0) s.candidates[i].missed = one[0].missed;
+    }
+  }
+  for (std::size_t i = 0; i < s.candidates.size(); ++i) {
+    std::sort(ms[i].begin(), ms[i].end());
+    s.candidates[i].ms = ms[i][ms[i].size() / 2];
+  }
+  pickBest(s);
+}
+
+const WalkOptions& bestOf(const Stage& s) { return s.candidates[s.best].options; }
+
+// The stages, each printed and in the report's "stages", and what the scene needed.
+nlohmann::json reportStages(const std::vector<Stage>& stages, const nlohmann::json& needed,
+                            const std::string& scene_name) {
+  nlohmann::json report = nlohmann::json::array();
+  for (const Stage& s : stages) {
+    print(s);
+    nlohmann::json js{{"stage", s.name}, {"candidates", nlohmann::json::array()}};
+    for (const Candidate& c : s.candidates) {
+      js["candidates"].push_back(
+          {{"setting", describe(c.options)}, {"ms", c.ms}, {"missed", c.missed}});
+    }
+    report.push_back(std::move(js));
+  }
+  std::printf("what %s needed (a part pays when it is %.0f%% faster than going without):\n",
+              scene_name.c_str(), 100 * kPaysMargin);
+  for (const nlohmann::json& v : needed) {
+    if (v["needed"].is_null()) continue;
+    std::printf("  %-48s %s (%.2f vs %.2f ms)\n", v["part"].get<std::string>().c_str(),
+                v["needed"].get<bool>() ? "needed" : "not needed", v["with_ms"].get<double>(),
+                v["without_ms"].get<double>());
+  }
+  return report;
+}
+
+bool anyMissed(const std::vector<Stage>& stages) {
+  for (const Stage& s : stages) {
+    for (const Candidate& c : s.candidates) {
+      if (c.missed > 0) return true;
+    }
+  }
+  return false;
+}
+
+// The configuration file of --write-config: `best` as a CullerConfig, its scene section,
+// and the report's summary; read back with the library's own reader.
+void writeConfig(const TuneAutoOptions& o, const WalkOptions& best, const LoadedScene& scene,
+                 double ms_per_frame, const nlohmann::json& needed) {
+  CullerConfig config;
+  const RunConfig run = runConfig(best, scene.prepared);
+  config.culler = run.culler;
+  config.culler.method = *run.method.method;
+  config.source = best.reader;
+  nlohmann::json file = nlohmann::json::parse(formatCullerConfig(config));
+  file["scene"] = nlohmann::json::parse(sceneSection(best));
+  file["report"] = {
+      {"scene", scene.prepared.name}, {"size", o.walk.size}, {"frames", o.walk.frames},
+      {"ms_per_frame", ms_per_frame}, {"needed", needed},    {"command", commandLine()}};
+  std::ofstream out(o.config);
+  out << file.dump(2) << "\n";
+  if (!out) {
+    throw Error(ErrorCode::Environment, "tune: cannot write the configuration " + o.config);
+  }
+  // What was written must read back as written (the library's own reader).
+  (void)loadCullerConfig(o.config);
+  std::printf("wrote %s (walk, bench and view take it with --config)\n", o.config.c_str());
+}
+
 }  // namespace
 
 int runTuneAuto(const TuneAutoOptions& o) {
@@ -200,146 +320,51 @@ int runTuneAuto(const TuneAutoOptions& o) {
   LoadedScene scene = loadScene(o.walk);
   const std::string label = "tune --auto " + scene.prepared.name;
   std::vector<Stage> stages;
+  // Runs a stage on the scene, keeps it, and answers its fastest candidate.
+  const auto run = [&](Stage s, const char* what) {
+    runOnScene(scene, s.candidates, o.repeat, label + what);
+    pickBest(s);
+    stages.push_back(std::move(s));
+    return bestOf(stages.back());
+  };
 
-  // 1. Method, lookahead, coherence.
+  // 1. Method, lookahead, coherence; what the scene needs is read off this stage.
   stages.push_back(methodStage(o.walk));
   runOnScene(scene, stages.back().candidates, o.repeat, label + " methods");
   const nlohmann::json needed = neededParts(stages.back());
   pickNeeded(stages.back(), needed);
-  WalkOptions best = stages.back().candidates[stages.back().best].options;
-
-  // 2. Lookahead around the best grid setting's (where batching was needed).
+  WalkOptions best = bestOf(stages.back());
+  // 2. Lookahead, where batching was needed; 3. tile size, for methods with a grid;
+  // 4. depth reader, for methods that read depth.
   if (const auto choice = parseMethodChoice(best.method); choice->lookahead && mayUse(needed[1])) {
-    Stage s{"2. lookahead", {{best}}, 0};
-    for (std::uint32_t k : {*choice->lookahead / 4, *choice->lookahead * 4}) {
-      if (k < 1) continue;
-      s.candidates.push_back({withMethod(best, choiceName(*choice->method, k, choice->coherence))});
-    }
-    runOnScene(scene, s.candidates, o.repeat, label + " lookahead");
-    pickBest(s);
-    best = s.candidates[s.best].options;
-    stages.push_back(std::move(s));
+    best = run(lookaheadStage(best, *choice), " lookahead");
   }
-
-  // 3. Tile size, for methods with a grid.
   if (infoOf(best).grid) {
-    Stage s{"3. tile size", {{best}}, 0};
-    for (std::uint32_t tile : {8u, 16u, 32u, 64u}) {
-      if (tile == best.tile) continue;
-      WalkOptions t = best;
-      t.tile = tile;
-      s.candidates.push_back({t});
-    }
-    runOnScene(scene, s.candidates, o.repeat, label + " tiles");
-    pickBest(s);
-    best = s.candidates[s.best].options;
-    stages.push_back(std::move(s));
+    best =
+        run(variantStage("3. tile size", best, &WalkOptions::tile, {8u, 16u, 32u, 64u}), " tiles");
   }
-
-  // 4. Depth reader, for methods that read depth.
   if (infoOf(best).needs.depth) {
-    Stage s{"4. depth reader", {{best}}, 0};
-    for (const char* reader : {"readpixels", "pbo", "reduce"}) {
-      if (reader == best.reader) continue;
-      WalkOptions r = best;
-      r.reader = reader;
-      s.candidates.push_back({r});
-    }
-    runOnScene(scene, s.candidates, o.repeat, label + " readers");
-    pickBest(s);
-    best = s.candidates[s.best].options;
-    stages.push_back(std::move(s));
+    best = run(variantStage("4. depth reader", best, &WalkOptions::reader,
+                            {"readpixels", "pbo", "reduce"}),
+               " readers");
   }
+  // 5. Box granularity: a scene per choice.
+  stages.push_back(granularityStage(best, o.walk.scene));
+  runGranularity(scene, stages.back(), o.repeat, label + " granularity");
+  best = bestOf(stages.back());
 
-  // 5. Box granularity: a scene per choice, the runs alternating per repetition.
-  {
-    Stage s{"5. box granularity", {{best}}, 0};
-    for (std::uint32_t leaf : {1u, 4u}) {
-      if (leaf == best.leaf) continue;
-      WalkOptions g = best;
-      g.leaf = leaf;
-      s.candidates.push_back({g});
-    }
-    if (o.walk.scene == "forest" && best.tree_parts == "whole") {
-      WalkOptions g = best;
-      g.tree_parts = "trunk-crown";
-      s.candidates.push_back({g});
-    }
-    std::vector<LoadedScene> scenes;
-    for (std::size_t i = 1; i < s.candidates.size(); ++i) {
-      scenes.push_back(loadScene(s.candidates[i].options));
-    }
-    std::vector<std::vector<double>> ms(s.candidates.size());
-    for (std::size_t r = 0; r < o.repeat; ++r) {
-      for (std::size_t i = 0; i < s.candidates.size(); ++i) {
-        std::vector<Candidate> one{s.candidates[i]};
-        runOnScene(i == 0 ? scene : scenes[i - 1], one, 1, label + " granularity");
-        ms[i].push_back(one[0].ms);
-        if (r == 0) s.candidates[i].missed = one[0].missed;
-      }
-    }
-    for (std::size_t i = 0; i < s.candidates.size(); ++i) {
-      std::sort(ms[i].begin(), ms[i].end());
-      s.candidates[i].ms = ms[i][ms[i].size() / 2];  // median of the repetitions
-    }
-    pickBest(s);
-    best = s.candidates[s.best].options;
-    stages.push_back(std::move(s));
-  }
-
-  bool missed = false;
   nlohmann::json report = scene.describe();
   report["command"] = commandLine();
   report["machine"] = machineInfo(context);
-  report["stages"] = nlohmann::json::array();
-  for (const Stage& s : stages) {
-    print(s);
-    nlohmann::json js{{"stage", s.name}, {"candidates", nlohmann::json::array()}};
-    for (const Candidate& c : s.candidates) {
-      js["candidates"].push_back(
-          {{"setting", describe(c.options)}, {"ms", c.ms}, {"missed", c.missed}});
-      missed |= c.missed > 0;
-    }
-    report["stages"].push_back(std::move(js));
-  }
-
+  report["stages"] = reportStages(stages, needed, scene.prepared.name);
   report["needed"] = needed;
-  std::printf("what %s needed (a part pays when it is %.0f%% faster than going without):\n",
-              scene.prepared.name.c_str(), 100 * kPaysMargin);
-  for (const nlohmann::json& v : report["needed"]) {
-    if (v["needed"].is_null()) continue;
-    std::printf("  %-48s %s (%.2f vs %.2f ms)\n", v["part"].get<std::string>().c_str(),
-                v["needed"].get<bool>() ? "needed" : "not needed", v["with_ms"].get<double>(),
-                v["without_ms"].get<double>());
-  }
   std::printf("configuration: %s\n", describe(best).c_str());
   report["configuration"] = describe(best);
-
   if (!o.config.empty()) {
-    CullerConfig config;
-    const RunConfig run = runConfig(best, scene.prepared);
-    config.culler = run.culler;
-    config.culler.method = *run.method.method;
-    config.source = best.reader;
-    nlohmann::json file = nlohmann::json::parse(formatCullerConfig(config));
-    file["scene"] = nlohmann::json::parse(sceneSection(best));
-    file["report"] = {{"scene", scene.prepared.name},
-                      {"size", o.walk.size},
-                      {"frames", o.walk.frames},
-                      {"ms_per_frame", stages.back().candidates[stages.back().best].ms},
-                      {"needed", report["needed"]},
-                      {"command", commandLine()}};
-    std::ofstream out(o.config);
-    out << file.dump(2) << "\n";
-    if (!out) {
-      throw Error(ErrorCode::Environment, "tune: cannot write the configuration " + o.config);
-    }
-    // What was written must read back as written (the library's own reader).
-    (void)loadCullerConfig(o.config);
-    std::printf("wrote %s (walk, bench and view take it with --config)\n", o.config.c_str());
+    writeConfig(o, best, scene, stages.back().candidates[stages.back().best].ms, needed);
   }
   if (!o.json.empty()) writeJson(o.json, report);
-  if (missed) {
+  if (anyMissed(stages)) {
     std::fprintf(stderr, "tune: a conservative run missed visible objects: a bug\n");
     return 1;
   }

@@ -196,18 +196,11 @@ const char* toString(TreeParts parts) {
   return "?";
 }
 
-Scene makeForest(const GeneratorOptions& options) {
-  checkScale("forest", options.scale, kMaxForestScale);
-  std::mt19937_64 rng(options.seed);
-  const Terrain terrain(rng);
-  const double side = kBaseSide * std::sqrt(options.scale);
-  const Trail trail(0.33 * side, rng);
+namespace {
 
-  Scene scene;
-  scene.name = "forest";
-  MeshWriter w(scene);
-
-  // Terrain patches, each one object (no occluder model: the mesh is simple enough).
+// Terrain patches, each one object (no occluder model: the mesh is simple enough).
+void addTerrain(MeshWriter& w, Scene& scene, const Terrain& terrain, double side,
+                std::mt19937_64& rng) {
   const int cells = std::max(2, int(std::ceil(side / kCell)));
   const double half = 0.5 * cells * kCell;
   for (int pz = 0; pz < cells; pz += kPatchCells) {
@@ -233,8 +226,11 @@ Scene makeForest(const GeneratorOptions& options) {
       scene.occluder_models.emplace_back();
     }
   }
+}
 
-  // Trees on a jittered grid, keeping the trail clear.
+// Trees on a jittered grid, keeping the trail clear.
+void addTrees(MeshWriter& w, Scene& scene, const Terrain& terrain, const Trail& trail, double side,
+              const GeneratorOptions& options, std::mt19937_64& rng) {
   const double tree_count = std::max(1.0, std::round(kBaseTrees * options.scale));
   const double spacing = side / std::sqrt(tree_count);
   const int grid = std::max(1, int(std::round(side / spacing)));
@@ -275,8 +271,10 @@ Scene makeForest(const GeneratorOptions& options) {
       scene.occluder_models.push_back(treeModel(scene, first, conifer, kConiferTiers));
     }
   }
+}
 
-  // The walkthrough: the trail at eye height, looking a few metres ahead.
+// The walkthrough: the trail at eye height, looking a few metres ahead.
+CameraPath trailPath(const Terrain& terrain, const Trail& trail) {
   std::vector<CameraKey> keys;
   constexpr int kKeys = 64;
   for (int k = 0; k <= kKeys; ++k) {
@@ -287,7 +285,24 @@ Scene makeForest(const GeneratorOptions& options) {
     keys.push_back(
         {{x, terrain.height(x, z) + kEye, z}, {xa, terrain.height(xa, za) + kEye, za}, 0});
   }
-  scene.path = CameraPath(std::move(keys));
+  return CameraPath(std::move(keys));
+}
+
+}  // namespace
+
+Scene makeForest(const GeneratorOptions& options) {
+  checkScale("forest", options.scale, kMaxForestScale);
+  std::mt19937_64 rng(options.seed);
+  const Terrain terrain(rng);
+  const double side = kBaseSide * std::sqrt(options.scale);
+  const Trail trail(0.33 * side, rng);
+
+  Scene scene;
+  scene.name = "forest";
+  MeshWriter w(scene);
+  addTerrain(w, scene, terrain, side, rng);
+  addTrees(w, scene, terrain, trail, side, options, rng);
+  scene.path = trailPath(terrain, trail);
   scene.near_plane = 0.1;
   scene.far_plane = std::max(300.0, side);
   // Movers (--movers, movers.hpp): animals walking on the terrain.

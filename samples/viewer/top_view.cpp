@@ -79,15 +79,31 @@ TopView::TopView(const samples::PreparedScene& scene, const FlyCamera& camera)
                    [&](std::uint32_t a, std::uint32_t b) { return area(a) > area(b); });
 }
 
+// The view's coordinates (east, north of the scene's origin) on the canvas: the static
+// scene's extent fitted into it with a margin, north up.
+struct TopView::Canvas {
+  ImDrawList* dl;
+  glm::dvec3 east, north;
+  float lo[2];
+  float ox, oy, scale;
+
+  ImVec2 at(double e, double n) const {
+    return ImVec2(ox + float(e - lo[0]) * scale, oy - float(n - lo[1]) * scale);
+  }
+  // A point relative to the scene's origin.
+  ImVec2 atLocal(double x, double y, double z) const {
+    return at(dot(east, x, y, z), dot(north, x, y, z));
+  }
+};
+
 TopView::Counts TopView::draw(const Frame& f, bool* open) {
-  Counts counts;
   const ImGuiIO& io = ImGui::GetIO();
   ImGui::SetNextWindowSize(ImVec2(300, 320), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - 310, io.DisplaySize.y - 330),
                           ImGuiCond_FirstUseEver);
   if (!ImGui::Begin("Top view", open)) {
     ImGui::End();
-    return counts;
+    return {};
   }
   ImGui::TextColored(ImColor(kColors[kDrawn]), "drawn");
   ImGui::SameLine();
@@ -108,91 +124,102 @@ TopView::Counts TopView::draw(const Frame& f, bool* open) {
   const float margin = 6;
   const float scale = std::min((size.x - 2 * margin) / (hi_[0] - lo_[0]),
                                (size.y - 2 * margin) / (hi_[1] - lo_[1]));
-  const float ox = p0.x + 0.5f * (size.x - scale * (hi_[0] - lo_[0]));
-  const float oy = p0.y + 0.5f * (size.y + scale * (hi_[1] - lo_[1]));
-  auto at = [&](double e, double n) {
-    return ImVec2(ox + float(e - lo_[0]) * scale, oy - float(n - lo_[1]) * scale);
-  };
-  auto atLocal = [&](double x, double y, double z) {
-    return at(dot(east_, x, y, z), dot(north_, x, y, z));
-  };
-
-  const std::size_t n = scene_.object_boxes.size();
-  // Movers where they are this frame (the static objects' footprints never change).
-  const std::vector<Aabb>& boxes = f.boxes && f.boxes->size() == n ? *f.boxes : scene_.object_boxes;
-  for (std::size_t i = scene_.static_objects; i < n; ++i) setFootprint(i, boxes[i]);
-  std::fill(state_.begin(), state_.end(), kOutside);
-  if (f.camera) {
-    const Projector projector(*f.camera);
-    for (std::size_t i = 0; i < n; ++i) {
-      if (projector.project(boxes[i]).cls != ProjectionClass::Outside) {
-        state_[i] = kOccluded;
-      }
-    }
-    if (f.drawn) {
-      for (ObjectId id : *f.drawn) state_[id] = kDrawn;
-    }
-    if (f.missed) {
-      for (ObjectId id : *f.missed) state_[id] = kMissed;
-    }
-  }
-  // Largest footprints first (terrain under trees), so that every object shows.
-  for (std::uint32_t i : order_) {
-    const float* r = &rects_[std::size_t(i) * 4];
-    ImVec2 a = at(r[0], r[3]), b = at(r[2], r[1]);
-    b.x = std::max(b.x, a.x + 1);  // at least a pixel
-    b.y = std::max(b.y, a.y + 1);
-    const std::uint8_t s = state_[i];
-    dl->AddRectFilled(a, b, s == kMissed && !f.flash ? IM_COL32(255, 255, 255, 255) : kColors[s]);
-    if (b.x - a.x > 6 && b.y - a.y > 6) dl->AddRect(a, b, IM_COL32(0, 0, 0, 120));
-  }
+  const Canvas canvas{dl,
+                      east_,
+                      north_,
+                      {lo_[0], lo_[1]},
+                      p0.x + 0.5f * (size.x - scale * (hi_[0] - lo_[0])),
+                      p0.y + 0.5f * (size.y + scale * (hi_[1] - lo_[1])),
+                      scale};
+  classify(f);
+  drawFootprints(canvas, f.flash);
+  drawPaths(canvas, f.recorded);
+  if (f.camera) drawCamera(canvas, *f.camera);
+  dl->PopClipRect();
+  ImGui::End();
+  Counts counts;
   for (std::uint8_t s : state_) {
     counts.drawn += s == kDrawn;
     counts.occluded += s == kOccluded;
     counts.outside += s == kOutside;
     counts.missed += s == kMissed;
   }
-  for (std::size_t i = 2; i + 1 < path_.size(); i += 2) {
-    dl->AddLine(at(path_[i - 2], path_[i - 1]), at(path_[i], path_[i + 1]),
-                IM_COL32(120, 170, 255, 160));
-  }
-  if (f.recorded) {
-    for (std::size_t i = 1; i < f.recorded->size(); ++i) {
-      const glm::dvec3& a = (*f.recorded)[i - 1];
-      const glm::dvec3& b = (*f.recorded)[i];
-      const glm::dvec3& o = scene_.origin;
-      dl->AddLine(atLocal(a.x - o.x, a.y - o.y, a.z - o.z),
-                  atLocal(b.x - o.x, b.y - o.y, b.z - o.z), IM_COL32(255, 160, 40, 255), 2);
-    }
-  }
-  if (f.camera) {
-    // The frustum: its eight corners from clip space back to the scene's coordinates.
-    const glm::dmat4 view_projection = toGlm(f.camera->view_projection);
-    if (std::fabs(glm::determinant(view_projection)) > 0) {
-      const glm::dmat4 inverse = glm::inverse(view_projection);
-      const double z_near = f.camera->depth.clip_range == ClipDepthRange::ZeroToOne ? 0 : -1;
-      ImVec2 corner[8];
-      bool ok = true;
-      for (int i = 0; i < 8; ++i) {
-        const glm::dvec4 p = inverse * glm::dvec4((i & 1) ? 1.0 : -1.0, (i & 2) ? 1.0 : -1.0,
-                                                  (i & 4) ? 1.0 : z_near, 1.0);
-        ok = ok && std::fabs(p.w) > 1e-12;
-        if (ok) corner[i] = atLocal(p.x / p.w, p.y / p.w, p.z / p.w);
-      }
-      if (ok) {
-        static const int edges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
-                                         {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
-        for (const auto& e : edges) {
-          dl->AddLine(corner[e[0]], corner[e[1]], IM_COL32(255, 230, 60, 255), 1.5f);
-        }
-      }
-    }
-    const DVec3& eye = f.camera->render_origin;  // the eye, in the scene's coordinates
-    dl->AddCircleFilled(atLocal(eye.x, eye.y, eye.z), 4, IM_COL32(255, 255, 255, 255));
-  }
-  dl->PopClipRect();
-  ImGui::End();
   return counts;
+}
+
+void TopView::classify(const Frame& f) {
+  const std::size_t n = scene_.object_boxes.size();
+  // Movers where they are this frame (the static objects' footprints never change).
+  const std::vector<Aabb>& boxes = f.boxes && f.boxes->size() == n ? *f.boxes : scene_.object_boxes;
+  for (std::size_t i = scene_.static_objects; i < n; ++i) setFootprint(i, boxes[i]);
+  std::fill(state_.begin(), state_.end(), kOutside);
+  if (!f.camera) return;
+  const Projector projector(*f.camera);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (projector.project(boxes[i]).cls != ProjectionClass::Outside) state_[i] = kOccluded;
+  }
+  if (f.drawn) {
+    for (ObjectId id : *f.drawn) state_[id] = kDrawn;
+  }
+  if (f.missed) {
+    for (ObjectId id : *f.missed) state_[id] = kMissed;
+  }
+}
+
+void TopView::drawFootprints(const Canvas& canvas, bool flash) const {
+  // Largest footprints first (terrain under trees), so that every object shows.
+  for (std::uint32_t i : order_) {
+    const float* r = &rects_[std::size_t(i) * 4];
+    ImVec2 a = canvas.at(r[0], r[3]), b = canvas.at(r[2], r[1]);
+    b.x = std::max(b.x, a.x + 1);  // at least a pixel
+    b.y = std::max(b.y, a.y + 1);
+    const std::uint8_t s = state_[i];
+    canvas.dl->AddRectFilled(a, b,
+                             s == kMissed && !flash ? IM_COL32(255, 255, 255, 255) : kColors[s]);
+    if (b.x - a.x > 6 && b.y - a.y > 6) canvas.dl->AddRect(a, b, IM_COL32(0, 0, 0, 120));
+  }
+}
+
+void TopView::drawPaths(const Canvas& canvas, const std::vector<glm::dvec3>* recorded) const {
+  for (std::size_t i = 2; i + 1 < path_.size(); i += 2) {
+    canvas.dl->AddLine(canvas.at(path_[i - 2], path_[i - 1]), canvas.at(path_[i], path_[i + 1]),
+                       IM_COL32(120, 170, 255, 160));
+  }
+  if (!recorded) return;
+  const glm::dvec3& o = scene_.origin;
+  for (std::size_t i = 1; i < recorded->size(); ++i) {
+    const glm::dvec3& a = (*recorded)[i - 1];
+    const glm::dvec3& b = (*recorded)[i];
+    canvas.dl->AddLine(canvas.atLocal(a.x - o.x, a.y - o.y, a.z - o.z),
+                       canvas.atLocal(b.x - o.x, b.y - o.y, b.z - o.z), IM_COL32(255, 160, 40, 255),
+                       2);
+  }
+}
+
+void TopView::drawCamera(const Canvas& canvas, const Camera& camera) const {
+  // The frustum: its eight corners from clip space back to the scene's coordinates.
+  const glm::dmat4 view_projection = toGlm(camera.view_projection);
+  if (std::fabs(glm::determinant(view_projection)) > 0) {
+    const glm::dmat4 inverse = glm::inverse(view_projection);
+    const double z_near = camera.depth.clip_range == ClipDepthRange::ZeroToOne ? 0 : -1;
+    ImVec2 corner[8];
+    bool ok = true;
+    for (int i = 0; i < 8; ++i) {
+      const glm::dvec4 p = inverse * glm::dvec4((i & 1) ? 1.0 : -1.0, (i & 2) ? 1.0 : -1.0,
+                                                (i & 4) ? 1.0 : z_near, 1.0);
+      ok = ok && std::fabs(p.w) > 1e-12;
+      if (ok) corner[i] = canvas.atLocal(p.x / p.w, p.y / p.w, p.z / p.w);
+    }
+    if (ok) {
+      static const int edges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
+                                       {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+      for (const auto& e : edges) {
+        canvas.dl->AddLine(corner[e[0]], corner[e[1]], IM_COL32(255, 230, 60, 255), 1.5f);
+      }
+    }
+  }
+  const DVec3& eye = camera.render_origin;  // the eye, in the scene's coordinates
+  canvas.dl->AddCircleFilled(canvas.atLocal(eye.x, eye.y, eye.z), 4, IM_COL32(255, 255, 255, 255));
 }
 
 }  // namespace logrid::viewer

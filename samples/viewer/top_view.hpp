@@ -35,8 +35,16 @@ class TopView {
   Counts draw(const Frame& frame, bool* open);
 
  private:
+  struct Canvas;  // where the view's coordinates land in the window
   // Object i's footprint from its box `b`, into rects_.
   void setFootprint(std::size_t i, const Aabb& b);
+  // draw()'s steps: each object's state this frame into state_ (movers' footprints
+  // moved); the footprints in their states' colours; the scene's path and the recorded
+  // one; the camera's frustum and eye.
+  void classify(const Frame& frame);
+  void drawFootprints(const Canvas& canvas, bool flash) const;
+  void drawPaths(const Canvas& canvas, const std::vector<glm::dvec3>* recorded) const;
+  void drawCamera(const Canvas& canvas, const Camera& camera) const;
 
   const samples::PreparedScene& scene_;
   glm::dvec3 east_, north_;

@@ -188,30 +188,14 @@ std::string rendererName() {
   return r ? reinterpret_cast<const char*>(r) : "unknown";
 }
 
-Result<HardwareParameters> tryMeasureHardwareParameters(const CalibrationDesc& desc) {
-  if (desc.size < 16 || desc.size > 4096 || desc.repeats < 1) {
-    return Status(ErrorCode::InvalidArgument,
-                  "calibration: size " + std::to_string(desc.size) + " and repeats " +
-                      std::to_string(desc.repeats) +
-                      " are invalid; use a size from 16 to 4096 pixels and 1 or more repeats");
-  }
-  const SavedState saved;
-  Result<std::unique_ptr<Bench>> made = Bench::create(desc.size);
-  if (!made) return made.status();
-  Bench& bench = **made;
-  const std::uint32_t n = desc.repeats;
-  const double pixels = double(desc.size) * desc.size;
-  HardwareParameters p;
+namespace {
+
+constexpr int kCalls = 2000;  // draws (and queries around them) in a timed run
+
+// Drawing: a call, a triangle, a fragment.
+void measureDrawing(Bench& bench, std::uint32_t n, double pixels, HardwareParameters& p) {
   const auto prepare = [&] { bench.prepare(GL_LESS); };
   const auto prepare_always = [&] { bench.prepare(GL_ALWAYS); };
-  // Warm-up: llvmpipe compiles each new state on first use (docs/PLATFORM.md, "JIT warm-up").
-  timed(1, 1, prepare, [&] {
-    bench.pixelQuad();
-    bench.screenQuad();
-    bench.manyTriangles();
-  });
-
-  constexpr int kCalls = 2000;
   p.render_setup = timed(n, kCalls, prepare, [&] {
     for (int i = 0; i < kCalls; ++i) bench.pixelQuad();
   });
@@ -225,7 +209,12 @@ Result<HardwareParameters> tryMeasureHardwareParameters(const CalibrationDesc& d
     for (int i = 0; i < kScreens; ++i) bench.screenQuad();
   });
   p.render_fragment = std::max(0.0, screen - p.render_setup) / pixels;
+}
 
+// Occlusion query objects around draws: their overhead, and a poll's. After
+// measureDrawing (render_setup).
+void measureQueryObjects(Bench& bench, std::uint32_t n, HardwareParameters& p) {
+  const auto prepare = [&] { bench.prepare(GL_LESS); };
   // A query around each draw (each its own query object) against the same draws without.
   static_assert(kCalls <= Bench::kQueries, "one query object per draw");
   const auto read_all = [&](int count) {
@@ -255,12 +244,15 @@ Result<HardwareParameters> tryMeasureHardwareParameters(const CalibrationDesc& d
     read_all(kPolls);
   });
   p.poll = std::max(0.0, with_poll - with_query);
+}
 
-  // Queries as the culler issues them.
+// Queries as the culler issues them (BoxQuerySource): a query's setup, a fragment's,
+// and the latency from issue to answer.
+Status measureBoxQueries(Bench& bench, std::uint32_t size, std::uint32_t n, HardwareParameters& p) {
   Camera camera;  // clip space = world space
-  camera.width = desc.size;
-  camera.height = desc.size;
-  const float px = 1.0f / float(desc.size);
+  camera.width = size;
+  camera.height = size;
+  const float px = 1.0f / float(size);
   const QueryBox small{{{-px, -px, 0.0f}, {px, px, 0.1f}}, 0};
   const QueryBox large{{{-1, -1, 0.0f}, {1, 1, 0.1f}}, 0};
   BoxQuerySource queries(bench.framebuffer());
@@ -283,7 +275,7 @@ Result<HardwareParameters> tryMeasureHardwareParameters(const CalibrationDesc& d
   constexpr int kLargeQueries = 40;
   const double large_query =
       timed(n, kLargeQueries, prepare_queries, [&] { queryMany(large, kLargeQueries); });
-  p.query_fragment = std::max(0.0, large_query - p.query_setup) / pixels;
+  p.query_fragment = std::max(0.0, large_query - p.query_setup) / (double(size) * size);
   // Latency: from issue to answer of one query on an idle pipeline. The paper takes the
   // largest; on a shared machine the largest of a few runs is a scheduling hiccup, so the
   // median is kept like every other time here.
@@ -302,7 +294,36 @@ Result<HardwareParameters> tryMeasureHardwareParameters(const CalibrationDesc& d
                    latencies.end());
   p.query_latency = latencies[latencies.size() / 2];
   if (Status ended = queries.endQueryFrame(); !ended) return ended;
-  if (Status queried = queries.takeError(); !queried) return queried;
+  return queries.takeError();
+}
+
+}  // namespace
+
+Result<HardwareParameters> tryMeasureHardwareParameters(const CalibrationDesc& desc) {
+  if (desc.size < 16 || desc.size > 4096 || desc.repeats < 1) {
+    return Status(ErrorCode::InvalidArgument,
+                  "calibration: size " + std::to_string(desc.size) + " and repeats " +
+                      std::to_string(desc.repeats) +
+                      " are invalid; use a size from 16 to 4096 pixels and 1 or more repeats");
+  }
+  const SavedState saved;
+  Result<std::unique_ptr<Bench>> made = Bench::create(desc.size);
+  if (!made) return made.status();
+  Bench& bench = **made;
+  // Warm-up: llvmpipe compiles each new state on first use (docs/PLATFORM.md, "JIT warm-up").
+  timed(
+      1, 1, [&] { bench.prepare(GL_LESS); },
+      [&] {
+        bench.pixelQuad();
+        bench.screenQuad();
+        bench.manyTriangles();
+      });
+  HardwareParameters p;
+  measureDrawing(bench, desc.repeats, double(desc.size) * desc.size, p);
+  measureQueryObjects(bench, desc.repeats, p);
+  if (Status queried = measureBoxQueries(bench, desc.size, desc.repeats, p); !queried) {
+    return queried;
+  }
   glFinish();
   return p;
 }

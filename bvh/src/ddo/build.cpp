@@ -1,11 +1,13 @@
 #include "logrid/ddo/build.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <memory>
 #include <sstream>
 #include <thread>
 #include <utility>
+#include <vector>
 
 #include "logrid/elapsed.hpp"
 #include "octree_build.hpp"
@@ -44,52 +46,26 @@ bool nothingBehind(const FaceFrame& face, const Aabb& scene) {
   return face.dir > 0 ? lo[face.axis] >= face.plane : hi[face.axis] <= face.plane;
 }
 
-}  // namespace
+void tell(const ProgressCallback& progress, const char* stage, std::uint64_t done,
+          std::uint64_t total) {
+  if (progress) progress({stage, done, total});
+}
 
-Result<Octree> tryBuildOctree(const SceneMesh& mesh, const BuildArgs& args,
-                              const ProgressCallback& progress, BuildReport* report) {
-  std::string bad_args = validateBuildArgs(args);
-  if (!bad_args.empty()) return Status(ErrorCode::InvalidArgument, std::move(bad_args));
-  std::string bad_mesh = validateSceneMesh(mesh);
-  if (!bad_mesh.empty()) return Status(ErrorCode::BadInput, std::move(bad_mesh));
-  const unsigned threads =
-      args.threads ? args.threads : std::max(1u, std::thread::hardware_concurrency());
-  BuildReport r;
-  r.threads = threads;
-  const auto start = Clock::now();
-  auto tell = [&](const char* stage, std::uint64_t done, std::uint64_t total) {
-    if (progress) progress({stage, done, total});
-  };
+// One thread's counts of the face tests.
+struct FaceCounts {
+  detail::FaceCounters tests;
+  std::uint64_t nothing_behind = 0, valid = 0;
+};
 
-  tell("octree", 0, 1);
-  auto t0 = Clock::now();
-  Octree octree = detail::subdivide(mesh, args);
-  r.octree_ms = msSince(t0);
-  tell("octree", 1, 1);
-
-  tell("topology", 0, 1);
-  t0 = Clock::now();
-  const detail::MeshTopology topology(mesh, threads);
-  r.topology_ms = msSince(t0);
-  tell("topology", 1, 1);
-
-  tell("index", 0, 1);
-  t0 = Clock::now();
-  Result<detail::SegmentIndex> built_index = detail::SegmentIndex::create(mesh, threads);
-  if (!built_index) return built_index.status();
-  const detail::SegmentIndex& index = *built_index;
-  r.index_ms = msSince(t0);
-  tell("index", 1, 1);
-
-  // The faces, node by node, shared among the threads in small batches.
-  t0 = Clock::now();
-  const detail::FaceTester tester(mesh, topology, index, octree.layout(), args.max_piece_triangles);
+// Every face's mask of valid regions, the nodes shared among `threads` in small batches;
+// progress told every 200 ms. Answers each thread's counts.
+std::vector<FaceCounts> testFaces(Octree& octree, const detail::FaceTester& tester,
+                                  unsigned threads, const ProgressCallback& progress) {
   const std::size_t node_count = octree.nodes().size();
   const Aabb scene_bounds = octree.nodes().front().bounds;
   std::atomic<std::size_t> next_node{0}, done_nodes{0};
-  std::vector<detail::FaceCounters> counters(threads);
-  std::vector<std::uint64_t> nothing_behind(threads, 0), faces_valid(threads, 0);
-  // The face tests report no errors (bad input was refused above): a worker always runs
+  std::vector<FaceCounts> counts(threads);
+  // The face tests report no errors (bad input was refused before): a worker always runs
   // to the end of the nodes.
   auto worker = [&](unsigned id) {
     detail::FaceScratch scratch;
@@ -103,12 +79,12 @@ Result<Octree> tryBuildOctree(const SceneMesh& mesh, const BuildArgs& args,
         for (int f = 0; f < kFaces; ++f) {
           const FaceFrame frame = octree.face(std::uint32_t(n), f);
           if (nothingBehind(frame, scene_bounds)) {
-            ++nothing_behind[id];
+            ++counts[id].nothing_behind;
             continue;
           }
-          const std::uint64_t bits = tester.validRegions(frame, scratch, counters[id]);
+          const std::uint64_t bits = tester.validRegions(frame, scratch, counts[id].tests);
           octree.setMask(std::uint32_t(n), f, bits);
-          faces_valid[id] += bits != 0;
+          counts[id].valid += bits != 0;
         }
       }
       done_nodes.fetch_add(last - first);
@@ -116,31 +92,72 @@ Result<Octree> tryBuildOctree(const SceneMesh& mesh, const BuildArgs& args,
   };
   std::vector<std::thread> pool;
   for (unsigned i = 0; i < threads; ++i) pool.emplace_back(worker, i);
-  tell("faces", 0, node_count);
+  tell(progress, "faces", 0, node_count);
   while (done_nodes.load() < node_count) {
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    tell("faces", std::min(done_nodes.load(), node_count), node_count);
+    tell(progress, "faces", std::min(done_nodes.load(), node_count), node_count);
   }
   for (std::thread& t : pool) t.join();
-  tell("faces", node_count, node_count);
+  tell(progress, "faces", node_count, node_count);
+  return counts;
+}
+
+void addCounts(BuildReport& r, const FaceCounts& c) {
+  r.faces_nothing_behind += c.nothing_behind;
+  r.faces_valid += c.valid;
+  r.regions_tested += c.tests.regions_tested;
+  r.regions_valid += c.tests.regions_valid;
+  r.regions_degenerate += c.tests.regions_degenerate;
+  r.pieces_followed += c.tests.pieces_followed;
+  r.pieces_abandoned += c.tests.pieces_abandoned;
+  r.pieces_open += c.tests.open_pieces;
+  r.corner_misses += c.tests.corner_misses;
+  r.pieces_closed_even += c.tests.closed_even;
+  r.piece_triangles += c.tests.piece_triangles;
+}
+
+}  // namespace
+
+Result<Octree> tryBuildOctree(const SceneMesh& mesh, const BuildArgs& args,
+                              const ProgressCallback& progress, BuildReport* report) {
+  std::string bad_args = validateBuildArgs(args);
+  if (!bad_args.empty()) return Status(ErrorCode::InvalidArgument, std::move(bad_args));
+  std::string bad_mesh = validateSceneMesh(mesh);
+  if (!bad_mesh.empty()) return Status(ErrorCode::BadInput, std::move(bad_mesh));
+  const unsigned threads =
+      args.threads ? args.threads : std::max(1u, std::thread::hardware_concurrency());
+  BuildReport r;
+  r.threads = threads;
+  const auto start = Clock::now();
+
+  tell(progress, "octree", 0, 1);
+  auto t0 = Clock::now();
+  Octree octree = detail::subdivide(mesh, args);
+  r.octree_ms = msSince(t0);
+  tell(progress, "octree", 1, 1);
+
+  tell(progress, "topology", 0, 1);
+  t0 = Clock::now();
+  const detail::MeshTopology topology(mesh, threads);
+  r.topology_ms = msSince(t0);
+  tell(progress, "topology", 1, 1);
+
+  tell(progress, "index", 0, 1);
+  t0 = Clock::now();
+  Result<detail::SegmentIndex> built_index = detail::SegmentIndex::create(mesh, threads);
+  if (!built_index) return built_index.status();
+  const detail::SegmentIndex& index = *built_index;
+  r.index_ms = msSince(t0);
+  tell(progress, "index", 1, 1);
+
+  t0 = Clock::now();
+  const detail::FaceTester tester(mesh, topology, index, octree.layout(), args.max_piece_triangles);
+  for (const FaceCounts& c : testFaces(octree, tester, threads, progress)) addCounts(r, c);
   r.faces_ms = msSince(t0);
 
-  r.nodes = node_count;
+  r.nodes = octree.nodes().size();
   for (const OctreeNode& n : octree.nodes()) r.leaves += n.leaf();
-  r.faces = node_count * kFaces;
-  for (unsigned i = 0; i < threads; ++i) {
-    r.faces_nothing_behind += nothing_behind[i];
-    r.faces_valid += faces_valid[i];
-    r.regions_tested += counters[i].regions_tested;
-    r.regions_valid += counters[i].regions_valid;
-    r.regions_degenerate += counters[i].regions_degenerate;
-    r.pieces_followed += counters[i].pieces_followed;
-    r.pieces_abandoned += counters[i].pieces_abandoned;
-    r.pieces_open += counters[i].open_pieces;
-    r.corner_misses += counters[i].corner_misses;
-    r.pieces_closed_even += counters[i].closed_even;
-    r.piece_triangles += counters[i].piece_triangles;
-  }
+  r.faces = r.nodes * kFaces;
   r.temporary_bytes = std::max<std::uint64_t>(
       topology.buildBytes(), topology.memoryBytes() + index.memoryBytes() +
                                  std::uint64_t(threads) * mesh.triangleCount() * 4);

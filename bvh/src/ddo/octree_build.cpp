@@ -26,12 +26,11 @@ struct Work {
   std::size_t begin, end;  // into the triangle order
 };
 
-}  // namespace
-
-Octree subdivide(const SceneMesh& mesh, const BuildArgs& args) {
-  const std::size_t triangles = mesh.triangleCount();
+// The root cell: a cube a little larger than the mesh's bounds, so that no vertex lies
+// on the root's faces.
+OctreeParams rootParams(const SceneMesh& mesh, const BuildArgs& args) {
   Aabb scene{{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}};
-  for (std::size_t t = 0; t < triangles; ++t) {
+  for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
     for (int k = 0; k < 3; ++k) grow(scene, mesh.vertex(mesh.corner(t, k)));
   }
   OctreeParams params;
@@ -46,71 +45,69 @@ Octree subdivide(const SceneMesh& mesh, const BuildArgs& args) {
     side = std::max(side, hi[a] - lo[a]);
     scale = std::max({scale, std::fabs(lo[a]), std::fabs(hi[a])});
   }
-  // A little larger than the bounds, so that no vertex lies on the root's faces.
   side = side * (1.0 + 1.0 / 256.0) + 1e-6 * scale;
   if (!(side > 0)) side = 1.0;
   for (int a = 0; a < 3; ++a) params.root_lo[a] = 0.5 * (lo[a] + hi[a]) - 0.5 * side;
   params.root_side = side;
+  return params;
+}
 
-  std::vector<OctreeNode> nodes(1);
-  nodes[0].triangle_count = std::uint32_t(triangles);
-  std::vector<std::uint32_t> order(triangles), scratch(triangles);
-  for (std::size_t t = 0; t < triangles; ++t) order[t] = std::uint32_t(t);
-  Octree geometry(params, {}, {});  // for its plane() arithmetic
-
-  // Breadth first: a node's children are appended together, after every earlier node.
-  std::vector<Work> queue{{0, 0, triangles}};
-  for (std::size_t qi = 0; qi < queue.size(); ++qi) {
-    const Work w = queue[qi];
-    const OctreeNode parent = nodes[w.node];
-    const std::size_t count = w.end - w.begin;
-    if (count <= args.leaf_triangles || parent.level >= args.max_depth) continue;
-    double mid[3];
-    for (int a = 0; a < 3; ++a) {
-      mid[a] = geometry.plane(a, parent.level + 1u, 2ull * parent.cell[a] + 1);
-    }
-    // Octant of each triangle's centroid; counting sort into `scratch`.
-    std::size_t bucket[9] = {0};
-    auto octantOf = [&](std::uint32_t t) {
-      int o = 0;
-      for (int a = 0; a < 3; ++a) {
-        const double c =
-            (double(mesh.vertex(mesh.corner(t, 0))[a]) + double(mesh.vertex(mesh.corner(t, 1))[a]) +
-             double(mesh.vertex(mesh.corner(t, 2))[a])) /
-            3.0;
-        if (c >= mid[a]) o |= 1 << a;
-      }
-      return o;
-    };
-    std::vector<std::uint8_t> octant(count);
-    for (std::size_t i = 0; i < count; ++i) {
-      octant[i] = std::uint8_t(octantOf(order[w.begin + i]));
-      ++bucket[octant[i] + 1];
-    }
-    for (int o = 0; o < 8; ++o) bucket[o + 1] += bucket[o];
-    std::size_t fill[8];
-    std::copy(bucket, bucket + 8, fill);
-    for (std::size_t i = 0; i < count; ++i)
-      scratch[w.begin + fill[octant[i]]++] = order[w.begin + i];
-    std::copy(scratch.begin() + std::ptrdiff_t(w.begin), scratch.begin() + std::ptrdiff_t(w.end),
-              order.begin() + std::ptrdiff_t(w.begin));
-
-    nodes[w.node].first_child = std::uint32_t(nodes.size());
-    std::uint8_t mask = 0;
-    for (int o = 0; o < 8; ++o) {
-      if (bucket[o + 1] == bucket[o]) continue;
-      mask = std::uint8_t(mask | (1u << o));
-      OctreeNode child;
-      child.level = std::uint8_t(parent.level + 1);
-      for (int a = 0; a < 3; ++a) child.cell[a] = 2 * parent.cell[a] + ((o >> a) & 1u);
-      child.triangle_count = std::uint32_t(bucket[o + 1] - bucket[o]);
-      queue.push_back({std::uint32_t(nodes.size()), w.begin + bucket[o], w.begin + bucket[o + 1]});
-      nodes.push_back(child);
-    }
-    nodes[w.node].child_mask = mask;
+// Splits the node of `w` at its cell's middle planes: its triangles sorted by the octant
+// of their centroid (a counting sort through `scratch`), a child appended to `nodes` and
+// to `queue` for each octant that holds any.
+void splitNode(const SceneMesh& mesh, const Octree& geometry, const Work& w,
+               std::vector<std::uint32_t>& order, std::vector<std::uint32_t>& scratch,
+               std::vector<OctreeNode>& nodes, std::vector<Work>& queue) {
+  const OctreeNode parent = nodes[w.node];
+  const std::size_t count = w.end - w.begin;
+  double mid[3];
+  for (int a = 0; a < 3; ++a) {
+    mid[a] = geometry.plane(a, parent.level + 1u, 2ull * parent.cell[a] + 1);
   }
+  std::size_t bucket[9] = {0};
+  auto octantOf = [&](std::uint32_t t) {
+    int o = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double c =
+          (double(mesh.vertex(mesh.corner(t, 0))[a]) + double(mesh.vertex(mesh.corner(t, 1))[a]) +
+           double(mesh.vertex(mesh.corner(t, 2))[a])) /
+          3.0;
+      if (c >= mid[a]) o |= 1 << a;
+    }
+    return o;
+  };
+  std::vector<std::uint8_t> octant(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    octant[i] = std::uint8_t(octantOf(order[w.begin + i]));
+    ++bucket[octant[i] + 1];
+  }
+  for (int o = 0; o < 8; ++o) bucket[o + 1] += bucket[o];
+  std::size_t fill[8];
+  std::copy(bucket, bucket + 8, fill);
+  for (std::size_t i = 0; i < count; ++i) scratch[w.begin + fill[octant[i]]++] = order[w.begin + i];
+  std::copy(scratch.begin() + std::ptrdiff_t(w.begin), scratch.begin() + std::ptrdiff_t(w.end),
+            order.begin() + std::ptrdiff_t(w.begin));
 
-  // Bounds bottom-up, object lists of the leaves.
+  nodes[w.node].first_child = std::uint32_t(nodes.size());
+  std::uint8_t mask = 0;
+  for (int o = 0; o < 8; ++o) {
+    if (bucket[o + 1] == bucket[o]) continue;
+    mask = std::uint8_t(mask | (1u << o));
+    OctreeNode child;
+    child.level = std::uint8_t(parent.level + 1);
+    for (int a = 0; a < 3; ++a) child.cell[a] = 2 * parent.cell[a] + ((o >> a) & 1u);
+    child.triangle_count = std::uint32_t(bucket[o + 1] - bucket[o]);
+    queue.push_back({std::uint32_t(nodes.size()), w.begin + bucket[o], w.begin + bucket[o + 1]});
+    nodes.push_back(child);
+  }
+  nodes[w.node].child_mask = mask;
+}
+
+// Bounds bottom-up (`queue` is breadth first: children after their parent), and the
+// object lists of the leaves; answers the concatenated lists.
+std::vector<ObjectId> boundsAndObjects(const SceneMesh& mesh, const std::vector<Work>& queue,
+                                       const std::vector<std::uint32_t>& order,
+                                       std::vector<OctreeNode>& nodes) {
   std::vector<ObjectId> objects;
   const std::vector<std::uint32_t>& runs = *mesh.object_first;
   std::vector<ObjectId> leaf_objects;
@@ -136,6 +133,27 @@ Octree subdivide(const SceneMesh& mesh, const BuildArgs& args) {
     n.object_count = std::uint32_t(leaf_objects.size());
     objects.insert(objects.end(), leaf_objects.begin(), leaf_objects.end());
   }
+  return objects;
+}
+
+}  // namespace
+
+Octree subdivide(const SceneMesh& mesh, const BuildArgs& args) {
+  const OctreeParams params = rootParams(mesh, args);
+  const Octree geometry(params, {}, {});  // for its plane() arithmetic
+  const std::size_t triangles = mesh.triangleCount();
+  std::vector<OctreeNode> nodes(1);
+  nodes[0].triangle_count = std::uint32_t(triangles);
+  std::vector<std::uint32_t> order(triangles), scratch(triangles);
+  for (std::size_t t = 0; t < triangles; ++t) order[t] = std::uint32_t(t);
+  // Breadth first: a node's children are appended together, after every earlier node.
+  std::vector<Work> queue{{0, 0, triangles}};
+  for (std::size_t qi = 0; qi < queue.size(); ++qi) {
+    const Work w = queue[qi];
+    if (w.end - w.begin <= args.leaf_triangles || nodes[w.node].level >= args.max_depth) continue;
+    splitNode(mesh, geometry, w, order, scratch, nodes, queue);
+  }
+  std::vector<ObjectId> objects = boundsAndObjects(mesh, queue, order, nodes);
   return Octree(params, std::move(nodes), std::move(objects));
 }
 

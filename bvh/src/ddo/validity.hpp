@@ -53,6 +53,23 @@ class FaceTester {
                    FaceCounters& counters) const;
 
  private:
+  // validRegion's steps. crossTestSegment: the test segment's crossings into
+  // scratch.hits (false: every segment grazed an edge). cornerEdgesMeetAny: each of P's
+  // four edges along its height meets a triangle of the slab. crossedPieceIsValid: a
+  // piece the segment crosses is closed inside P and crossed an odd number of times.
+  bool crossTestSegment(const FaceFrame& face, const SlopeCell& cell, const Slab& slab,
+                        FaceScratch& scratch) const;
+  bool cornerEdgesMeetAny(const FaceFrame& face, const SlopeCell& cell, const Slab& slab,
+                          FaceScratch& scratch) const;
+  bool crossedPieceIsValid(const ViewspaceFrustum& frustum, const Slab& slab, double face_height,
+                           FaceScratch& scratch, FaceCounters& counters) const;
+  // The piece of the slab's triangles reached from `seed` across edges inside P, stamped
+  // `s`; each triangle taken from the queue spends one of `budget`.
+  enum class PieceEnd : std::uint8_t { Closed, Open, OverBudget };
+  PieceEnd followPiece(std::uint32_t seed, std::uint32_t s, const ViewspaceFrustum& frustum,
+                       const Slab& slab, double tolerance, std::uint64_t& budget,
+                       FaceScratch& scratch, FaceCounters& counters) const;
+
   const SceneMesh& mesh_;
   const MeshTopology& topology_;
   const SegmentIndex& index_;

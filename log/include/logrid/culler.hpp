@@ -342,6 +342,13 @@ class Culler {
   Status prepare(const Camera& camera, const CullSources& sources);
   // Abandons the frame, and returns the error that ended it.
   Status failFrame(Status status);
+  // beginFrame's further steps: the depth source's and the queries' frames begun (their
+  // counters taken), the last frame's lists and counts cleared, the occluder pre-pass,
+  // and for Traversal::Schedule the schedule's frame wired and begun.
+  Status beginSourceFrames(const Camera& camera);
+  void clearFrameState();
+  Status beginOccluders(const Camera& camera);
+  void beginSchedule(const Hierarchy& hierarchy);
   // Runs the frame until the batch must be drawn before going on, or the frame is done.
   void advance();
   // The approximate knobs this frame runs with: the budget's rung, or CullerDesc's.
@@ -351,6 +358,19 @@ class Culler {
   // Two-list or approximate front to back, with lookahead: true when done, false when
   // the batch must be drawn first.
   bool traverse();
+  // traverse()'s steps, each one turn of its loop. testHeld: the box held for its test
+  // (lookahead 1) tested, unless the test may read what the undrawn batch covers (false).
+  // drawFrontmost: the frontmost visible node drawn if two-list order allows (true).
+  // visitNext: the test-list's frontmost node decided without a test, held for its test,
+  // planned from the records (planTest, lookahead > 1), or put back to wait for
+  // colliding boxes (waitsForColliding). untestedByCost: auto found a test not worth its
+  // cost (true: visible, untested).
+  bool testHeld();
+  bool drawFrontmost();
+  void visitNext();
+  bool untestedByCost(const Entry& entry);
+  bool waitsForColliding(const Entry& entry);
+  void planTest(const Entry& entry);
   // Work that waits for the batch to be drawn (busy refreshes); false if it still waits.
   bool afterBatchDrawn();
   // Projects the children of `node` and puts those in view on the test-list.
