@@ -19,11 +19,11 @@ namespace {
 using detail::roundDown;
 using detail::roundUp;
 
-// Clamps an integral-valued double into [lo, hi] before converting it.
+// Clamps an integral-valued double into [lo, hi] before converting it (NaN: lo). As
+// selects, not branches: whether a box reaches the viewport's edge is data, not pattern.
 std::int32_t clampToInt(double v, std::int32_t lo, std::int32_t hi) {
-  if (!(v > lo)) return lo;
-  if (v >= hi) return hi;
-  return static_cast<std::int32_t>(v);
+  const double above_lo = v > lo ? v : double(lo);
+  return static_cast<std::int32_t>(above_lo < hi ? above_lo : double(hi));
 }
 
 bool finite(const Vec3& v) {

@@ -13,6 +13,7 @@
 #include "logrid/error.hpp"
 #include "logrid/projection.hpp"
 #include "projection_isa.hpp"
+#include "rounding.hpp"
 
 namespace logrid {
 namespace {
@@ -376,6 +377,52 @@ std::vector<Aabb> randomBoxes(std::mt19937& rng, const RandomCamera& camera, std
     boxes.push_back(b);
   }
   return boxes;
+}
+
+// What roundUp() and roundDown() must give, by the library's nextafter: the float
+// nearest to v if it lies on the safe side, else the next one beyond it.
+float referenceRoundUp(double v) {
+  const float f = static_cast<float>(v);
+  return static_cast<double>(f) < v ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+}
+float referenceRoundDown(double v) {
+  const float f = static_cast<float>(v);
+  return static_cast<double>(f) > v ? std::nextafter(f, -std::numeric_limits<float>::infinity())
+                                    : f;
+}
+
+TEST(ProjectionTest, DirectedRoundingGivesTheNearestFloatOnTheSafeSide) {
+  // The projection's bounds go through detail::roundUp() and roundDown() (rounding.hpp,
+  // computed without a branch on the value): every bit as nextafter gives it, at the
+  // zeros, subnormals, the largest float, infinities, NaN, and random values of every
+  // magnitude and sign.
+  constexpr double kFltMax = std::numeric_limits<float>::max();
+  constexpr double kDenorm = std::numeric_limits<float>::denorm_min();
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<double> values = {0.0,           -0.0,          kDenorm,       -kDenorm,
+                                kDenorm / 3,   -kDenorm / 3,  3 * kDenorm,   -3 * kDenorm,
+                                1e-300,        -1e-300,       kFltMax,       -kFltMax,
+                                kFltMax * 1.5, -kFltMax * 1.5, kFltMax * (1 + 1e-9),
+                                -kFltMax * (1 + 1e-9), kInf,  -kInf,         1.0,
+                                -1.0,          1.0 + 1e-12,   -1.0 - 1e-12,  0.1,
+                                -0.1};
+  std::mt19937_64 rng(26);
+  std::uniform_real_distribution<double> mantissa(0.5, 1.0);
+  std::uniform_int_distribution<int> exponent(-160, 140);
+  for (int i = 0; i < 100000; ++i) {
+    const double m = mantissa(rng);
+    const double v = std::ldexp(m, exponent(rng));
+    values.push_back(i % 2 ? v : -v);
+    values.push_back(double(static_cast<float>(v)));  // a float: no step
+  }
+  for (const double v : values) {
+    SCOPED_TRACE(::testing::Message() << "v = " << v);
+    ASSERT_EQ(bitsOf(detail::roundUp(v)), bitsOf(referenceRoundUp(v)));
+    ASSERT_EQ(bitsOf(detail::roundDown(v)), bitsOf(referenceRoundDown(v)));
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_TRUE(std::isnan(detail::roundUp(nan)));
+  EXPECT_TRUE(std::isnan(detail::roundDown(nan)));
 }
 
 // Runs the batch calls on one instruction set's kernels while it lives.
