@@ -176,6 +176,34 @@ void BM_ProjectCity(benchmark::State& state) {
 }
 BENCHMARK(BM_ProjectCity)->ArgName("reversed")->Arg(0)->Arg(1);
 
+// The same children's boxes gathered once into one array and projected `batch` a call
+// with no hierarchy between (reversed: 0): the per-box cost of the city's boxes apart
+// from the hierarchy's call and a node's share of the kernel's entry; a batch of 2 is
+// what BM_ProjectCity asks, 8 the largest node.
+void BM_ProjectCityBoxes(benchmark::State& state) {
+  const auto batch = static_cast<std::size_t>(state.range(0));
+  const CitySetup setup(false);
+  const Hierarchy& hierarchy = cityHierarchy();
+  std::vector<Aabb> boxes;
+  for (const NodeId node : setup.opened) {
+    NodeId ids[8];
+    Aabb children[8];
+    const std::uint32_t count = hierarchy.children(node, ids, children);
+    boxes.insert(boxes.end(), children, children + count);
+  }
+  const std::size_t end = boxes.size() / 8 * 8;
+  BoxProjection out[8];
+  std::size_t i = 0;
+  for (auto _ : state) {
+    setup.projector.project(boxes.data() + i, batch, out);
+    benchmark::DoNotOptimize(out);
+    i = i + 2 * batch > end ? 0 : i + batch;
+  }
+  state.SetItemsProcessed(state.iterations() * std::int64_t(batch));
+  state.SetLabel("city, standard");
+}
+BENCHMARK(BM_ProjectCityBoxes)->ArgName("batch")->Arg(2)->Arg(8);
+
 // Projector::outsideFrustum (frustum only) over the same children.
 void BM_FrustumCity(benchmark::State& state) {
   std::uint8_t outside[kMaxChildren];

@@ -19,11 +19,11 @@ namespace {
 using detail::roundDown;
 using detail::roundUp;
 
-// Clamps an integral-valued double into [lo, hi] before converting it.
+// Clamps an integral-valued double into [lo, hi] before converting it (NaN: lo). As
+// selects, not branches: whether a box reaches the viewport's edge is data, not pattern.
 std::int32_t clampToInt(double v, std::int32_t lo, std::int32_t hi) {
-  if (!(v > lo)) return lo;
-  if (v >= hi) return hi;
-  return static_cast<std::int32_t>(v);
+  const double above_lo = v > lo ? v : double(lo);
+  return static_cast<std::int32_t>(above_lo < hi ? above_lo : double(hi));
 }
 
 bool finite(const Vec3& v) {
@@ -75,6 +75,18 @@ Projector::Projector(Checked, const Camera& camera, const ProjectionSettings& se
   const double le_one[4] = {0, 0, -1, 1};
   std::copy(reversed ? le_one : ge_low, (reversed ? le_one : ge_low) + 4, near_plane_);
   std::copy(reversed ? ge_low : le_one, (reversed ? ge_low : le_one) + 4, far_plane_);
+
+  // A clip coordinate sums three products of a matrix element and a corner coordinate
+  // relative to the origin (at most the largest float plus the origin's largest) and a
+  // fourth element; far below the largest double, rounding cannot take it to infinity.
+  const double q_max = double(std::numeric_limits<float>::max()) +
+                       std::max({std::fabs(origin_.x), std::fabs(origin_.y), std::fabs(origin_.z)});
+  clip_finite_ = true;
+  for (int r = 0; r < 4; ++r) {
+    const double bound =
+        (render_abs_[r] + render_abs_[4 + r] + render_abs_[8 + r]) * q_max + render_abs_[12 + r];
+    clip_finite_ = clip_finite_ && bound < 1e300;
+  }
 
   depth_scale_ = zero_to_one ? 1.0 : 0.5;
   depth_offset_ = zero_to_one ? 0.0 : 0.5;
@@ -209,8 +221,16 @@ struct Projector::Kernel {
 
   static V4 splat(double x) { return V4{x, x, x, x}; }
   static V4 magnitude(const V4& v) { return (V4)((M4)v & ~(M4)splat(-0.0)); }
-  static bool allLanes(const M4& m) { return (m[0] & m[1] & m[2] & m[3]) != 0; }
-  static bool anyLane(const M4& m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
+  // Any lane, all lanes of a mask: the two halves combined in the vector first.
+  static M4 swapHalves(const M4& m) { return __builtin_shuffle(m, M4{2, 3, 0, 1}); }
+  static bool anyLane(const M4& m) {
+    const M4 x = m | swapHalves(m);
+    return (x[0] | x[1]) != 0;
+  }
+  static bool allLanes(const M4& m) {
+    const M4 x = m & swapHalves(m);
+    return (x[0] & x[1]) != 0;
+  }
 
   // Clip row r of the eight corners: ((m[r] qx + m[4 + r] qy) + m[8 + r] qz) + m[12 + r],
   // summed as cornerSums() sums it.
@@ -229,7 +249,7 @@ struct Projector::Kernel {
   struct Box {
     double qx[2], qy[2], qz[2];
     V4 c[4][2];
-    V4 to_near[2];  // planeDistance(near_plane_, corner)
+    V4 to_near[2];  // the corners' distances to the near plane (compared with 0 only)
   };
 
   static void clip(const Projector& p, const Aabb& box, Box& k) {
@@ -244,20 +264,50 @@ struct Projector::Kernel {
            splat(plane[3]) * k.c[3][h];
   }
 
+  // planeDistance() of the near or the far plane, whose x and y coefficients are 0,
+  // where the clip coordinates are finite (clip_finite_): 0 x and 0 y are zeros then,
+  // which change the sum at most in the sign of a zero result, and the kernels only
+  // compare these distances with 0.
+  static V4 zwDistance(const double* plane, const Box& k, int h) {
+    return splat(plane[2]) * k.c[2][h] + splat(plane[3]) * k.c[3][h];
+  }
+
   // outsideOnePlane(): all eight corners beyond one plane; fills k.to_near.
   static bool outside(const Projector& p, Box& k) {
     const V4 zero = splat(0.0);
     M4 beyond[6];
     for (int h = 0; h < 2; ++h) {
-      k.to_near[h] = planeDistance(p.near_plane_, k, h);
+      V4 to_far;
+      if (p.clip_finite_) {
+        k.to_near[h] = zwDistance(p.near_plane_, k, h);
+        to_far = zwDistance(p.far_plane_, k, h);
+      } else {
+        k.to_near[h] = planeDistance(p.near_plane_, k, h);
+        to_far = planeDistance(p.far_plane_, k, h);
+      }
       const V4 w = k.c[3][h], x = k.c[0][h], y = k.c[1][h];
       const M4 m[6] = {w + x < zero, w - x < zero,        w + y < zero,
-                       w - y < zero, k.to_near[h] < zero, planeDistance(p.far_plane_, k, h) < zero};
+                       w - y < zero, k.to_near[h] < zero, to_far < zero};
       for (int j = 0; j < 6; ++j) beyond[j] = h == 0 ? m[j] : beyond[j] & m[j];
     }
-    bool out = false;
-    for (const M4& m : beyond) out |= allLanes(m);
-    return out;
+    return anyAllLanes(beyond);
+  }
+
+  // Whether all four lanes of one of six masks are set: the six reduced together by
+  // shuffles (lane moves within the vectors, or the choice of a register in the baseline
+  // clone), not lane by lane through the scalar registers. Pairs of masks first, each
+  // lane's low and high half together, (m0 m1), (m2 m3), (m4 m5); then those.
+  static bool anyAllLanes(const M4 m[6]) {
+    using Index = M4;
+    const Index lows = {0, 1, 4, 5}, highs = {2, 3, 6, 7};
+    const M4 t0 = __builtin_shuffle(m[0], m[1], lows) & __builtin_shuffle(m[0], m[1], highs);
+    const M4 t1 = __builtin_shuffle(m[2], m[3], lows) & __builtin_shuffle(m[2], m[3], highs);
+    const M4 t2 = __builtin_shuffle(m[4], m[5], lows) & __builtin_shuffle(m[4], m[5], highs);
+    // All of m0, m2, m1, m3 (in these lanes), and all of m4, m4, m5, m5.
+    const M4 u = __builtin_shuffle(t0, t1, Index{0, 4, 2, 6}) &
+                 __builtin_shuffle(t0, t1, Index{1, 5, 3, 7});
+    const M4 v = t2 & __builtin_shuffle(t2, Index{1, 0, 3, 2});
+    return anyLane(u | v);
   }
 
   // std::min(acc, v) and std::max(acc, v), as windowBounds() accumulates, lane-wise.
@@ -269,12 +319,12 @@ struct Projector::Kernel {
   // kInf (least) or `start` gives them: NaNs skipped (see the reduction argument above).
   static double least(const V4 v[2]) {
     const V4 inf = splat(kInf);
-    const V4 m = lower(lower(inf, v[0]), lower(inf, v[1]));
+    const V4 m = lower(lower(inf, v[0]), v[1]);
     return lower(lower(m[0], m[2]), lower(m[1], m[3]));
   }
   static double greatest(const V4 v[2], double start) {
     const V4 s = splat(start);
-    const V4 m = upper(upper(s, v[0]), upper(s, v[1]));
+    const V4 m = upper(upper(s, v[0]), v[1]);
     return upper(upper(m[0], m[2]), upper(m[1], m[3]));
   }
 
@@ -282,7 +332,7 @@ struct Projector::Kernel {
   // where a corner lies at or behind the eye.
   static bool windowBounds(const Projector& p, const Box& k, WindowBounds& b) {
     const V4 zero = splat(0.0);
-    if (anyLane(~(k.c[3][0] > zero) | ~(k.c[3][1] > zero))) return false;
+    if (!allLanes((k.c[3][0] > zero) & (k.c[3][1] > zero))) return false;
     const double ax[2] = {std::fabs(k.qx[0]), std::fabs(k.qx[1])};
     const double ay[2] = {std::fabs(k.qy[0]), std::fabs(k.qy[1])};
     const double az[2] = {std::fabs(k.qz[0]), std::fabs(k.qz[1])};
@@ -323,8 +373,11 @@ struct Projector::Kernel {
         out[i].cls = ProjectionClass::Outside;
         continue;
       }
-      if (anyLane((k.to_near[0] < splat(0.0)) | (k.to_near[1] < splat(0.0)))) {
-        out[i] = p.projectWith(box, nullptr);  // clipped by the reference path
+      // Clipped by the reference path; also where a distance is NaN (a clip coordinate
+      // overflowed), as clipToNear() leaves such a corner out of the outline.
+      const V4 zero = splat(0.0);
+      if (!allLanes((k.to_near[0] >= zero) & (k.to_near[1] >= zero))) {
+        out[i] = p.projectWith(box, nullptr);
         continue;
       }
       WindowBounds b;

@@ -13,6 +13,7 @@
 #include "logrid/error.hpp"
 #include "logrid/projection.hpp"
 #include "projection_isa.hpp"
+#include "rounding.hpp"
 
 namespace logrid {
 namespace {
@@ -378,6 +379,52 @@ std::vector<Aabb> randomBoxes(std::mt19937& rng, const RandomCamera& camera, std
   return boxes;
 }
 
+// What roundUp() and roundDown() must give, by the library's nextafter: the float
+// nearest to v if it lies on the safe side, else the next one beyond it.
+float referenceRoundUp(double v) {
+  const float f = static_cast<float>(v);
+  return static_cast<double>(f) < v ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+}
+float referenceRoundDown(double v) {
+  const float f = static_cast<float>(v);
+  return static_cast<double>(f) > v ? std::nextafter(f, -std::numeric_limits<float>::infinity())
+                                    : f;
+}
+
+TEST(ProjectionTest, DirectedRoundingGivesTheNearestFloatOnTheSafeSide) {
+  // The projection's bounds go through detail::roundUp() and roundDown() (rounding.hpp,
+  // computed without a branch on the value): every bit as nextafter gives it, at the
+  // zeros, subnormals, the largest float, infinities, NaN, and random values of every
+  // magnitude and sign.
+  constexpr double kFltMax = std::numeric_limits<float>::max();
+  constexpr double kDenorm = std::numeric_limits<float>::denorm_min();
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<double> values = {0.0,           -0.0,          kDenorm,       -kDenorm,
+                                kDenorm / 3,   -kDenorm / 3,  3 * kDenorm,   -3 * kDenorm,
+                                1e-300,        -1e-300,       kFltMax,       -kFltMax,
+                                kFltMax * 1.5, -kFltMax * 1.5, kFltMax * (1 + 1e-9),
+                                -kFltMax * (1 + 1e-9), kInf,  -kInf,         1.0,
+                                -1.0,          1.0 + 1e-12,   -1.0 - 1e-12,  0.1,
+                                -0.1};
+  std::mt19937_64 rng(26);
+  std::uniform_real_distribution<double> mantissa(0.5, 1.0);
+  std::uniform_int_distribution<int> exponent(-160, 140);
+  for (int i = 0; i < 100000; ++i) {
+    const double m = mantissa(rng);
+    const double v = std::ldexp(m, exponent(rng));
+    values.push_back(i % 2 ? v : -v);
+    values.push_back(double(static_cast<float>(v)));  // a float: no step
+  }
+  for (const double v : values) {
+    SCOPED_TRACE(::testing::Message() << "v = " << v);
+    ASSERT_EQ(bitsOf(detail::roundUp(v)), bitsOf(referenceRoundUp(v)));
+    ASSERT_EQ(bitsOf(detail::roundDown(v)), bitsOf(referenceRoundDown(v)));
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_TRUE(std::isnan(detail::roundUp(nan)));
+  EXPECT_TRUE(std::isnan(detail::roundDown(nan)));
+}
+
 // Runs the batch calls on one instruction set's kernels while it lives.
 class ForcedIsa {
  public:
@@ -411,6 +458,63 @@ TEST(ProjectionTest, BatchKernelsAnswerExactlyAsTheSingleBoxPath) {
     if (HasFatalFailure()) return;
   }
   EXPECT_TRUE(detail::projectionIsaAvailable(detail::ProjectionIsa::Baseline));
+}
+
+// Every field of the batch kernels' answers for `boxes`, in batches of 1 to 8, against
+// the reference path's.
+void expectBatchAnswersAsSingleBoxes(const Projector& projector, const std::vector<Aabb>& boxes) {
+  std::vector<BoxProjection> batch(boxes.size());
+  std::vector<std::uint8_t> culled(boxes.size());
+  for (std::size_t at = 0, n = 1; at < boxes.size(); at += n, n = n % 8 + 1) {
+    const std::size_t len = std::min(n, boxes.size() - at);
+    projector.project(boxes.data() + at, len, batch.data() + at);
+    projector.outsideFrustum(boxes.data() + at, len, culled.data() + at);
+  }
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    const BoxProjection ref = projector.project(boxes[i]);
+    const BoxProjection& got = batch[i];
+    SCOPED_TRACE(::testing::Message() << "box " << i);
+    EXPECT_EQ(int(got.cls), int(ref.cls));
+    EXPECT_TRUE(got.rect.x0 == ref.rect.x0 && got.rect.y0 == ref.rect.y0 &&
+                got.rect.x1 == ref.rect.x1 && got.rect.y1 == ref.rect.y1);
+    EXPECT_EQ(bitsOf(got.near_key), bitsOf(ref.near_key));
+    EXPECT_EQ(bitsOf(got.far_key), bitsOf(ref.far_key));
+    EXPECT_EQ(bitsOf(got.margin), bitsOf(ref.margin));
+    EXPECT_EQ(bitsOf(got.widen_x), bitsOf(ref.widen_x));
+    EXPECT_EQ(bitsOf(got.widen_y), bitsOf(ref.widen_y));
+    EXPECT_EQ(bool(culled[i]), projector.outsideFrustum(boxes[i]));
+  }
+}
+
+TEST(ProjectionTest, BatchKernelsAnswerAsTheSingleBoxPathWhereClipCoordinatesOverflow) {
+  // The kernels test the near and far planes without their x and y terms (zero
+  // coefficients) only where no clip coordinate can overflow; with a matrix of huge
+  // (finite, valid) elements, clip x or y reaches infinity, 0 * infinity is NaN in the
+  // reference's sum, and the kernels must take the full sums to answer alike.
+  for (const auto isa : {detail::ProjectionIsa::Baseline, detail::ProjectionIsa::Avx2}) {
+    if (!detail::projectionIsaAvailable(isa)) continue;
+    const ForcedIsa forced(isa);
+    ASSERT_TRUE(forced.ok());
+    SCOPED_TRACE(::testing::Message() << "instruction set " << int(isa));
+    for (const double scale : {1e270, 1e290, 1e300}) {
+      for (const DepthSetup& depth : {kStandard, kReversed}) {
+        Camera camera = makeCamera(depth);
+        for (double& m : camera.view_projection.m) m *= scale;
+        const Projector projector(camera);
+        std::vector<Aabb> boxes;
+        for (const float reach : {1.0f, 1e10f, 1e20f, 1e30f, 3e38f}) {
+          // Ahead, wide to the sides, beside and behind the eye, across the near plane.
+          boxes.push_back({{-reach, -reach, -reach}, {reach, reach, -reach * 0.5f}});
+          boxes.push_back({{reach * 0.5f, -1, -reach}, {reach, 1, -reach * 0.9f}});
+          boxes.push_back({{-reach, -reach, 0}, {-reach * 0.5f, reach, reach}});
+          boxes.push_back({{-1, -1, -reach}, {1, 1, reach}});
+          boxes.push_back({{-reach, -reach, -reach}, {reach, reach, reach}});
+        }
+        SCOPED_TRACE(::testing::Message() << "scale " << scale << ", depth " << int(depth.convention));
+        expectBatchAnswersAsSingleBoxes(projector, boxes);
+      }
+    }
+  }
 }
 
 void expectBatchKernelsAnswerAsTheSingleBoxPath() {

@@ -278,6 +278,10 @@ class Projector {
   DVec3 origin_;
   double near_plane_[4];  // clip-space half-spaces: dot(plane, clip) >= 0 is inside
   double far_plane_[4];
+  // Every finite box's corners have finite clip coordinates (no sum can overflow): then
+  // the batch kernels test the near and far planes, whose x and y coefficients are 0,
+  // without those two terms.
+  bool clip_finite_;
   double depth_scale_;  // window depth = depth_scale_ * z_ndc + depth_offset_
   double depth_offset_;
   double key_sign_;  // +1 standard, -1 reversed
