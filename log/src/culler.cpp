@@ -560,7 +560,7 @@ bool Culler::traverse() {
   }
 }
 
-bool Culler::testHeld() {
+inline bool Culler::testHeld() {
   // The threshold from what is drawn now: the batch may have announced more.
   const Entry entry = *testing_;
   bool by_state = false;
@@ -574,7 +574,7 @@ bool Culler::testHeld() {
   return true;
 }
 
-bool Culler::drawFrontmost() {
+inline bool Culler::drawFrontmost() {
   // Two-list order (LOG §3, fig. 2): draw the frontmost visible node once it lies in
   // front of the frontmost node still to be tested, or set aside for the next batch.
   if (draw_list_.empty()) return false;
@@ -589,7 +589,7 @@ bool Culler::drawFrontmost() {
   return true;
 }
 
-void Culler::visitNext() {
+inline void Culler::visitNext() {
   std::pop_heap(test_list_.begin(), test_list_.end(), LaterFirst{});
   const Entry entry = test_list_.back();
   test_list_.pop_back();
@@ -608,7 +608,7 @@ void Culler::visitNext() {
   planTest(entry);
 }
 
-bool Culler::untestedByCost(const Entry& entry) {
+inline bool Culler::untestedByCost(const Entry& entry) {
   if (!auto_ ||
       auto_->worthTesting(entry.node, double(entry.projection.rect.area()), estimate_.costs())) {
     return false;
@@ -619,7 +619,7 @@ bool Culler::untestedByCost(const Entry& entry) {
   return true;
 }
 
-bool Culler::waitsForColliding(const Entry& entry) {
+inline bool Culler::waitsForColliding(const Entry& entry) {
   const bool waits = lookahead_ > 1 && desc_.detect_colliding && !pending_.empty() &&
                      collidesWithPending(entry.projection.rect);
   if (!waits) return false;
@@ -633,7 +633,7 @@ bool Culler::waitsForColliding(const Entry& entry) {
   return true;
 }
 
-void Culler::planTest(const Entry& entry) {
+inline void Culler::planTest(const Entry& entry) {
   bool by_state = false;
   const float threshold = thresholdFor(entry, by_state);
   countFallback(by_state);
