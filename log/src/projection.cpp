@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -150,30 +151,41 @@ struct Projector::Kernel {
            box.min.z <= box.max.z;
   }
 
+  // The finishing steps that the batch kernels take four values at a time (Lanes,
+  // below), here one by one: clampToInt() of the rectangle's edges (x0, y0, x1, y1) into
+  // the viewport, and roundUp() of four bounds.
+  struct Scalar {
+    static PixelRect clampRect(const double e[4], std::int32_t w_px, std::int32_t h_px) {
+      return {clampToInt(e[0], 0, w_px), clampToInt(e[1], 0, h_px), clampToInt(e[2], 0, w_px),
+              clampToInt(e[3], 0, h_px)};
+    }
+    static void roundUp4(const double v[4], float out[4]) {
+      for (int i = 0; i < 4; ++i) out[i] = roundUp(v[i]);
+    }
+  };
+
+  template <class Finish>
   static PixelRect pixelRect(const Projector& p, const WindowBounds& b, double widen_x,
                              double widen_y) {
     const std::int32_t w_px = static_cast<std::int32_t>(p.camera_.width);
     const std::int32_t h_px = static_cast<std::int32_t>(p.camera_.height);
-    PixelRect rect;
     if (p.camera_.multisample) {
       // Every pixel the widened footprint touches.
-      rect.x0 = clampToInt(std::floor(b.x_min - widen_x), 0, w_px);
-      rect.x1 = clampToInt(std::ceil(b.x_max + widen_x), 0, w_px);
-      rect.y0 = clampToInt(std::floor(b.y_min - widen_y), 0, h_px);
-      rect.y1 = clampToInt(std::ceil(b.y_max + widen_y), 0, h_px);
-    } else {
-      // Pixels whose centre i + 0.5 lies in the widened footprint.
-      rect.x0 = clampToInt(std::ceil(b.x_min - widen_x - 0.5), 0, w_px);
-      rect.x1 = clampToInt(std::floor(b.x_max + widen_x - 0.5) + 1.0, 0, w_px);
-      rect.y0 = clampToInt(std::ceil(b.y_min - widen_y - 0.5), 0, h_px);
-      rect.y1 = clampToInt(std::floor(b.y_max + widen_y - 0.5) + 1.0, 0, h_px);
+      const double e[4] = {std::floor(b.x_min - widen_x), std::floor(b.y_min - widen_y),
+                           std::ceil(b.x_max + widen_x), std::ceil(b.y_max + widen_y)};
+      return Finish::clampRect(e, w_px, h_px);
     }
-    return rect;
+    // Pixels whose centre i + 0.5 lies in the widened footprint.
+    const double e[4] = {std::ceil(b.x_min - widen_x - 0.5), std::ceil(b.y_min - widen_y - 0.5),
+                         std::floor(b.x_max + widen_x - 0.5) + 1.0,
+                         std::floor(b.y_max + widen_y - 0.5) + 1.0};
+    return Finish::clampRect(e, w_px, h_px);
   }
 
   // What projectWith() answers from the window bounds of a box not outside the frustum,
   // written field by field into `out` (the batch kernel writes straight into its array:
   // a whole BoxProjection built and copied costs as much as the rest of the kernel).
+  template <class Finish = Scalar>
   static void fromBounds(const Projector& p, const WindowBounds& b, bool crosses_near,
                          Extent* extent, BoxProjection& out) {
     if (!(b.x_min <= b.x_max) || !(b.y_min <= b.y_max) || !(b.key_min <= b.key_max) ||
@@ -186,17 +198,21 @@ struct Projector::Kernel {
     const double widen_x = k * b.err_x + p.snap_px_;
     const double widen_y = k * b.err_y + p.snap_px_;
     if (extent) *extent = {widen_x, widen_y, b.w_min, b.w_max};
-    const PixelRect rect = pixelRect(p, b, widen_x, widen_y);
+    const PixelRect rect = pixelRect<Finish>(p, b, widen_x, widen_y);
     out.rect = rect;
 
     const double far_plane_key = p.clear_key_;
     const double key_min = std::clamp(b.key_min, double(p.near_key_), far_plane_key);
     const double key_max = std::clamp(b.key_max, double(p.near_key_), far_plane_key);
     const double largest_key = std::max(std::fabs(key_min), std::fabs(key_max));
-    out.far_key = roundUp(key_max);
-    out.margin = roundUp(p.quantisation_ + k * (b.err_z + largest_key));
-    out.widen_x = roundUp(widen_x);
-    out.widen_y = roundUp(widen_y);
+    const double up[4] = {key_max, p.quantisation_ + k * (b.err_z + largest_key), widen_x,
+                          widen_y};
+    float rounded[4];
+    Finish::roundUp4(up, rounded);
+    out.far_key = rounded[0];
+    out.margin = rounded[1];
+    out.widen_x = rounded[2];
+    out.widen_y = rounded[3];
 
     if (crosses_near) {
       out.cls = ProjectionClass::CrossesNear;
@@ -310,6 +326,34 @@ struct Projector::Kernel {
     return anyLane(u | v);
   }
 
+  // Scalar's finishing steps, four lanes at a time, each lane as the scalar step:
+  // the clamps as selects (NaN to 0, as clampToInt()) and the truncating conversion; the
+  // conversion to float rounds each lane as the scalar one does, and the step to the next
+  // float up is roundUp()'s arithmetic on the bit patterns (rounding.hpp), taken where
+  // the float lies below the value.
+  using F4 = float __attribute__((vector_size(16)));
+  using U4 = std::uint32_t __attribute__((vector_size(16)));
+  using I4 = std::int32_t __attribute__((vector_size(16)));
+  struct Lanes {
+    static PixelRect clampRect(const double e[4], std::int32_t w_px, std::int32_t h_px) {
+      const V4 x = {e[0], e[1], e[2], e[3]}, zero = splat(0.0);
+      const V4 hi = {double(w_px), double(h_px), double(w_px), double(h_px)};
+      const V4 above_lo = x > zero ? x : zero;
+      const I4 r = __builtin_convertvector(above_lo < hi ? above_lo : hi, I4);
+      return {r[0], r[1], r[2], r[3]};
+    }
+    static void roundUp4(const double v[4], float out[4]) {
+      const V4 x = {v[0], v[1], v[2], v[3]};
+      const F4 f = __builtin_convertvector(x, F4);
+      const U4 take = (U4)__builtin_convertvector(__builtin_convertvector(f, V4) < x, I4);
+      const U4 bits_f = (U4)f;
+      const U4 bits_g = (U4)(f + F4{0, 0, 0, 0});  // -0 becomes +0
+      const U4 up = bits_g + 1 - ((bits_g >> 31) << 1);
+      const F4 r = (F4)(bits_f + ((up - bits_f) & take));
+      std::memcpy(out, &r, sizeof r);
+    }
+  };
+
   // std::min(acc, v) and std::max(acc, v), as windowBounds() accumulates, lane-wise.
   static V4 lower(const V4& acc, const V4& v) { return v < acc ? v : acc; }  // minpd's rule
   static V4 upper(const V4& acc, const V4& v) { return acc < v ? v : acc; }
@@ -382,7 +426,7 @@ struct Projector::Kernel {
       }
       WindowBounds b;
       if (windowBounds(p, k, b)) {
-        fromBounds(p, b, false, nullptr, out[i]);
+        fromBounds<Lanes>(p, b, false, nullptr, out[i]);
       } else {
         out[i] = p.visibleEverywhere(ProjectionClass::CrossesNear);
       }
