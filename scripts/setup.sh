@@ -13,9 +13,10 @@ packages=(
   # works without a GPU)
   libepoxy-dev libegl1 libgl1 libegl-mesa0 libgl1-mesa-dri
   # libraries: GLM (core), OpenImageIO with the tools its CMake targets name, CLI11,
-  # assimp and the zlib its target links, nlohmann-json (samples)
+  # assimp and the zlib its target links, nlohmann-json, meshoptimizer (the samples'
+  # clusters, --cluster)
   libglm-dev libopenimageio-dev openimageio-tools libcli11-dev libassimp-dev zlib1g-dev
-  nlohmann-json3-dev
+  nlohmann-json3-dev libmeshoptimizer-dev
   # logrid view (built where these are found): a window through GLFW with GLX (Mesa's GLX
   # vendor library), a Dear ImGui panel (its pkg-config file requires stb)
   libglfw3-dev libimgui-dev libstb-dev libglx-mesa0

@@ -2,6 +2,7 @@
 
 #include <epoxy/gl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <tuple>
@@ -187,16 +188,28 @@ void MeshRenderer::begin(Pass pass, const Camera& camera) {
   id_location_ = pass == Pass::ObjectIds ? program.uniform("u_object") : -1;
   const GLboolean color_writes = pass == Pass::DepthOnly ? GL_FALSE : GL_TRUE;
   glColorMask(color_writes, color_writes, color_writes, color_writes);
+  if (cull_back_faces_) {
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    glFrontFace(GL_CCW);
+  }
   glBindVertexArray(vao_);
 }
+
+namespace {
+
+// Attribute 1 has no array: the shader reads this generic value.
+void setDrawColor(std::uint32_t c) {
+  glVertexAttrib4Nub(1, GLubyte(c & 0xFF), GLubyte((c >> 8) & 0xFF), GLubyte((c >> 16) & 0xFF),
+                     GLubyte(c >> 24));
+}
+
+}  // namespace
 
 void MeshRenderer::draw(ObjectId id) {
   const RenderMesh::Draw& d = draws_[id];
   if (pass_ == Pass::Shaded && !vertex_colors_) {
-    // Attribute 1 has no array: the shader reads this generic value.
-    const std::uint32_t c = d.color;
-    glVertexAttrib4Nub(1, GLubyte(c & 0xFF), GLubyte((c >> 8) & 0xFF), GLubyte((c >> 16) & 0xFF),
-                       GLubyte(c >> 24));
+    setDrawColor(d.color);
   } else if (pass_ == Pass::ObjectIds) {
     glUniform1ui(id_location_, id);
   }
@@ -214,6 +227,53 @@ void MeshRenderer::draw(ObjectId id) {
   glDrawElementsBaseVertex(GL_TRIANGLES, GLsizei(d.index_count), index_type_,
                            reinterpret_cast<const void*>(std::size_t(d.first_index) * index_bytes_),
                            d.base_vertex);
+  ++draw_calls_;
+}
+
+void MeshRenderer::drawBatch(const ObjectId* ids, std::size_t count) {
+  together_.clear();
+  for (std::size_t i = 0; i < count; ++i) {
+    const ObjectId id = ids[i];
+    if (pass_ == Pass::ObjectIds || (id < moving_.size() && moving_[id])) {
+      draw(id);
+    } else {
+      together_.push_back(id);
+    }
+  }
+  if (together_.empty()) return;
+  const bool by_color = pass_ == Pass::Shaded && !vertex_colors_;
+  // By colour where it matters, then by place in the index buffer, so that an object's
+  // clusters drawn together become one range.
+  std::sort(together_.begin(), together_.end(), [&](ObjectId a, ObjectId b) {
+    const RenderMesh::Draw &da = draws_[a], &db = draws_[b];
+    if (by_color && da.color != db.color) return da.color < db.color;
+    return da.first_index < db.first_index;
+  });
+  if (!identity_bound_) bindIdentity();
+  for (std::size_t run = 0; run < together_.size();) {
+    const std::uint32_t color = draws_[together_[run]].color;
+    counts_.clear(), offsets_.clear(), base_vertices_.clear();
+    std::uint32_t next_index = 0;  // where the last range ends
+    std::size_t i = run;
+    for (; i < together_.size() && (!by_color || draws_[together_[i]].color == color); ++i) {
+      const RenderMesh::Draw& d = draws_[together_[i]];
+      if (!counts_.empty() && d.first_index == next_index &&
+          d.base_vertex == base_vertices_.back()) {
+        counts_.back() += GLsizei(d.index_count);
+      } else {
+        counts_.push_back(GLsizei(d.index_count));
+        offsets_.push_back(
+            reinterpret_cast<const void*>(std::size_t(d.first_index) * index_bytes_));
+        base_vertices_.push_back(d.base_vertex);
+      }
+      next_index = d.first_index + d.index_count;
+    }
+    if (by_color) setDrawColor(color);
+    glMultiDrawElementsBaseVertex(GL_TRIANGLES, counts_.data(), index_type_, offsets_.data(),
+                                  GLsizei(counts_.size()), base_vertices_.data());
+    ++draw_calls_;
+    run = i;
+  }
 }
 
 void MeshRenderer::bindIdentity() {
@@ -259,6 +319,7 @@ void MeshRenderer::clearTransform(ObjectId id) {
 
 void MeshRenderer::end() {
   glBindVertexArray(0);
+  if (cull_back_faces_) glDisable(GL_CULL_FACE);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
 }
 

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "cli/bench_motion.hpp"
+#include "cli/cluster_sweep.hpp"
 #include "cli/commands.hpp"
 #include "cli/config_option.hpp"
 #include "cli/experiment.hpp"
@@ -83,6 +84,7 @@ struct BenchOptions {
   bool tradeoff = false;
   bool traversal = false;
   std::string lookaheads = "1,4,16,64,all";  // --traversal
+  std::string clusters;                      // --clusters: granularities, 0 whole objects
   std::string budgets;                       // --tradeoff: frame-time budgets (ms)
   MotionBenchOptions motion;                 // --motion: bench_motion.cpp
 };
@@ -551,6 +553,20 @@ int runBench(const BenchOptions& o) {
     return runTradeoff(e, budgets);
   }
   if (o.motion.enabled) return runMotionBench(e, o.motion);
+  if (!o.clusters.empty()) {
+    std::vector<std::uint32_t> sizes;
+    for (const std::string& item : splitList(o.clusters)) {
+      std::uint32_t n = 0;
+      parseNumber(item, n);  // checked by the option's numberListCheck
+      ClusterOptions c;
+      c.triangles = n;
+      if (const std::string problem = validateClusterOptions(c); !problem.empty()) {
+        throw Error(ErrorCode::InvalidArgument, "bench --clusters: " + problem);
+      }
+      sizes.push_back(n);
+    }
+    return runClusterSweep(e, splitList(o.methods), sizes);
+  }
   if (o.traversal) {
     // The command's reader first, then --readers.
     std::vector<std::string> readers = {o.walk.reader};
@@ -607,6 +623,13 @@ void addBenchCommand(CLI::App& app) {
           "--lookaheads", o->lookaheads,
           "with --traversal: the K values to sweep, comma-separated; each " + lookaheadRange())
       ->check(lookaheadListCheck());
+  bench
+      ->add_option("--clusters", o->clusters,
+                   "run --methods on each scene prepared at each of these granularities instead, "
+                   "all interleaved, against the cluster and the object oracle: triangles per "
+                   "cluster, comma-separated, each in range " +
+                       closed(0u, 512u).text() + " and a multiple of 4 (0: whole objects)")
+      ->check(numberListCheck(closed(0u, 512u)));
   addMotionBenchOptions(*bench, o->motion);
   addConfigOption(*bench, o->walk, [o](const std::string& method) { o->methods += "," + method; });
   bench->final_callback([o] { throw CLI::RuntimeError(runBench(*o)); });

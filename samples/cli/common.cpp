@@ -124,6 +124,7 @@ ViewSettings viewSettings(const WalkOptions& o, const PreparedScene& scene) {
   view.depth =
       depthSetupFor(parseDepthConvention(o.depth_convention), parseDepthFormat(o.depth_format));
   view.samples = o.samples;
+  view.cull_back_faces = o.cull_back_faces;
   return view;
 }
 
@@ -149,6 +150,7 @@ RunConfig runConfig(const WalkOptions& o, const PreparedScene& scene) {
   c.any_samples_passed = o.any_samples;
   checkCuller(c.culler, c.method);
   c.view = viewSettings(o, scene);
+  c.backface_clusters = o.backface_clusters;
   c.frames = o.frames;
   c.verify = o.verify;
   c.images_dir = o.images;

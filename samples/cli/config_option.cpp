@@ -14,8 +14,9 @@ namespace {
 
 // The options a configuration file sets; none may be given beside --config.
 constexpr const char* kConfigured[] = {
-    "--method",    "--tile", "--tiles",      "--reader",         "--lookahead",     "--coherence",
-    "--colliding", "--leaf", "--tree-parts", "--visible-pixels", "--full-fraction", "--row-stride"};
+    "--method",         "--tile",          "--tiles",     "--reader",     "--lookahead",
+    "--coherence",      "--colliding",     "--leaf",      "--tree-parts", "--cluster",
+    "--visible-pixels", "--full-fraction", "--row-stride"};
 
 [[noreturn]] void badScene(const std::string& path, const std::string& what) {
   throw Error(ErrorCode::BadInput, path + ": \"scene\": " + what);
@@ -38,6 +39,13 @@ void applySceneSection(const std::string& path, WalkOptions& o) {
       badScene(path, "\"leaf\" is not a whole number in [0, 4294967295] (0: the scene's default)");
     }
     o.leaf = leaf.get<std::uint32_t>();
+  }
+  if (scene.contains("cluster")) {
+    const nlohmann::json& cluster = scene["cluster"];
+    if (!cluster.is_number_unsigned() || cluster.get<std::uint64_t>() > 512) {
+      badScene(path, "\"cluster\" is not a whole number in [0, 512] (0: whole objects)");
+    }
+    o.cluster = cluster.get<std::uint32_t>();
   }
   if (scene.contains("tree_parts")) {
     if (!scene["tree_parts"].is_string()) badScene(path, "\"tree_parts\" is not a name");
@@ -68,7 +76,8 @@ ConfigSettings applyConfigFile(const std::string& path, const WalkOptions& base)
 }
 
 std::string sceneSection(const WalkOptions& o) {
-  return nlohmann::json{{"leaf", o.leaf}, {"tree_parts", o.tree_parts}}.dump();
+  return nlohmann::json{{"leaf", o.leaf}, {"tree_parts", o.tree_parts}, {"cluster", o.cluster}}
+      .dump();
 }
 
 CLI::Option* addConfigOption(CLI::App& app, WalkOptions& o,

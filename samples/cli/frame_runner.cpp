@@ -153,6 +153,44 @@ struct FrameRunner::Observer : CullObserver {
   }
 };
 
+namespace {
+
+// What back-face culling asks of the rest of the run (RunConfig::backface_clusters,
+// ViewSettings::cull_back_faces).
+void checkFaceCulling(const RunConfig& config, const PreparedScene& scene) {
+  if (config.backface_clusters) {
+    if (!config.view.cull_back_faces) {
+      throw Error(ErrorCode::InvalidArgument,
+                  "--backface-clusters skips clusters that face away, which a renderer that "
+                  "does not cull back faces still draws (a miss); add --cull-back-faces");
+    }
+    if (!scene.clustered()) {
+      throw Error(ErrorCode::InvalidArgument,
+                  "--backface-clusters needs a clustered scene; add --cluster N");
+    }
+    if (config.view.orthographic) {
+      throw Error(ErrorCode::InvalidArgument,
+                  "--backface-clusters needs a perspective view (the cone test is the eye's); "
+                  "drop --ortho");
+    }
+  }
+  if (config.view.cull_back_faces && config.method.method) {
+    if (config.reader == "cpu" && methodInfo(*config.method.method).needs.depth) {
+      throw Error(ErrorCode::InvalidArgument,
+                  "--cull-back-faces with --reader cpu: the CPU occlusion buffer rasterises "
+                  "both faces, and would hide what a back face culled by GL does not; use a "
+                  "GL reader");
+    }
+    if (methodInfo(*config.method.method).needs.occluders) {
+      throw Error(ErrorCode::InvalidArgument,
+                  "--cull-back-faces with a DDO method: its occluders are found on geometry "
+                  "drawn with both faces; use another method");
+    }
+  }
+}
+
+}  // namespace
+
 FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
                          const RunConfig& config)
     : scene_(scene),
@@ -166,6 +204,7 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
                                                 " is invalid; use 0 (frames spread over the "
                                                 "path) or a positive number of seconds");
   }
+  checkFaceCulling(config, scene);
   // Every object's box, the movers' where they are at the first frame; the motion
   // hierarchy is built over them.
   motion_.boxes = scene.object_boxes;
@@ -299,6 +338,9 @@ void FrameRunner::makeSources() {
 }
 
 void FrameRunner::setView(const ViewSettings& view) {
+  RunConfig next = config_;
+  next.view = view;
+  checkFaceCulling(next, scene_);
   config_.view = view;
   oracle_cache_.reset();  // its ID passes were of the old view
   makeFramebuffer();
@@ -365,6 +407,7 @@ gl::OracleFrame FrameRunner::idPass(const Camera& camera) {
   const Projector projector(camera);
   gl::OracleFrame found = gl::objectIdOracle(idFramebuffer(), projector, motion_.boxes, [&] {
     if (config_.hooks.after_clear) config_.hooks.after_clear();
+    renderer_.setCullBackFaces(config_.view.cull_back_faces);  // the frames' picture
     renderer_.begin(gl::Pass::ObjectIds, camera);
     vfc_->cullFrame(camera, staticHierarchy(), g_no_depth,
                     [&](ObjectId id) { renderer_.draw(id); });
@@ -412,6 +455,7 @@ FrameRecord FrameRunner::render(const CameraPose& pose, std::size_t frame, bool 
 
   glFinish();
   const auto start = std::chrono::steady_clock::now();
+  const std::uint64_t draw_calls = renderer_.drawCalls();
   if (dynamic_) {
     bvh::MotionUpdate update;
     update.boxes = &motion_.boxes;
@@ -424,59 +468,16 @@ FrameRecord FrameRunner::render(const CameraPose& pose, std::size_t frame, bool 
   framebuffer_->unmask();  // after a reader that leaves its state (leavesGlState)
   framebuffer_->clear(kBackground);
   if (config_.hooks.after_clear) config_.hooks.after_clear();
+  renderer_.setCullBackFaces(config_.view.cull_back_faces);  // shared by the scene's runners
   renderer_.begin(gl::Pass::Shaded, camera);
-  const FrameHooks& hooks = config_.hooks;
-  auto draw = [&](ObjectId id) {
-    if (hooks.before_draw) {
-      hooks.before_draw();
-      framebuffer_->bind();
-      renderer_.begin(gl::Pass::Shaded, camera);
-    }
-    renderer_.draw(id);
-    if (hooks.after_draw) hooks.after_draw();
-    rec.triangles += renderer_.triangles(id);
-    if (!drawn_[id]) {
-      drawn_[id] = 1;
-      drawn_list_.push_back(id);
-    }
-    if (reader_) reader_->objectDrawn(id);
-  };
   if (config_.method.oracle()) {
-    for (ObjectId id : oracle.visible) draw(id);
-    for (ObjectId id : oracle.artifacts) draw(id);  // the full render shows them
-    rec.stats.objects_drawn = oracle.visible.size() + oracle.artifacts.size();
+    // The visible set as one batch, drawn as a method's batches are.
+    std::vector<ObjectId> all = oracle.visible;
+    all.insert(all.end(), oracle.artifacts.begin(), oracle.artifacts.end());  // the full
+    drawBatch(camera, all.data(), all.size(), rec);                           // render shows them
+    rec.stats.objects_drawn = all.size();
   } else {
-    reader_->beginFrame(camera);
-    // A method that reads no depth leaves the reader's source alone, but the runner still
-    // feeds it what is drawn (objectDrawn: the cpu reader's buffer) and the motion
-    // hierarchy's statistics pass reads it (measure): its frame is begun here instead.
-    if (!sourceBegunByCuller(config_)) orThrow(reader_->source().beginFrame(camera));
-    if (hooks.before_cull) hooks.before_cull();
-    // The pull form (the callback form is a loop over it): each batch drawn, then the next.
-    culler_->beginFrame(camera, hierarchy(),
-                        {&reader_->source(), queries_.get(), occluders_.get()});
-    try {
-      for (DrawBatch batch = culler_->nextBatch(); !batch.empty(); batch = culler_->nextBatch()) {
-        if (reader_->leavesGlState()) {
-          // Under GlStatePolicy::ApplicationManaged the source's passes leave their state
-          // (a multisample resolve: its framebuffer, program and vertex array, whose
-          // missing element buffer crashed the driver, the scissor and colour masks):
-          // the application sets what it draws with.
-          framebuffer_->bind();
-          framebuffer_->unmask();
-          renderer_.begin(gl::Pass::Shaded, camera);
-        }
-        for (ObjectId id : batch) draw(id);
-      }
-    } catch (...) {
-      culler_->abandonFrame();  // a draw failed: the runner stays usable (the viewer goes on)
-      if (!sourceBegunByCuller(config_)) (void)reader_->source().endFrame();
-      throw;
-    }
-    rec.stats = culler_->endFrame();
-    if (occluders_) rec.occluders = std::int64_t(rec.stats.occluders);
-    if (auto* cpu = dynamic_cast<CpuFrameReader*>(reader_.get())) rec.cpu = cpu->takeFrameStats();
-    if (hooks.after_cull) hooks.after_cull();
+    cullAndDraw(camera, rec);
   }
   renderer_.end();
   // The hierarchy's statistics of this frame (ternary: the additional queries).
@@ -486,21 +487,110 @@ FrameRecord FrameRunner::render(const CameraPose& pose, std::size_t frame, bool 
   rec.ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   if (culler_) culler_->reportFrameTime(rec.ms * 1e-3);  // the whole frame (frame_clock)
+  rec.draw_calls = renderer_.drawCalls() - draw_calls;
+  if (scene_.clustered()) rec.objects_drawn = std::int64_t(objectsOf(drawn_list_));
 
   if (!config_.images_dir.empty()) writeImages(frame, camera);
   if (config_.verify || config_.method.oracle()) {
     if (!config_.method.oracle()) oracle = visibleSet(cache_key, camera);
-    rec.visible = std::int64_t(oracle.visible.size());
-    missed_ = oracle.missedBy(drawn_list_);
-    rec.missed = std::int64_t(missed_.size());
-    rec.missed_ids.assign(missed_.begin(),
-                          missed_.begin() + std::min<std::ptrdiff_t>(16, rec.missed));
-    rec.artifacts = std::int64_t(oracle.artifacts.size());
-    rec.missed_artifacts = 0;
-    for (ObjectId id : oracle.artifacts) rec.missed_artifacts += !drawn_[id];
+    checkAgainst(oracle, rec);
   }
   gl::checkGlErrors("FrameRunner::renderFrame");
   return rec;
+}
+
+void FrameRunner::drawBatch(const Camera& camera, const ObjectId* ids, std::size_t count,
+                            FrameRecord& rec) {
+  if (config_.backface_clusters) {
+    // The clusters facing away are not drawn (GL would cull every triangle of them).
+    facing_.clear();
+    for (std::size_t i = 0; i < count; ++i) {
+      const ObjectId id = ids[i];
+      if (id < scene_.static_objects && facesAway(scene_.cluster_cones[id], camera.render_origin)) {
+        ++rec.backfacing;
+      } else {
+        facing_.push_back(id);
+      }
+    }
+    ids = facing_.data();
+    count = facing_.size();
+  }
+  const FrameHooks& hooks = config_.hooks;
+  if (hooks.before_draw) {
+    // An application with state of its own between its draws: one call each.
+    for (std::size_t i = 0; i < count; ++i) {
+      hooks.before_draw();
+      framebuffer_->bind();
+      renderer_.begin(gl::Pass::Shaded, camera);
+      renderer_.draw(ids[i]);
+      if (hooks.after_draw) hooks.after_draw();
+    }
+  } else {
+    renderer_.drawBatch(ids, count);
+    if (hooks.after_draw) hooks.after_draw();
+  }
+  for (std::size_t i = 0; i < count; ++i) {
+    const ObjectId id = ids[i];
+    rec.triangles += renderer_.triangles(id);
+    if (!drawn_[id]) {
+      drawn_[id] = 1;
+      drawn_list_.push_back(id);
+    }
+    if (reader_) reader_->objectDrawn(id);
+  }
+}
+
+void FrameRunner::cullAndDraw(const Camera& camera, FrameRecord& rec) {
+  reader_->beginFrame(camera);
+  // A method that reads no depth leaves the reader's source alone, but the runner still
+  // feeds it what is drawn (objectDrawn: the cpu reader's buffer) and the motion
+  // hierarchy's statistics pass reads it (measure): its frame is begun here instead.
+  if (!sourceBegunByCuller(config_)) orThrow(reader_->source().beginFrame(camera));
+  if (config_.hooks.before_cull) config_.hooks.before_cull();
+  // The pull form (the callback form is a loop over it): each batch drawn, then the next.
+  culler_->beginFrame(camera, hierarchy(), {&reader_->source(), queries_.get(), occluders_.get()});
+  try {
+    for (DrawBatch batch = culler_->nextBatch(); !batch.empty(); batch = culler_->nextBatch()) {
+      if (reader_->leavesGlState()) {
+        // Under GlStatePolicy::ApplicationManaged the source's passes leave their state
+        // (a multisample resolve: its framebuffer, program and vertex array, whose
+        // missing element buffer crashed the driver, the scissor and colour masks):
+        // the application sets what it draws with.
+        framebuffer_->bind();
+        framebuffer_->unmask();
+        renderer_.begin(gl::Pass::Shaded, camera);
+      }
+      drawBatch(camera, batch.begin(), batch.size(), rec);
+    }
+  } catch (...) {
+    culler_->abandonFrame();  // a draw failed: the runner stays usable (the viewer goes on)
+    if (!sourceBegunByCuller(config_)) (void)reader_->source().endFrame();
+    throw;
+  }
+  rec.stats = culler_->endFrame();
+  if (occluders_) rec.occluders = std::int64_t(rec.stats.occluders);
+  if (auto* cpu = dynamic_cast<CpuFrameReader*>(reader_.get())) rec.cpu = cpu->takeFrameStats();
+  if (config_.hooks.after_cull) config_.hooks.after_cull();
+}
+
+void FrameRunner::checkAgainst(const gl::OracleFrame& oracle, FrameRecord& rec) {
+  rec.visible = std::int64_t(oracle.visible.size());
+  if (scene_.clustered()) rec.visible_objects = std::int64_t(objectsOf(oracle.visible));
+  missed_ = oracle.missedBy(drawn_list_);
+  rec.missed = std::int64_t(missed_.size());
+  rec.missed_ids.assign(missed_.begin(),
+                        missed_.begin() + std::min<std::ptrdiff_t>(16, rec.missed));
+  rec.artifacts = std::int64_t(oracle.artifacts.size());
+  rec.missed_artifacts = 0;
+  for (ObjectId id : oracle.artifacts) rec.missed_artifacts += !drawn_[id];
+}
+
+std::size_t FrameRunner::objectsOf(const std::vector<ObjectId>& ids) {
+  std::vector<std::uint32_t> objects;
+  objects.reserve(ids.size());
+  for (ObjectId id : ids) objects.push_back(scene_.objectOf(id));
+  std::sort(objects.begin(), objects.end());
+  return std::size_t(std::unique(objects.begin(), objects.end()) - objects.begin());
 }
 
 void FrameRunner::writeImages(std::size_t frame, const Camera& camera) {

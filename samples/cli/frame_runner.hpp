@@ -94,6 +94,11 @@ struct RunConfig {
   bvh::MotionDesc motion;  // settings of the motion hierarchies
   CpuReaderOptions cpu;    // for --reader cpu
   ViewSettings view;
+  // The application skips the clusters that face away from the eye (clusters.hpp,
+  // facesAway) among those the culler hands it: right only where its renderer culls back
+  // faces (view.cull_back_faces), so refused without; needs a clustered scene and a
+  // perspective view.
+  bool backface_clusters = false;
   std::size_t frames = 100;  // frames spread over the whole path
   // > 0: frame f is at path time (first key) + f * time_step instead (the camera stops
   // at the path's end; movers go on): consecutive frames as close as at an interactive
@@ -116,6 +121,13 @@ struct FrameRecord {
   bvh::MeasureStats measure;           // its statistics pass after the frame (ternary)
   std::uint64_t moved = 0;             // objects whose box changed since the last frame
   std::uint64_t triangles = 0;         // triangles drawn
+  std::uint64_t draw_calls = 0;        // the renderer's, in the timed part
+  std::uint64_t backfacing = 0;        // clusters not drawn for facing away (backface_clusters)
+  // Clustered scenes (PreparedScene::clustered()): the objects the drawn clusters and
+  // the visible ones (with verify or oracle) belong to; -1 otherwise, where the ids are
+  // the objects.
+  std::int64_t objects_drawn = -1;
+  std::int64_t visible_objects = -1;
   std::int64_t visible = -1;           // objects in the ID buffer (with verify or oracle)
   std::int64_t missed = -1;            // visible objects not drawn (with verify)
   std::int64_t artifacts = -1;         // objects shown only through depth-extrapolated fragments
@@ -201,6 +213,13 @@ class FrameRunner {
   // The ID pass of a frame, from the shared cache when another runner did it.
   gl::OracleFrame visibleSet(std::optional<std::size_t> frame, const Camera& camera);
   FrameRecord render(const CameraPose& pose, std::size_t frame, bool cached);
+  // The steps of a frame: a batch drawn (and recorded as drawn), the culler's batches
+  // one after the other, and the check of what was drawn against the visible set.
+  void drawBatch(const Camera& camera, const ObjectId* ids, std::size_t count, FrameRecord& rec);
+  void cullAndDraw(const Camera& camera, FrameRecord& rec);
+  void checkAgainst(const gl::OracleFrame& oracle, FrameRecord& rec);
+  // How many objects these ids draw part of (clusters.hpp): distinct objectOf().
+  std::size_t objectsOf(const std::vector<ObjectId>& ids);
   void writeImages(std::size_t frame, const Camera& camera);
   // The framebuffer of config_.view, then the reader and the query source over it
   // (constructor, setView).
@@ -230,6 +249,7 @@ class FrameRunner {
   MotionFrame motion_;
   std::vector<std::uint8_t> drawn_;  // per object, this frame
   std::vector<ObjectId> drawn_list_;
+  std::vector<ObjectId> facing_;  // a batch without its clusters facing away
   std::vector<ObjectId> missed_;
   std::shared_ptr<OracleCache> oracle_cache_;
 };

@@ -16,7 +16,8 @@ bool sameView(const ViewSettings& a, const ViewSettings& b) {
   return a.width == b.width && a.height == b.height && a.fov_degrees == b.fov_degrees &&
          a.orthographic == b.orthographic && a.near_plane == b.near_plane &&
          a.far_plane == b.far_plane && a.depth.convention == b.depth.convention &&
-         a.depth.format == b.depth.format && a.depth.clip_range == b.depth.clip_range;
+         a.depth.format == b.depth.format && a.depth.clip_range == b.depth.clip_range &&
+         a.samples == b.samples && a.cull_back_faces == b.cull_back_faces;
 }
 
 // `first`: the first repetition's frame times; `second`: the second's, whose odd frames
@@ -70,24 +71,41 @@ double ConfigResult::spread() const {
 std::vector<ConfigResult> runInterleaved(const PreparedScene& scene, gl::MeshRenderer& renderer,
                                          const std::vector<RunConfig>& configs, std::size_t repeats,
                                          const std::string& label, std::size_t warmup) {
-  assert(repeats >= 1 && !configs.empty() && "runInterleaved: no repetition or configuration");
+  std::vector<SceneConfig> on_scene;
+  for (const RunConfig& c : configs) on_scene.push_back({&scene, &renderer, c});
+  return runInterleaved(on_scene, repeats, label, warmup);
+}
+
+std::vector<ConfigResult> runInterleaved(const std::vector<SceneConfig>& subjects,
+                                         std::size_t repeats, const std::string& label,
+                                         std::size_t warmup) {
+  assert(repeats >= 1 && !subjects.empty() && "runInterleaved: no repetition or configuration");
+  std::vector<RunConfig> configs;
+  for (const SceneConfig& s : subjects) configs.push_back(s.config);
   const std::size_t frames = configs.front().frames;
   std::vector<std::unique_ptr<FrameRunner>> runners;
   std::vector<ConfigResult> results(configs.size());
-  // One ID pass per frame for all configurations with the same view.
-  std::vector<std::pair<ViewSettings, std::shared_ptr<OracleCache>>> caches;
-  auto cacheFor = [&](const ViewSettings& v) {
-    for (auto& [view, cache] : caches) {
-      if (sameView(view, v)) return cache;
+  // One ID pass per frame for all configurations of one scene with the same view.
+  struct Cache {
+    const PreparedScene* scene;
+    ViewSettings view;
+    std::shared_ptr<OracleCache> cache;
+  };
+  std::vector<Cache> caches;
+  auto cacheFor = [&](std::size_t c) {
+    const ViewSettings& v = runners[c]->config().view;
+    for (const Cache& k : caches) {
+      if (k.scene == subjects[c].scene && sameView(k.view, v)) return k.cache;
     }
-    caches.emplace_back(v, std::make_shared<OracleCache>());
-    return caches.back().second;
+    caches.push_back({subjects[c].scene, v, std::make_shared<OracleCache>()});
+    return caches.back().cache;
   };
   for (std::size_t c = 0; c < configs.size(); ++c) {
     RunConfig timed = configs[c];
     timed.frames = frames;
-    runners.push_back(std::make_unique<FrameRunner>(scene, renderer, timed));
-    runners.back()->shareOracle(cacheFor(timed.view));
+    runners.push_back(
+        std::make_unique<FrameRunner>(*subjects[c].scene, *subjects[c].renderer, timed));
+    runners.back()->shareOracle(cacheFor(c));
     results[c].config = timed;
   }
   // Every frame's visible set before anything is timed: the oracle's rows and the first
@@ -96,14 +114,14 @@ std::vector<ConfigResult> runInterleaved(const PreparedScene& scene, gl::MeshRen
   // runner per view, for its ID passes only.
   for (std::size_t c = 0; c < configs.size(); ++c) {
     if (!configs[c].verify && !configs[c].method.oracle()) continue;
-    const std::shared_ptr<OracleCache> cache = cacheFor(configs[c].view);
+    const std::shared_ptr<OracleCache> cache = cacheFor(c);
     if (cache->frames.size() >= frames) continue;  // another configuration's view
     RunConfig passes = results[c].config;
     passes.method = MethodChoice{};
     passes.verify = false;
     passes.images_dir.clear();
     passes.overlay = false;
-    FrameRunner ids(scene, renderer, passes);
+    FrameRunner ids(*subjects[c].scene, *subjects[c].renderer, passes);
     ids.shareOracle(cache);
     for (std::size_t f = 0; f < frames; ++f) ids.renderFrame(f);
   }
@@ -122,7 +140,7 @@ std::vector<ConfigResult> runInterleaved(const PreparedScene& scene, gl::MeshRen
       for (std::size_t c = 0; c < runners.size(); ++c) {
         const bool own_pass = rep == 1 && f % 2 == 1 && configs[c].verify;
         runners[c]->setVerify(configs[c].verify && (rep == 0 || own_pass));
-        runners[c]->shareOracle(own_pass ? nullptr : cacheFor(runners[c]->config().view));
+        runners[c]->shareOracle(own_pass ? nullptr : cacheFor(c));
         FrameRecord rec = runners[c]->renderFrame(f);
         times[c][rep * frames + f] = rec.ms;
         round_ms += rec.ms;

@@ -61,4 +61,16 @@ std::vector<ConfigResult> runInterleaved(const PreparedScene& scene, gl::MeshRen
                                          const std::vector<RunConfig>& configs, std::size_t repeats,
                                          const std::string& label, std::size_t warmup = 2);
 
+// A configuration on a scene of its own: the same frames of several preparations of one
+// scene (whole objects and clusters, say), interleaved alike. Each scene's ID passes are
+// its own.
+struct SceneConfig {
+  const PreparedScene* scene;
+  gl::MeshRenderer* renderer;
+  RunConfig config;
+};
+std::vector<ConfigResult> runInterleaved(const std::vector<SceneConfig>& configs,
+                                         std::size_t repeats, const std::string& label,
+                                         std::size_t warmup = 2);
+
 }  // namespace logrid::samples

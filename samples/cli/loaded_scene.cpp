@@ -17,6 +17,9 @@ nlohmann::json LoadedScene::describe() const {
           {"scene_triangles", p.triangles},
           {"scene_objects", p.mesh.draws.size()},
           {"source_objects", p.source_objects},
+          {"objects", p.objectCount()},
+          {"clusters", p.clustered() ? p.static_objects : 0},
+          {"cluster_ms", p.cluster_ms},
           {"hierarchy_nodes", p.hierarchy.nodes().size()},
           {"hierarchy_depth", p.hierarchy.depth()},
           {"generate_ms", generate_ms},
@@ -115,7 +118,9 @@ LoadedScene loadScene(const WalkOptions& o, bool upload, bool with_ddo) {
   out.generate_ms = msSince(start);
   bvh::BuildArgs args = defaultBuildArgs(scene);
   if (o.leaf) args.max_leaf_size = o.leaf;
-  out.prepared = prepareScene(std::move(scene), args);
+  ClusterOptions clusters;
+  clusters.triangles = o.cluster;
+  out.prepared = prepareScene(std::move(scene), args, clusters);
   out.prepare_peak_rss_bytes = peakRssBytes();
   if (with_ddo) {
     out.ddo = prepareDdo(out.prepared, ddoOptions(o));

@@ -44,6 +44,9 @@ void addWalkthroughOptions(CLI::App& app, WalkOptions& o) {
             "procedural paths; default 0: the frames spread over the whole path)");
   addNumber(app, "--leaf", o.leaf, closed(0u, kMaxCount),
             "objects (or triangles) per hierarchy leaf; 0: the scene's");
+  addNumber(app, "--cluster", o.cluster, closed(0u, 512u),
+            "split every object into clusters of at most this many triangles (meshoptimizer; "
+            "a multiple of 4, up to 512), each culled on its own box; 0: whole objects");
   app.add_option("--tree-parts", o.tree_parts,
                  "forest: each tree one object (whole), trunk and crown apart (trunk-crown), or "
                  "the trunk and each crown tier apart (tiers)");
@@ -106,6 +109,11 @@ void addViewOptions(CLI::App& app, WalkOptions& o) {
   app.add_option("--depth-convention", o.depth_convention, "standard or reversed");
   addNumber(app, "--samples", o.samples, closed(0u, kMaxSamples),
             "samples per pixel (multisampled framebuffer; 0: single-sampled)");
+  app.add_flag("--cull-back-faces", o.cull_back_faces,
+               "the renderer culls back faces (counter-clockwise is front), frames and ID pass");
+  app.add_flag("--backface-clusters", o.backface_clusters,
+               "with --cluster and --cull-back-faces: clusters whose every triangle faces away "
+               "are not drawn");
   addNumber(app, "--near", o.near_plane, NumberRange<double>{0, INFINITY, false, true, {}},
             "near plane (default 0: the scene's)");
   addNumber(app, "--far", o.far_plane, closed(0.0, double(INFINITY)),

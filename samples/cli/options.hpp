@@ -36,6 +36,8 @@ struct WalkOptions {
   std::string depth_format = "32f";
   std::string depth_convention = "standard";
   std::uint32_t samples = 0;
+  bool cull_back_faces = false;    // the renderer culls back faces (ViewSettings)
+  bool backface_clusters = false;  // and clusters facing away are not drawn (RunConfig)
   double near_plane = 0;  // 0: the scene's
   double far_plane = 0;
   double fov = 60;
@@ -48,6 +50,7 @@ struct WalkOptions {
   int lp_threads = -1;     // >= 0: LP_NUM_THREADS for llvmpipe (docs/PLATFORM.md); -1: leave it
   std::uint32_t leaf = 0;  // 0: the scene's default
   std::string tree_parts = "whole";  // forest: whole, trunk-crown or tiers
+  std::uint32_t cluster = 0;         // triangles per cluster (scene/clusters.hpp); 0: whole objects
   GridApproximation approximation;   // off by default
   double budget_ms = 0;              // CullerDesc::budget_ms (0: none)
   // Motion (motion.hpp, movers.hpp).

@@ -15,6 +15,13 @@ FrameAverages averageFrames(const std::vector<FrameRecord>& records) {
     times.push_back(r.ms);
     a.objects += double(s.objects_drawn);
     a.triangles += double(r.triangles);
+    a.draw_calls += double(r.draw_calls);
+    if (r.objects_drawn >= 0) {
+      a.cluster_objects = a.cluster_objects.value_or(0) + double(r.objects_drawn);
+    }
+    if (r.visible_objects >= 0) {
+      a.visible_cluster_objects = a.visible_cluster_objects.value_or(0) + r.visible_objects;
+    }
     a.boxes_tested += double(s.boxes_tested);
     tiles += double(s.tiles_tested);
     a.reads += double(s.reads);
@@ -69,6 +76,7 @@ FrameAverages averageFrames(const std::vector<FrameRecord>& records) {
   for (double* sum : {&a.ms,
                       &a.objects,
                       &a.triangles,
+                      &a.draw_calls,
                       &a.boxes_tested,
                       &a.reads,
                       &a.pixels_read,
@@ -99,6 +107,7 @@ FrameAverages averageFrames(const std::vector<FrameRecord>& records) {
                       &a.cpu_unselected}) {
     *sum /= n;
   }
+  if (a.cluster_objects) *a.cluster_objects /= n;
   if (a.occluders) *a.occluders /= n;
   if (a.occluder_tiles) *a.occluder_tiles /= n;
   return a;
@@ -110,6 +119,7 @@ nlohmann::json frameJson(const FrameRecord& r) {
                       {"ms", r.ms},
                       {"drawn_objects", s.objects_drawn},
                       {"drawn_triangles", r.triangles},
+                      {"draw_calls", r.draw_calls},
                       {"boxes_tested", s.boxes_tested},
                       {"boxes_occluded", s.boxes_occluded},
                       {"tiles_tested", s.tiles_tested},
@@ -141,6 +151,9 @@ nlohmann::json frameJson(const FrameRecord& r) {
                         {"visible_pixels", s.setting.approximation.visible_pixels},
                         {"full_fraction", s.setting.approximation.full_free_fraction},
                         {"row_stride", s.setting.approximation.row_stride}}}};
+  if (r.objects_drawn >= 0) j["drawn_cluster_objects"] = r.objects_drawn;
+  if (r.backfacing > 0) j["backfacing_clusters"] = r.backfacing;
+  if (r.visible_objects >= 0) j["visible_cluster_objects"] = r.visible_objects;
   if (r.occluders >= 0) {
     j["occluders"] = r.occluders;
     j["occluder_tiles"] = s.occluder_tiles;
@@ -204,6 +217,8 @@ nlohmann::json settingsJson(const RunConfig& config, std::size_t frames) {
           {"depth_format", toString(config.view.depth.format)},
           {"depth_convention", toString(config.view.depth.convention)},
           {"projection", config.view.orthographic ? "orthographic" : "perspective"},
+          {"cull_back_faces", config.view.cull_back_faces},
+          {"backface_clusters", config.backface_clusters},
           {"near", config.view.near_plane},
           {"far", config.view.far_plane}};
 }
@@ -214,6 +229,7 @@ nlohmann::json averagesJson(const FrameAverages& a) {
           {"median_frame_ms", a.median_ms},
           {"avg_drawn_objects", a.objects},
           {"avg_drawn_triangles", a.triangles},
+          {"avg_draw_calls", a.draw_calls},
           {"avg_read_pixels", a.pixels_read},
           {"avg_reads", a.reads},
           {"avg_queries", a.queries},
@@ -280,6 +296,8 @@ nlohmann::json runSummary(const std::vector<FrameRecord>& records, const RunConf
   const FrameAverages a = averageFrames(records);
   nlohmann::json j = settingsJson(config, records.size());
   j.update(averagesJson(a));
+  if (a.cluster_objects) j["avg_drawn_cluster_objects"] = *a.cluster_objects;
+  if (a.visible_cluster_objects) j["visible_cluster_objects"] = *a.visible_cluster_objects;
   if (a.occluders) j["avg_occluders"] = *a.occluders;
   if (a.occluder_tiles) j["avg_occluder_tiles"] = *a.occluder_tiles;
   if (config.method.method && methodInfo(*config.method.method).needs.queries) {

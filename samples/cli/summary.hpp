@@ -20,8 +20,13 @@ struct FrameAverages {
   double ms = 0;  // frame time, average
   double median_ms = 0;
   // FrameStats and FrameRecord, averages per frame.
-  double objects = 0;  // objects drawn
+  double objects = 0;  // objects drawn (clusters, in a clustered scene)
   double triangles = 0;
+  double draw_calls = 0;
+  // Clustered scenes (FrameRecord::objects_drawn, visible_objects): objects a drawn
+  // cluster belongs to, an average; objects a visible cluster belongs to, a sum.
+  std::optional<double> cluster_objects;
+  std::optional<std::int64_t> visible_cluster_objects;
   double boxes_tested = 0;
   double tiles_per_box = 0;  // tiles tested / boxes tested, over all frames
   double reads = 0;

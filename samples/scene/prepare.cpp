@@ -5,6 +5,7 @@
 #include <map>
 
 #include "logrid/elapsed.hpp"
+#include "logrid/error.hpp"
 
 namespace logrid::samples {
 namespace {
@@ -141,9 +142,71 @@ std::vector<OccluderModel> chunkModels(
   return models;
 }
 
+// Every object (or chunk) split into clusters, each cluster an ObjectId of its own: the
+// hierarchy over the clusters' boxes, one leaf each (args.max_leaf_size, which counts
+// objects or triangles, is about the objects the clusters replace), and one draw per
+// cluster, the clusters of an object consecutive in the index buffer over the object's
+// vertices (a batch of them draws as a few ranges, MeshRenderer::drawBatch). The
+// clustered triangles are appended to scene.indices (the movers' ranges stay valid).
+// Occluder models are not kept: each cluster occludes with its own triangles.
+template <typename TrianglesOf, typename ColorOf>
+void prepareClusters(Scene& scene, std::size_t objects, TrianglesOf triangles_of, ColorOf color_of,
+                     const ClusterOptions& options, const bvh::BuildArgs& args,
+                     PreparedScene& out) {
+  const auto cluster_start = std::chrono::steady_clock::now();
+  ClusterBuilder builder(scene.positions.data(), scene.positions.size() / 3, options);
+  std::vector<std::uint32_t> object_indices, clustered;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> spans;  // clustered triangles per object
+  std::vector<std::vector<Cluster>> object_clusters(objects);
+  const std::size_t base = scene.indices.size() / 3;  // the first clustered triangle
+  for (std::size_t i = 0; i < objects; ++i) {
+    object_indices.clear();
+    for (std::uint32_t t : triangles_of(i)) {
+      const std::uint32_t* tri = &scene.indices[std::size_t(t) * 3];
+      object_indices.insert(object_indices.end(), tri, tri + 3);
+    }
+    const std::uint32_t first = static_cast<std::uint32_t>(base + clustered.size() / 3);
+    object_clusters[i] = builder.build(object_indices.data(), object_indices.size(), clustered);
+    spans.emplace_back(first, static_cast<std::uint32_t>(base + clustered.size() / 3));
+  }
+  scene.indices.insert(scene.indices.end(), clustered.begin(), clustered.end());
+  clustered = {};
+  out.cluster_ms = msSince(cluster_start);
+
+  std::vector<Aabb> boxes;
+  for (std::size_t i = 0; i < objects; ++i) {
+    for (const Cluster& c : object_clusters[i]) {
+      boxes.push_back(c.box);
+      out.cluster_objects.push_back(static_cast<std::uint32_t>(i));
+      out.cluster_cones.push_back(c.cone);
+    }
+  }
+  bvh::BuildArgs cluster_args = args;
+  cluster_args.max_leaf_size = 1;
+  const auto build_start = std::chrono::steady_clock::now();
+  out.hierarchy = bvh::buildOverBoxes(boxes, cluster_args);
+  out.bvh_build_ms += msSince(build_start);
+
+  MeshBuilder mesh(scene, out.mesh, needsWideIndices(scene, spans, nullptr));
+  for (std::size_t i = 0; i < objects; ++i) {
+    mesh.addObject(IotaRange{spans[i].first, spans[i].second}, color_of(i));
+    // The object's draw, cut into its clusters' ranges.
+    const gl::RenderMesh::Draw whole = out.mesh.draws.back();
+    out.mesh.draws.pop_back();
+    gl::RenderMesh::Draw part = whole;
+    for (const Cluster& c : object_clusters[i]) {
+      part.index_count = c.triangles * 3;
+      out.mesh.draws.push_back(part);
+      part.first_index += part.index_count;
+    }
+  }
+  out.occluder_models.clear();
+}
+
 // Scenes split by triangles (the city): the static triangles cut into chunks by the
 // hierarchy over them, each chunk an object; the movers' meshes stay after them.
-void prepareChunks(Scene& scene, const bvh::BuildArgs& args, PreparedScene& out) {
+void prepareChunks(Scene& scene, const bvh::BuildArgs& args, const ClusterOptions& clusters,
+                   PreparedScene& out) {
   // The movers' meshes are appended after the static triangles (movers.cpp): set them
   // aside while the static triangles are split into chunks.
   std::size_t static_end = scene.indices.size();
@@ -161,6 +224,16 @@ void prepareChunks(Scene& scene, const bvh::BuildArgs& args, PreparedScene& out)
   for (std::size_t c = 0; c + 1 < th.chunk_first.size(); ++c) {
     spans.emplace_back(th.chunk_first[c], th.chunk_first[c + 1]);
   }
+  if (clusters.enabled()) {
+    const std::uint32_t* order = th.triangle_order.data();
+    prepareClusters(
+        scene, spans.size(),
+        [&](std::size_t c) {
+          return SpanRange{order + spans[c].first, order + spans[c].second};
+        },
+        [](std::size_t) { return 0xFFFFFFFFu; }, clusters, args, out);
+    return;
+  }
   const bool wide = needsWideIndices(scene, spans, th.triangle_order.data());
   MeshBuilder builder(scene, out.mesh, wide);
   for (const auto& [first, last] : spans) {
@@ -173,8 +246,19 @@ void prepareChunks(Scene& scene, const bvh::BuildArgs& args, PreparedScene& out)
 }
 
 // Scenes of objects: the hierarchy over their boxes, each object one draw.
-void prepareObjects(Scene& scene, const bvh::BuildArgs& args, PreparedScene& out) {
+void prepareObjects(Scene& scene, const bvh::BuildArgs& args, const ClusterOptions& clusters,
+                    PreparedScene& out) {
   out.source_objects = scene.objects.size();
+  if (clusters.enabled()) {
+    prepareClusters(
+        scene, scene.objects.size(),
+        [&](std::size_t i) {
+          const SceneObject& o = scene.objects[i];
+          return IotaRange{o.first_index / 3, (o.first_index + o.index_count) / 3};
+        },
+        [&](std::size_t i) { return scene.objects[i].color; }, clusters, args, out);
+    return;
+  }
   std::vector<Aabb> boxes;
   boxes.reserve(scene.objects.size());
   for (const SceneObject& o : scene.objects) boxes.push_back(o.box);
@@ -255,7 +339,22 @@ void measureObjects(PreparedScene& out) {
 }  // namespace
 
 std::size_t PreparedScene::memoryBytes() const {
-  return hierarchy.memoryBytes() + mesh.memoryBytes() + object_boxes.capacity() * sizeof(Aabb);
+  return hierarchy.memoryBytes() + mesh.memoryBytes() + object_boxes.capacity() * sizeof(Aabb) +
+         cluster_objects.capacity() * sizeof(std::uint32_t) +
+         cluster_cones.capacity() * sizeof(ClusterCone);
+}
+
+std::uint32_t PreparedScene::objectOf(ObjectId id) const {
+  if (!clustered()) return id;
+  // Every static object has a cluster (validateScene refuses empty ones), the last the
+  // last; the movers follow.
+  const std::uint32_t static_count = cluster_objects.back() + 1;
+  return id < static_objects ? cluster_objects[id] : static_count + (id - static_objects);
+}
+
+std::uint32_t PreparedScene::objectCount() const {
+  const auto ids = static_cast<std::uint32_t>(mesh.draws.size());
+  return ids ? objectOf(ids - 1) + 1 : 0;
 }
 
 bvh::BuildArgs defaultBuildArgs(const Scene& scene) {
@@ -264,9 +363,13 @@ bvh::BuildArgs defaultBuildArgs(const Scene& scene) {
   return args;
 }
 
-PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args) {
+PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args,
+                           const ClusterOptions& clusters) {
   const auto start = std::chrono::steady_clock::now();
   validateScene(scene);
+  if (const std::string problem = validateClusterOptions(clusters); !problem.empty()) {
+    throw Error(ErrorCode::InvalidArgument, problem);
+  }
   PreparedScene out;
   out.name = scene.name;
   out.origin = scene.origin;
@@ -275,9 +378,9 @@ PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args) {
   out.far_plane = scene.far_plane;
   out.triangles = scene.triangleCount();
   if (scene.split_by_triangles) {
-    prepareChunks(scene, args, out);
+    prepareChunks(scene, args, clusters, out);
   } else {
-    prepareObjects(scene, args, out);
+    prepareObjects(scene, args, clusters, out);
   }
   appendMovers(scene, out);
   out.motion = std::move(scene.motion);

@@ -12,6 +12,7 @@
 
 #include "logrid/bvh/bvh.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
+#include "scene/clusters.hpp"
 #include "scene/scene.hpp"
 
 namespace logrid::cpu {
@@ -44,6 +45,11 @@ struct PreparedScene {
   // Occluder models by ObjectId of the static objects (Scene::occluder_models; for split
   // scenes, the chunks' models from Scene::occluder_solids), empty when the scene has none.
   std::vector<OccluderModel> occluder_models;
+  // With clusters (prepareScene's ClusterOptions) every static ObjectId is a cluster:
+  // cluster_objects[id] is the object it belongs to (the chunk, for split scenes) and
+  // cluster_cones[id] its normal cone. Empty for whole objects.
+  std::vector<std::uint32_t> cluster_objects;
+  std::vector<ClusterCone> cluster_cones;
   // The CPU occlusion buffer's meshes, built on first use (scene/occluders.hpp).
   mutable std::shared_ptr<const cpu::OccluderMeshes> occluder_cache[3];
   // The DDO octree over the static mesh, when a method needs it (scene/ddo_scene.hpp).
@@ -51,17 +57,27 @@ struct PreparedScene {
 
   std::uint64_t triangles = 0;
   std::uint64_t source_objects = 0;  // objects before splitting (0 for split scenes)
+  double cluster_ms = 0;             // splitting the objects into clusters
   double bvh_build_ms = 0;           // building the hierarchy
   double prepare_ms = 0;             // everything in prepareScene, the build included
   std::size_t memoryBytes() const;
+
+  bool clustered() const { return !cluster_objects.empty(); }
+  // The object an ObjectId draws part of (itself without clusters); the movers follow
+  // the static objects. objectCount(): how many objects there are, movers included.
+  std::uint32_t objectOf(ObjectId id) const;
+  std::uint32_t objectCount() const;
 };
 
 // Consumes the scene (its arrays are released as soon as they are no longer needed).
 // Moving objects are appended after the static ones; movers of one shape share one copy
 // of its geometry.
 // args.max_leaf_size: objects per leaf for object scenes, triangles per chunk for split
-// scenes. Throws logrid::Error(BadInput) through validateScene for broken geometry.
-PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args);
+// scenes. `clusters`: whole objects (the default) or each static object split into
+// clusters (clusters.hpp; movers stay whole). Throws logrid::Error(BadInput) through
+// validateScene for broken geometry, InvalidArgument for invalid cluster options.
+PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args,
+                           const ClusterOptions& clusters = {});
 
 // The default build arguments: one object per leaf (LOG §5 forest: "each tree is an
 // object with an own bounding box"), or 1500 triangles per chunk for split scenes.

@@ -21,6 +21,10 @@ struct ViewSettings {
   DepthSetup depth;
   // Samples per pixel of the framebuffer (0: single-sampled); sets Camera::multisample.
   std::uint32_t samples = 0;
+  // The renderer culls back faces (counter-clockwise triangles face the viewer), in the
+  // frames and the ID pass alike. What lets a clustered scene skip clusters that face
+  // away (RunConfig::backface_clusters).
+  bool cull_back_faces = false;
 };
 
 // The usual clip range for a convention: -1..1 (GL's default) for standard, 0..1 for

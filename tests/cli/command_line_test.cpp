@@ -157,10 +157,16 @@ TEST(CommandLine, TuneAutoWritesAConfigurationThatWalkRuns) {
   // It keeps no part its own report calls not needed.
   const nlohmann::json& needed = report["needed"];
   const auto notNeeded = [&](std::size_t part) { return needed[part]["needed"] == false; };
-  if (notNeeded(0)) EXPECT_EQ(c["method"], "vfc");
+  if (notNeeded(0)) {
+    EXPECT_EQ(c["method"], "vfc");
+  }
   if (c["method"] != "vfc") {
-    if (notNeeded(1)) EXPECT_EQ(c["lookahead"], 1);
-    if (notNeeded(2)) EXPECT_EQ(c["temporal_coherence"], false);
+    if (notNeeded(1)) {
+      EXPECT_EQ(c["lookahead"], 1);
+    }
+    if (notNeeded(2)) {
+      EXPECT_EQ(c["temporal_coherence"], false);
+    }
   }
   ASSERT_EQ(runLogrid({"walk", "--scene", "forest", "--scale", "0.02", "--size", "64x48",
                        "--frames", "2", "--config", config.string(), "--json", walk.string()}),

@@ -79,11 +79,12 @@ struct SceneKey {
   double distance = 0;       // added to x, y and z (world units)
   std::uint32_t movers = 0;  // moving objects (samples/scene/movers.hpp, seed 1)
   bool ddo = false;          // with its DDO octree (ddoOptions(), built in memory)
+  std::uint32_t cluster = 0;  // triangles per cluster (samples/scene/clusters.hpp); 0: whole
 
   std::string id() const {
     std::ostringstream out;
     out << name << "@" << scale << "/" << toString(offset) << "/" << distance << "/" << movers
-        << (ddo ? "/ddo" : "");
+        << (ddo ? "/ddo" : "") << (cluster ? "/cluster" + std::to_string(cluster) : "");
     return out.str();
   }
 };
@@ -161,7 +162,9 @@ inline LoadedScene& loadScene(const SceneKey& key) {
     samples::addMovers(scene, key.movers, 1);
     const bvh::BuildArgs args = samples::defaultBuildArgs(scene);
     slot = std::make_unique<LoadedScene>();
-    slot->prepared = samples::prepareScene(std::move(scene), args);
+    samples::ClusterOptions clusters;
+    clusters.triangles = key.cluster;
+    slot->prepared = samples::prepareScene(std::move(scene), args, clusters);
     if (key.ddo) slot->prepared.ddo = samples::prepareDdo(slot->prepared, ddoOptions()).octree;
     slot->renderer = std::make_unique<gl::MeshRenderer>(slot->prepared.mesh);
   }
@@ -196,6 +199,7 @@ struct View {
   double far_plane = 0;
   double fov = 60;
   bool ortho = false;
+  bool cull_back_faces = false;  // ViewSettings::cull_back_faces
 };
 
 inline RunConfig makeConfig(const PreparedScene& scene, Method method, const std::string& reader,
@@ -211,6 +215,7 @@ inline RunConfig makeConfig(const PreparedScene& scene, Method method, const std
   c.view.near_plane = v.near_plane > 0 ? v.near_plane : scene.near_plane;
   c.view.far_plane = v.far_plane > 0 ? v.far_plane : scene.far_plane;
   c.view.depth = samples::depthSetupFor(v.convention, v.format);
+  c.view.cull_back_faces = v.cull_back_faces;
   c.frames = intensityFrames(frames);
   c.verify = true;
   return c;
@@ -231,6 +236,7 @@ inline std::string reproducer(const SceneKey& key, const RunConfig& c) {
     out << "logrid walk --scene " << key.name << " --scale " << key.scale;
   }
   if (key.ddo) out << " --ddo-regions 32";
+  if (key.cluster) out << " --cluster " << key.cluster;
   if (key.movers) {
     out << " --movers " << key.movers << " --hierarchy " << c.hierarchy;
     if (c.time_step > 0) out << " --time-step " << c.time_step;
@@ -248,6 +254,8 @@ inline std::string reproducer(const SceneKey& key, const RunConfig& c) {
       << toString(c.view.depth.convention) << " --near " << c.view.near_plane << " --far "
       << c.view.far_plane;
   if (c.view.samples > 1) out << " --samples " << c.view.samples;
+  if (c.view.cull_back_faces) out << " --cull-back-faces";
+  if (c.backface_clusters) out << " --backface-clusters";
   if (c.view.orthographic) {
     out << " --ortho";
   } else {
@@ -282,6 +290,7 @@ struct WalkTotals {
   std::uint64_t invalid = 0;    // boxes the culler found NaN or inverted
   std::uint64_t occluders = 0;  // DDO occluders drawn or entered into the map
   std::uint64_t occluder_tiles = 0;  // ddo+log: tiles recorded full from their coverage
+  std::uint64_t backfacing = 0;      // clusters not drawn for facing away
   double ms = 0;
 };
 
@@ -333,6 +342,7 @@ inline WalkTotals checkedWalk(const SceneKey& key, LoadedScene& scene, const Run
     t.invalid += r.stats.invalid_boxes;
     t.occluders += std::uint64_t(std::max<std::int64_t>(r.occluders, 0));
     t.occluder_tiles += r.stats.occluder_tiles;
+    t.backfacing += r.backfacing;
     t.ms += r.ms;
   }
   return t;
@@ -373,6 +383,7 @@ struct OracleCase {
   bool expect_occluded = true;
   bool expect_occluders = false;
   bool expect_occluder_tiles = false;  // ddo+log: tiles recorded full from occluders
+  bool expect_backfacing = false;      // clusters skipped for facing away (RunConfig)
   // Anything else of the run (the cpu reader's settings, the motion hierarchies', ...).
   std::function<void(RunConfig&)> adjust;
   std::string name;  // the gtest parameter name (sanitize()d) and the printed label
@@ -414,6 +425,10 @@ inline WalkTotals checkCase(const OracleCase& c, LoadedScene& scene) {
   }
   if (c.expect_occluders) {
     EXPECT_GT(t.occluders, 0u) << "no occluder was ever selected; " << reproducer(c.scene, config);
+  }
+  if (c.expect_backfacing) {
+    EXPECT_GT(t.backfacing, 0u) << "no cluster was ever skipped for facing away; "
+                                << reproducer(c.scene, config);
   }
   if (c.expect_occluder_tiles) {
     EXPECT_GT(t.occluder_tiles, 0u)

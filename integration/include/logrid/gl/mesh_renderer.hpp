@@ -1,5 +1,6 @@
 // A small OpenGL 4.5 core renderer for culling experiments: one vertex buffer, one
-// index buffer, one draw call per object with a flat colour (or colours per vertex), Lambert-shaded
+// index buffer, a draw call per object or a few per batch of objects (drawBatch), with a
+// flat colour per object (or colours per vertex), Lambert-shaded
 // with normals derived per pixel (no normals stored), and an object-ID pass that writes each
 // object's id into an R32UI attachment.
 //
@@ -80,10 +81,23 @@ class MeshRenderer {
   std::uint32_t triangles(ObjectId id) const { return draws_[id].index_count / 3; }
   std::uint64_t gpuBytes() const { return gpu_bytes_; }
 
+  // Back faces culled (counter-clockwise triangles face the viewer) from the next
+  // begin() on, in every pass, and face culling off again at end(). Off (the default):
+  // the renderer leaves face culling as the application set it.
+  void setCullBackFaces(bool cull) { cull_back_faces_ = cull; }
   // Binds program, vertex array and per-frame uniforms for a pass.
   void begin(Pass pass, const Camera& camera);
   void draw(ObjectId id);
+  // Draws `count` objects (a batch of the culler's) in as few calls as it can: those
+  // without a transform in one glMultiDrawElementsBaseVertex per colour (one in all
+  // where the mesh has colours per vertex, and in the depth-only pass), ranges that
+  // follow each other in the index buffer over the same vertices (the clusters of an
+  // object) merged into one; transformed objects one call each, and in the object-ID
+  // pass every object (its id is a uniform). The objects are drawn in another order.
+  void drawBatch(const ObjectId* ids, std::size_t count);
   void end();
+  // Draw calls made so far (a frame's: the difference across it).
+  std::uint64_t drawCalls() const { return draw_calls_; }
 
   // Gives object `id` a transform (until cleared), or takes it away. Takes effect at the
   // next draw; cheap (one uniform update per draw of a transformed object). In both
@@ -117,6 +131,13 @@ class MeshRenderer {
   bool identity_bound_ = true;  // the uniforms hold the identity transform
   std::vector<ObjectTransform> transforms_;
   std::vector<std::uint8_t> moving_;
+  std::uint64_t draw_calls_ = 0;
+  bool cull_back_faces_ = false;
+  // drawBatch()'s scratch: the objects it draws together, and the ranges of one call.
+  std::vector<ObjectId> together_;
+  std::vector<std::int32_t> counts_;
+  std::vector<const void*> offsets_;
+  std::vector<std::int32_t> base_vertices_;
 };
 
 #if LOGRID_HAS_EXCEPTIONS

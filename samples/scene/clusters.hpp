@@ -1,0 +1,89 @@
+// Clusters (meshlets): an object's triangles split into small, spatially compact groups
+// by meshoptimizer (meshopt_buildMeshlets), each culled on its own box, so that a box
+// that shows a corner of a tree no longer draws the whole tree. The library knows
+// nothing of them: to logrid a cluster is an object (an ObjectId with a box in the
+// hierarchy); prepare.hpp keeps which object each cluster belongs to.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "logrid/types.hpp"
+
+namespace logrid::samples {
+
+struct ClusterOptions {
+  // At most this many triangles a cluster: 4 to 512, a multiple of 4 (meshoptimizer's
+  // limits); 0: no clusters, whole objects.
+  std::uint32_t triangles = 0;
+  // At most this many distinct vertices a cluster, 3 to 255; 0: as many as the
+  // triangles allow (min(255, triangles + 2)).
+  std::uint32_t vertices = 0;
+  // meshoptimizer's cone_weight, 0 to 1: how much it trades a cluster's compactness for
+  // a narrow normal cone (what back-face cluster culling needs); 0: compactness only.
+  float cone_weight = 0;
+
+  bool enabled() const { return triangles != 0; }
+  std::uint32_t maxVertices() const;
+};
+
+// Empty when usable; else what is wrong and what to use.
+std::string validateClusterOptions(const ClusterOptions& options);
+
+// What tells that every triangle of a cluster faces away from an eye (facesAway()):
+// meshoptimizer's normal cone (meshopt_computeMeshletBounds), taken again in double over
+// the cluster's own triangles and widened, so that a cluster is said to face away only
+// where every one of its triangles is seen from behind at a clear angle. With `axis` a
+// unit vector, a = the largest angle between it and a triangle's normal, and `apex`
+// behind every triangle's plane: an eye e with dot(normalize(apex - e), axis) >=
+// sin(a + delta) sees each triangle from behind at delta or more from the apex, and at
+// no less than half that from the triangle when |e - apex| >= `reach` (the farthest
+// vertex from the apex). delta = 0.01 radians, and triangles whose edges make an angle
+// under 0.01 (sine) make the cone void: GL decides facing from the sign of the window
+// area in float, whose error is about 1e-6 of the edges' product, far below the area
+// such a triangle shows at that angle. cutoff > 1: no eye (a void cone).
+struct ClusterCone {
+  double apex[3] = {0, 0, 0};
+  double axis[3] = {0, 0, 0};
+  double cutoff = 2;
+  double reach = 0;
+};
+
+// Whether every triangle of the cluster faces away from `eye` (same coordinates as the
+// positions): then a renderer that culls back faces draws none of it.
+bool facesAway(const ClusterCone& cone, const DVec3& eye);
+
+struct Cluster {
+  std::uint32_t triangles = 0;  // consecutive in the output, after the previous cluster's
+  Aabb box;                     // of its vertices
+  ClusterCone cone;
+};
+
+// Splits triangles into clusters. Keeps the memory of the last call (meshoptimizer's
+// output and a vertex map as large as the scene's vertices), so that an object's
+// clusters cost its own size, not the scene's.
+class ClusterBuilder {
+ public:
+  // `positions`: xyz of every vertex the triangles may use (vertex_count of them).
+  ClusterBuilder(const float* positions, std::size_t vertex_count, const ClusterOptions& options);
+
+  // The triangles `indices` (index_count, a multiple of 3) in clusters: the same
+  // triangles, each with its vertices in their order, appended to `out` cluster after
+  // cluster; returns the clusters in that order. Throws logrid::Error(Runtime) if
+  // meshoptimizer loses or adds a triangle.
+  std::vector<Cluster> build(const std::uint32_t* indices, std::size_t index_count,
+                             std::vector<std::uint32_t>& out);
+
+ private:
+  const float* positions_;
+  ClusterOptions options_;
+  std::vector<std::uint32_t> local_of_;   // scene vertex -> local number, or kNone
+  std::vector<std::uint32_t> global_of_;  // local number -> scene vertex
+  std::vector<float> local_positions_;
+  std::vector<std::uint32_t> local_indices_;
+  std::vector<std::uint32_t> meshlet_vertices_;
+  std::vector<unsigned char> meshlet_triangles_;
+};
+
+}  // namespace logrid::samples

@@ -1,0 +1,216 @@
+// Clusters (samples/scene/clusters.hpp, prepareScene's ClusterOptions): meshoptimizer's
+// clusters hold every triangle of their object once, each with its winding, within the
+// limits asked for and inside the object's box; a clustered scene draws exactly the
+// whole scene's triangles, one ObjectId per cluster, each mapped back to its object.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "flat_grid.hpp"
+#include "logrid/error.hpp"
+#include "scene/clusters.hpp"
+#include "scene/generators.hpp"
+#include "scene/movers.hpp"
+#include "scene/prepare.hpp"
+
+namespace logrid::samples {
+namespace {
+
+using Triangle = std::array<std::uint32_t, 3>;
+
+// The triangle rotated so that its smallest index comes first: the same triangle with
+// the same winding compares equal, the flipped one does not.
+Triangle canonical(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+  if (b < a && b < c) return {b, c, a};
+  if (c < a && c < b) return {c, a, b};
+  return {a, b, c};
+}
+
+std::vector<Triangle> trianglesOf(const std::uint32_t* indices, std::size_t count) {
+  std::vector<Triangle> out;
+  for (std::size_t i = 0; i < count; i += 3) {
+    out.push_back(canonical(indices[i], indices[i + 1], indices[i + 2]));
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+bool contains(const Aabb& outer, const Aabb& inner) {
+  return outer.min.x <= inner.min.x && outer.min.y <= inner.min.y && outer.min.z <= inner.min.z &&
+         inner.max.x <= outer.max.x && inner.max.y <= outer.max.y && inner.max.z <= outer.max.z;
+}
+
+TEST(Clusters, KeepEveryTriangleWithItsWindingWithinTheLimits) {
+  const Scene forest = makeForest({0.02, 3, TreeParts::Whole});
+  for (std::uint32_t size : {4u, 64u, 128u, 512u}) {
+    ClusterOptions options;
+    options.triangles = size;
+    ClusterBuilder builder(forest.positions.data(), forest.positions.size() / 3, options);
+    std::size_t clusters = 0;
+    for (std::size_t o = 0; o < forest.objects.size(); o += 7) {
+      const SceneObject& object = forest.objects[o];
+      const std::uint32_t* indices = &forest.indices[object.first_index];
+      std::vector<std::uint32_t> out;
+      const std::vector<Cluster> made = builder.build(indices, object.index_count, out);
+      ASSERT_EQ(trianglesOf(out.data(), out.size()), trianglesOf(indices, object.index_count))
+          << "object " << o << ", clusters of " << size;
+      std::size_t at = 0;
+      for (const Cluster& c : made) {
+        EXPECT_GT(c.triangles, 0u);
+        EXPECT_LE(c.triangles, size);
+        std::vector<std::uint32_t> vertices(out.begin() + std::ptrdiff_t(at),
+                                            out.begin() + std::ptrdiff_t(at + c.triangles * 3));
+        std::sort(vertices.begin(), vertices.end());
+        const auto distinct = std::unique(vertices.begin(), vertices.end()) - vertices.begin();
+        EXPECT_LE(std::uint32_t(distinct), options.maxVertices());
+        Aabb box = emptyBox();
+        for (std::uint32_t v : vertices) growBox(box, &forest.positions[std::size_t(v) * 3]);
+        EXPECT_TRUE(contains(c.box, box) && contains(box, c.box)) << "the cluster's own box";
+        EXPECT_TRUE(contains(object.box, c.box));
+        at += c.triangles * 3;
+      }
+      clusters += made.size();
+    }
+    EXPECT_GT(clusters, 0u);
+  }
+}
+
+TEST(Clusters, AClusteredSceneDrawsTheWholeScenesTrianglesOneIdPerCluster) {
+  for (const std::string name : {"forest", "city"}) {
+    SCOPED_TRACE(name);
+    auto make = [&] {
+      Scene s = name == "city" ? makeCity({0.01, 1}) : makeForest({0.03, 1, TreeParts::Whole});
+      addMovers(s, 3, 1);
+      return s;
+    };
+    Scene plain_scene = make();
+    const bvh::BuildArgs args = defaultBuildArgs(plain_scene);
+    const PreparedScene whole = prepareScene(std::move(plain_scene), args);
+    ClusterOptions options;
+    options.triangles = 64;
+    const PreparedScene clustered = prepareScene(make(), args, options);
+
+    ASSERT_TRUE(clustered.clustered());
+    EXPECT_FALSE(whole.clustered());
+    EXPECT_EQ(clustered.triangles, whole.triangles);
+    EXPECT_EQ(clustered.objectCount(), whole.objectCount());
+    EXPECT_GT(clustered.static_objects, whole.static_objects);
+    ASSERT_EQ(clustered.cluster_objects.size(), clustered.static_objects);
+    EXPECT_EQ(clustered.cluster_cones.size(), clustered.static_objects);
+    // The hierarchy holds every cluster once, one a leaf.
+    std::vector<int> seen(clustered.static_objects, 0);
+    for (NodeId n = 0; n < clustered.hierarchy.nodes().size(); ++n) {
+      const std::uint32_t k = clustered.hierarchy.objectCount(n);
+      EXPECT_LE(k, 1u);
+      for (std::uint32_t i = 0; i < k; ++i) ++seen[clustered.hierarchy.object(n, i)];
+    }
+    EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), std::ptrdiff_t(seen.size()));
+
+    // Each object's clusters: consecutive ids and index ranges over its vertices, inside
+    // its box, adding up to its triangles; the movers stay whole, after them.
+    std::vector<std::uint32_t> triangles(whole.objectCount(), 0);
+    std::vector<Aabb> boxes(whole.objectCount(), emptyBox());
+    for (ObjectId id = 0; id < clustered.mesh.draws.size(); ++id) {
+      const std::uint32_t o = clustered.objectOf(id);
+      ASSERT_LT(o, whole.objectCount());
+      if (id > 0) {
+        EXPECT_GE(o, clustered.objectOf(id - 1));
+      }
+      triangles[o] += clustered.mesh.draws[id].index_count / 3;
+      growBox(boxes[o], clustered.object_boxes[id]);
+      if (id > 0 && o == clustered.objectOf(id - 1)) {
+        const gl::RenderMesh::Draw &a = clustered.mesh.draws[id - 1], &b = clustered.mesh.draws[id];
+        EXPECT_EQ(b.first_index, a.first_index + a.index_count);
+        EXPECT_EQ(b.base_vertex, a.base_vertex);
+      }
+    }
+    for (std::uint32_t o = 0; o < whole.objectCount(); ++o) {
+      EXPECT_EQ(triangles[o], whole.mesh.draws[o].index_count / 3) << "object " << o;
+      EXPECT_TRUE(contains(whole.object_boxes[o], boxes[o])) << "object " << o;
+    }
+    const std::uint32_t movers = whole.objectCount() - whole.static_objects;
+    EXPECT_EQ(clustered.mesh.draws.size() - clustered.static_objects, movers);
+    EXPECT_EQ(clustered.objectOf(ObjectId(clustered.mesh.draws.size() - 1)),
+              whole.objectCount() - 1);
+  }
+}
+
+TEST(Clusters, OptionsOutsideMeshoptimizersLimitsAreRefusedByName) {
+  for (const auto& [triangles, vertices, needle] :
+       {std::tuple{6u, 0u, "cluster size 6 triangles is invalid"},
+        std::tuple{516u, 0u, "cluster size 516"}, std::tuple{64u, 2u, "vertex limit 2"},
+        std::tuple{64u, 256u, "vertex limit 256"}}) {
+    ClusterOptions o;
+    o.triangles = triangles;
+    o.vertices = vertices;
+    const std::string problem = validateClusterOptions(o);
+    EXPECT_NE(problem.find(needle), std::string::npos) << problem;
+    Scene s = makeForest({0.01, 1, TreeParts::Whole});
+    const bvh::BuildArgs args = defaultBuildArgs(s);
+    try {
+      (void)prepareScene(std::move(s), args, o);
+      ADD_FAILURE() << "accepted " << triangles << "/" << vertices;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_TRUE(validateClusterOptions({}).empty());
+  ClusterOptions fine;
+  fine.triangles = 124;
+  fine.vertices = 255;
+  EXPECT_TRUE(validateClusterOptions(fine).empty());
+}
+
+}  // namespace
+}  // namespace logrid::samples
+
+namespace logrid::samples {
+namespace {
+
+TEST(Clusters, AFlatSurfaceFacesAwayFromBelowOnly) {
+  Scene grid = test::flatGrid(16);
+  ClusterOptions options;
+  options.triangles = 64;
+  ClusterBuilder builder(grid.positions.data(), grid.positions.size() / 3, options);
+  std::vector<std::uint32_t> out;
+  const std::vector<Cluster> clusters =
+      builder.build(grid.indices.data(), grid.indices.size(), out);
+  ASSERT_GT(clusters.size(), 4u);
+  for (const Cluster& c : clusters) {
+    ASSERT_LT(c.cone.cutoff, 1.0) << "a flat cluster has a cone";
+    const DVec3 centre{0.5 * (c.box.min.x + c.box.max.x), 0, 0.5 * (c.box.min.z + c.box.max.z)};
+    // Below: every triangle shows its back. Above, level with it, or just under its
+    // plane seen at a grazing angle: not said to face away.
+    EXPECT_TRUE(facesAway(c.cone, {centre.x, -10, centre.z}));
+    EXPECT_TRUE(facesAway(c.cone, {centre.x + 30, -20, centre.z - 30}));
+    EXPECT_FALSE(facesAway(c.cone, {centre.x, 10, centre.z}));
+    EXPECT_FALSE(facesAway(c.cone, {centre.x + 50, 0, centre.z}));
+    EXPECT_FALSE(facesAway(c.cone, {centre.x + 100, -0.2, centre.z}));  // 0.002 rad below
+  }
+}
+
+TEST(Clusters, TheConesOfTheScenes) {
+  // Some clusters of each scene can be said to face away (a cone that is not void); how
+  // many is printed (round solids need smaller clusters than flat walls).
+  for (const std::string name : {"forest", "city", "office"}) {
+    Scene s = name == "city"     ? makeCity({0.01, 1})
+              : name == "office" ? makeOffice({0.35, 1})
+                                 : makeForest({0.03, 1, TreeParts::Whole});
+    const bvh::BuildArgs args = defaultBuildArgs(s);
+    ClusterOptions options;
+    options.triangles = 64;
+    const PreparedScene p = prepareScene(std::move(s), args, options);
+    std::size_t with_cone = 0;
+    for (const ClusterCone& c : p.cluster_cones) with_cone += c.cutoff <= 1;
+    std::printf("%s: %zu of %zu clusters of 64 triangles have a cone\n", name.c_str(), with_cone,
+                p.cluster_cones.size());
+    EXPECT_GT(with_cone, 0u) << name;
+  }
+}
+
+}  // namespace
+}  // namespace logrid::samples
