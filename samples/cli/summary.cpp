@@ -4,71 +4,80 @@
 
 namespace logrid::samples {
 
+namespace {
+
+// One frame's counts added to the sums (`tiles`: the tiles tested).
+void addFrame(const FrameRecord& r, FrameAverages& a, double& tiles) {
+  const FrameStats& s = r.stats;
+  a.ms += r.ms;
+  a.objects += double(s.objects_drawn);
+  a.triangles += double(r.triangles);
+  a.draw_calls += double(r.draw_calls);
+  if (r.objects_drawn >= 0) {
+    a.cluster_objects = a.cluster_objects.value_or(0) + double(r.objects_drawn);
+  }
+  if (r.visible_objects >= 0) {
+    a.visible_cluster_objects = a.visible_cluster_objects.value_or(0) + r.visible_objects;
+  }
+  a.boxes_tested += double(s.boxes_tested);
+  tiles += double(s.tiles_tested);
+  a.reads += double(s.reads);
+  a.pixels_read += double(s.pixels_read);
+  a.bytes_read += double(s.bytes_read);
+  a.batches += double(s.batches);
+  a.flushes += double(s.flushes);
+  a.state_queries += double(s.state_queries);
+  a.draw_batches += double(s.draw_batches);
+  a.read_ms += s.read_seconds * 1e3;
+  a.queries += double(s.queries);
+  a.query_waits += double(s.query_waits);
+  a.query_polls += double(s.query_polls);
+  a.query_boxes += double(s.query_boxes);
+  a.records_decided += double(s.records_decided);
+  a.colliding_waits += double(s.colliding_waits);
+  if (r.occluders >= 0) {
+    a.occluders = a.occluders.value_or(0) + double(r.occluders);
+    a.occluder_tiles = a.occluder_tiles.value_or(0) + double(s.occluder_tiles);
+  }
+  a.moved += double(r.moved);
+  a.update_ms += r.update.seconds * 1e3;
+  a.measure_ms += r.measure.seconds * 1e3;
+  a.measure_counted += double(r.measure.counted);
+  a.rebuilds += r.update.rebuilds;
+  a.splits += r.update.splits;
+  a.merges += r.update.merges;
+  a.relocated += r.update.relocated;
+  if (r.cpu) {
+    a.cpu_ms += r.cpu->ms;
+    a.cpu_wait_ms += r.cpu->wait_ms;
+    a.cpu_worker_ms += r.cpu->worker_ms;
+    a.cpu_objects += double(r.cpu->objects);
+    a.cpu_triangles += double(r.cpu->triangles);
+    a.cpu_tile_triangles += double(r.cpu->tile_triangles);
+    a.cpu_tiles += double(r.cpu->tiles);
+    a.cpu_fallbacks += double(r.cpu->fallbacks);
+    a.cpu_unselected += double(r.cpu->unselected);
+  }
+  if (r.visible >= 0) {
+    a.verified = true;
+    a.visible += r.visible;
+    a.missed += r.missed;
+    a.artifacts += r.artifacts;
+    a.missed_artifacts += r.missed_artifacts;
+    a.frames_with_misses += r.missed > 0;
+  }
+}
+
+}  // namespace
+
 FrameAverages averageFrames(const std::vector<FrameRecord>& records) {
   FrameAverages a;
   a.frames = records.size();
   double tiles = 0;
   std::vector<double> times;
   for (const FrameRecord& r : records) {
-    const FrameStats& s = r.stats;
-    a.ms += r.ms;
+    addFrame(r, a, tiles);
     times.push_back(r.ms);
-    a.objects += double(s.objects_drawn);
-    a.triangles += double(r.triangles);
-    a.draw_calls += double(r.draw_calls);
-    if (r.objects_drawn >= 0) {
-      a.cluster_objects = a.cluster_objects.value_or(0) + double(r.objects_drawn);
-    }
-    if (r.visible_objects >= 0) {
-      a.visible_cluster_objects = a.visible_cluster_objects.value_or(0) + r.visible_objects;
-    }
-    a.boxes_tested += double(s.boxes_tested);
-    tiles += double(s.tiles_tested);
-    a.reads += double(s.reads);
-    a.pixels_read += double(s.pixels_read);
-    a.bytes_read += double(s.bytes_read);
-    a.batches += double(s.batches);
-    a.flushes += double(s.flushes);
-    a.state_queries += double(s.state_queries);
-    a.draw_batches += double(s.draw_batches);
-    a.read_ms += s.read_seconds * 1e3;
-    a.queries += double(s.queries);
-    a.query_waits += double(s.query_waits);
-    a.query_polls += double(s.query_polls);
-    a.query_boxes += double(s.query_boxes);
-    a.records_decided += double(s.records_decided);
-    a.colliding_waits += double(s.colliding_waits);
-    if (r.occluders >= 0) {
-      a.occluders = a.occluders.value_or(0) + double(r.occluders);
-      a.occluder_tiles = a.occluder_tiles.value_or(0) + double(s.occluder_tiles);
-    }
-    a.moved += double(r.moved);
-    a.update_ms += r.update.seconds * 1e3;
-    a.measure_ms += r.measure.seconds * 1e3;
-    a.measure_counted += double(r.measure.counted);
-    a.rebuilds += r.update.rebuilds;
-    a.splits += r.update.splits;
-    a.merges += r.update.merges;
-    a.relocated += r.update.relocated;
-    if (r.cpu) {
-      a.cpu_ms += r.cpu->ms;
-      a.cpu_wait_ms += r.cpu->wait_ms;
-      a.cpu_worker_ms += r.cpu->worker_ms;
-      a.cpu_objects += double(r.cpu->objects);
-      a.cpu_triangles += double(r.cpu->triangles);
-      a.cpu_tile_triangles += double(r.cpu->tile_triangles);
-      a.cpu_tiles += double(r.cpu->tiles);
-      a.cpu_fallbacks += double(r.cpu->fallbacks);
-      a.cpu_unselected += double(r.cpu->unselected);
-    }
-    if (r.visible >= 0) {
-      a.verified = true;
-      a.visible += r.visible;
-      a.missed += r.missed;
-      a.artifacts += r.artifacts;
-      a.missed_artifacts += r.missed_artifacts;
-      a.frames_with_misses += r.missed > 0;
-    }
   }
   a.tiles_per_box = a.boxes_tested > 0 ? tiles / a.boxes_tested : 0.0;
   a.median_ms = median(times);
