@@ -205,8 +205,7 @@ struct Projector::Kernel {
     const double key_min = std::clamp(b.key_min, double(p.near_key_), far_plane_key);
     const double key_max = std::clamp(b.key_max, double(p.near_key_), far_plane_key);
     const double largest_key = std::max(std::fabs(key_min), std::fabs(key_max));
-    const double up[4] = {key_max, p.quantisation_ + k * (b.err_z + largest_key), widen_x,
-                          widen_y};
+    const double up[4] = {key_max, p.quantisation_ + k * (b.err_z + largest_key), widen_x, widen_y};
     float rounded[4];
     Finish::roundUp4(up, rounded);
     out.far_key = rounded[0];
@@ -320,8 +319,8 @@ struct Projector::Kernel {
     const M4 t1 = __builtin_shuffle(m[2], m[3], lows) & __builtin_shuffle(m[2], m[3], highs);
     const M4 t2 = __builtin_shuffle(m[4], m[5], lows) & __builtin_shuffle(m[4], m[5], highs);
     // All of m0, m2, m1, m3 (in these lanes), and all of m4, m4, m5, m5.
-    const M4 u = __builtin_shuffle(t0, t1, Index{0, 4, 2, 6}) &
-                 __builtin_shuffle(t0, t1, Index{1, 5, 3, 7});
+    const M4 u =
+        __builtin_shuffle(t0, t1, Index{0, 4, 2, 6}) & __builtin_shuffle(t0, t1, Index{1, 5, 3, 7});
     const M4 v = t2 & __builtin_shuffle(t2, Index{1, 0, 3, 2});
     return anyLane(u | v);
   }
@@ -345,7 +344,7 @@ struct Projector::Kernel {
     static void roundUp4(const double v[4], float out[4]) {
       const V4 x = {v[0], v[1], v[2], v[3]};
       const F4 f = __builtin_convertvector(x, F4);
-      const U4 take = (U4)__builtin_convertvector(__builtin_convertvector(f, V4) < x, I4);
+      const U4 take = (U4) __builtin_convertvector(__builtin_convertvector(f, V4) < x, I4);
       const U4 bits_f = (U4)f;
       const U4 bits_g = (U4)(f + F4{0, 0, 0, 0});  // -0 becomes +0
       const U4 up = bits_g + 1 - ((bits_g >> 31) << 1);

@@ -21,13 +21,13 @@
 #include "cli/cpu_reader.hpp"
 #include "cli/images.hpp"
 #include "cli/readers.hpp"
+#include "logrid/bvh/motion.hpp"
 #include "logrid/culler.hpp"
 #include "logrid/ddo/occluder_pass.hpp"
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
 #include "logrid/gl/object_id_oracle.hpp"
 #include "logrid/gl/occluder_renderer.hpp"
-#include "logrid/bvh/motion.hpp"
 #include "scene/prepare.hpp"
 #include "scene/view.hpp"
 
@@ -116,13 +116,13 @@ struct FrameRecord {
   std::size_t frame = 0;
   double ms = 0;  // hierarchy update + clear + cull + draw + statistics + glFinish
   FrameStats stats;
-  double time = 0;                     // the frame's time (motion.hpp)
-  bvh::UpdateStats update;             // the motion hierarchy's update (zero for static ones)
-  bvh::MeasureStats measure;           // its statistics pass after the frame (ternary)
-  std::uint64_t moved = 0;             // objects whose box changed since the last frame
-  std::uint64_t triangles = 0;         // triangles drawn
-  std::uint64_t draw_calls = 0;        // the renderer's, in the timed part
-  std::uint64_t backfacing = 0;        // clusters not drawn for facing away (backface_clusters)
+  double time = 0;               // the frame's time (motion.hpp)
+  bvh::UpdateStats update;       // the motion hierarchy's update (zero for static ones)
+  bvh::MeasureStats measure;     // its statistics pass after the frame (ternary)
+  std::uint64_t moved = 0;       // objects whose box changed since the last frame
+  std::uint64_t triangles = 0;   // triangles drawn
+  std::uint64_t draw_calls = 0;  // the renderer's, in the timed part
+  std::uint64_t backfacing = 0;  // clusters not drawn for facing away (backface_clusters)
   // Clustered scenes (PreparedScene::clustered()): the objects the drawn clusters and
   // the visible ones (with verify or oracle) belong to; -1 otherwise, where the ids are
   // the objects.

@@ -6,8 +6,8 @@
 #include "cli/readers.hpp"
 #include "cli/values.hpp"
 #include "logrid/bvh/bvh.hpp"
-#include "logrid/camera.hpp"
 #include "logrid/bvh/motion.hpp"
+#include "logrid/camera.hpp"
 #include "scene/generators.hpp"
 #include "scene/movers.hpp"
 

@@ -38,7 +38,7 @@ struct WalkOptions {
   std::uint32_t samples = 0;
   bool cull_back_faces = false;    // the renderer culls back faces (ViewSettings)
   bool backface_clusters = false;  // and clusters facing away are not drawn (RunConfig)
-  double near_plane = 0;  // 0: the scene's
+  double near_plane = 0;           // 0: the scene's
   double far_plane = 0;
   double fov = 60;
   bool ortho = false;

@@ -43,7 +43,7 @@ struct FrameAverages {
   double query_boxes = 0;
   double records_decided = 0;
   double colliding_waits = 0;
-  std::optional<double> occluders;  // DDO methods: occluders per frame
+  std::optional<double> occluders;       // DDO methods: occluders per frame
   std::optional<double> occluder_tiles;  // ddo+log: tiles recorded full from them per frame
   // The motion hierarchy (frame_runner.hpp): averages, and sums of its events.
   double moved = 0;
