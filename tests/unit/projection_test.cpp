@@ -399,12 +399,29 @@ TEST(ProjectionTest, DirectedRoundingGivesTheNearestFloatOnTheSafeSide) {
   constexpr double kFltMax = std::numeric_limits<float>::max();
   constexpr double kDenorm = std::numeric_limits<float>::denorm_min();
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  std::vector<double> values = {0.0,           -0.0,          kDenorm,       -kDenorm,
-                                kDenorm / 3,   -kDenorm / 3,  3 * kDenorm,   -3 * kDenorm,
-                                1e-300,        -1e-300,       kFltMax,       -kFltMax,
-                                kFltMax * 1.5, -kFltMax * 1.5, kFltMax * (1 + 1e-9),
-                                -kFltMax * (1 + 1e-9), kInf,  -kInf,         1.0,
-                                -1.0,          1.0 + 1e-12,   -1.0 - 1e-12,  0.1,
+  std::vector<double> values = {0.0,
+                                -0.0,
+                                kDenorm,
+                                -kDenorm,
+                                kDenorm / 3,
+                                -kDenorm / 3,
+                                3 * kDenorm,
+                                -3 * kDenorm,
+                                1e-300,
+                                -1e-300,
+                                kFltMax,
+                                -kFltMax,
+                                kFltMax * 1.5,
+                                -kFltMax * 1.5,
+                                kFltMax * (1 + 1e-9),
+                                -kFltMax * (1 + 1e-9),
+                                kInf,
+                                -kInf,
+                                1.0,
+                                -1.0,
+                                1.0 + 1e-12,
+                                -1.0 - 1e-12,
+                                0.1,
                                 -0.1};
   std::mt19937_64 rng(26);
   std::uniform_real_distribution<double> mantissa(0.5, 1.0);
@@ -460,30 +477,44 @@ TEST(ProjectionTest, BatchKernelsAnswerExactlyAsTheSingleBoxPath) {
   EXPECT_TRUE(detail::projectionIsaAvailable(detail::ProjectionIsa::Baseline));
 }
 
-// Every field of the batch kernels' answers for `boxes`, in batches of 1 to 8, against
-// the reference path's.
-void expectBatchAnswersAsSingleBoxes(const Projector& projector, const std::vector<Aabb>& boxes) {
-  std::vector<BoxProjection> batch(boxes.size());
-  std::vector<std::uint8_t> culled(boxes.size());
+// The batch kernels' answers for `boxes`, in batches of every size a node's children come
+// in (1 to 8, and again).
+struct BatchAnswers {
+  std::vector<BoxProjection> projections;
+  std::vector<std::uint8_t> outside;
+};
+BatchAnswers projectInBatches(const Projector& projector, const std::vector<Aabb>& boxes) {
+  BatchAnswers out{std::vector<BoxProjection>(boxes.size()),
+                   std::vector<std::uint8_t>(boxes.size())};
   for (std::size_t at = 0, n = 1; at < boxes.size(); at += n, n = n % 8 + 1) {
     const std::size_t len = std::min(n, boxes.size() - at);
-    projector.project(boxes.data() + at, len, batch.data() + at);
-    projector.outsideFrustum(boxes.data() + at, len, culled.data() + at);
+    projector.project(boxes.data() + at, len, out.projections.data() + at);
+    projector.outsideFrustum(boxes.data() + at, len, out.outside.data() + at);
   }
-  for (std::size_t i = 0; i < boxes.size(); ++i) {
-    const BoxProjection ref = projector.project(boxes[i]);
-    const BoxProjection& got = batch[i];
-    SCOPED_TRACE(::testing::Message() << "box " << i);
-    EXPECT_EQ(int(got.cls), int(ref.cls));
-    EXPECT_TRUE(got.rect.x0 == ref.rect.x0 && got.rect.y0 == ref.rect.y0 &&
-                got.rect.x1 == ref.rect.x1 && got.rect.y1 == ref.rect.y1);
-    EXPECT_EQ(bitsOf(got.near_key), bitsOf(ref.near_key));
-    EXPECT_EQ(bitsOf(got.far_key), bitsOf(ref.far_key));
-    EXPECT_EQ(bitsOf(got.margin), bitsOf(ref.margin));
-    EXPECT_EQ(bitsOf(got.widen_x), bitsOf(ref.widen_x));
-    EXPECT_EQ(bitsOf(got.widen_y), bitsOf(ref.widen_y));
-    EXPECT_EQ(bool(culled[i]), projector.outsideFrustum(boxes[i]));
+  return out;
+}
+
+// Whether box i's batch answer is the reference path's, every field bit for bit; names
+// the first field that differs.
+testing::AssertionResult sameAsSingleBox(const Projector& projector, const Aabb& box,
+                                         const BatchAnswers& batch, std::size_t i) {
+  const BoxProjection ref = projector.project(box);
+  const BoxProjection& got = batch.projections[i];
+  const auto differs = [](const char* field) {
+    return testing::AssertionFailure() << field << " differs from the single-box path's";
+  };
+  if (got.cls != ref.cls) return differs("cls");
+  if (got.rect.x0 != ref.rect.x0 || got.rect.y0 != ref.rect.y0 || got.rect.x1 != ref.rect.x1 ||
+      got.rect.y1 != ref.rect.y1) {
+    return differs("rect");
   }
+  if (bitsOf(got.near_key) != bitsOf(ref.near_key)) return differs("near_key");
+  if (bitsOf(got.far_key) != bitsOf(ref.far_key)) return differs("far_key");
+  if (bitsOf(got.margin) != bitsOf(ref.margin)) return differs("margin");
+  if (bitsOf(got.widen_x) != bitsOf(ref.widen_x)) return differs("widen_x");
+  if (bitsOf(got.widen_y) != bitsOf(ref.widen_y)) return differs("widen_y");
+  if (bool(batch.outside[i]) != projector.outsideFrustum(box)) return differs("outsideFrustum");
+  return testing::AssertionSuccess();
 }
 
 TEST(ProjectionTest, BatchKernelsAnswerAsTheSingleBoxPathWhereClipCoordinatesOverflow) {
@@ -510,8 +541,12 @@ TEST(ProjectionTest, BatchKernelsAnswerAsTheSingleBoxPathWhereClipCoordinatesOve
           boxes.push_back({{-1, -1, -reach}, {1, 1, reach}});
           boxes.push_back({{-reach, -reach, -reach}, {reach, reach, reach}});
         }
-        SCOPED_TRACE(::testing::Message() << "scale " << scale << ", depth " << int(depth.convention));
-        expectBatchAnswersAsSingleBoxes(projector, boxes);
+        SCOPED_TRACE(::testing::Message()
+                     << "scale " << scale << ", depth " << int(depth.convention));
+        const BatchAnswers batch = projectInBatches(projector, boxes);
+        for (std::size_t i = 0; i < boxes.size(); ++i) {
+          EXPECT_TRUE(sameAsSingleBox(projector, boxes[i], batch, i)) << "box " << i;
+        }
       }
     }
   }
@@ -531,31 +566,12 @@ void expectBatchKernelsAnswerAsTheSingleBoxPath() {
     const RandomCamera rc = randomCamera(rng, setups[trial % 5]);
     const Projector projector(rc.camera, rc.settings);
     const std::vector<Aabb> boxes = randomBoxes(rng, rc, 256);
-    std::vector<BoxProjection> batch(boxes.size());
-    std::vector<std::uint8_t> culled(boxes.size());
-    // Batches of every size a node's children come in, and one of everything.
-    for (std::size_t at = 0, n = 1; at < boxes.size(); at += n, n = n % 8 + 1) {
-      const std::size_t len = std::min(n, boxes.size() - at);
-      projector.project(boxes.data() + at, len, batch.data() + at);
-      projector.outsideFrustum(boxes.data() + at, len, culled.data() + at);
-    }
+    const BatchAnswers batch = projectInBatches(projector, boxes);
     for (std::size_t i = 0; i < boxes.size(); ++i) {
-      const BoxProjection ref = projector.project(boxes[i]);
-      const BoxProjection& got = batch[i];
-      SCOPED_TRACE(::testing::Message() << "trial " << trial << ", box " << i);
-      ASSERT_EQ(int(got.cls), int(ref.cls));
-      ASSERT_EQ(got.rect.x0, ref.rect.x0);
-      ASSERT_EQ(got.rect.y0, ref.rect.y0);
-      ASSERT_EQ(got.rect.x1, ref.rect.x1);
-      ASSERT_EQ(got.rect.y1, ref.rect.y1);
-      ASSERT_EQ(bitsOf(got.near_key), bitsOf(ref.near_key));
-      ASSERT_EQ(bitsOf(got.far_key), bitsOf(ref.far_key));
-      ASSERT_EQ(bitsOf(got.margin), bitsOf(ref.margin));
-      ASSERT_EQ(bitsOf(got.widen_x), bitsOf(ref.widen_x));
-      ASSERT_EQ(bitsOf(got.widen_y), bitsOf(ref.widen_y));
-      ASSERT_EQ(bool(culled[i]), projector.outsideFrustum(boxes[i]));
+      ASSERT_TRUE(sameAsSingleBox(projector, boxes[i], batch, i))
+          << "trial " << trial << ", box " << i;
       ++compared;
-      switch (ref.cls) {
+      switch (batch.projections[i].cls) {
         case ProjectionClass::Inside: ++inside; break;
         case ProjectionClass::CrossesNear: ++crossing; break;
         case ProjectionClass::Outside: ++outside; break;
