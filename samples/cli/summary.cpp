@@ -6,6 +6,12 @@ namespace logrid::samples {
 
 namespace {
 
+// A count that only some frames have, added to its sum (which exists once one has).
+template <typename T>
+void addPresent(std::optional<T>& sum, T value) {
+  sum = sum.value_or(T(0)) + value;
+}
+
 // One frame's counts added to the sums (`tiles`: the tiles tested).
 void addFrame(const FrameRecord& r, FrameAverages& a, double& tiles) {
   const FrameStats& s = r.stats;
@@ -13,12 +19,8 @@ void addFrame(const FrameRecord& r, FrameAverages& a, double& tiles) {
   a.objects += double(s.objects_drawn);
   a.triangles += double(r.triangles);
   a.draw_calls += double(r.draw_calls);
-  if (r.objects_drawn >= 0) {
-    a.cluster_objects = a.cluster_objects.value_or(0) + double(r.objects_drawn);
-  }
-  if (r.visible_objects >= 0) {
-    a.visible_cluster_objects = a.visible_cluster_objects.value_or(0) + r.visible_objects;
-  }
+  if (r.objects_drawn >= 0) addPresent(a.cluster_objects, double(r.objects_drawn));
+  if (r.visible_objects >= 0) addPresent(a.visible_cluster_objects, r.visible_objects);
   a.boxes_tested += double(s.boxes_tested);
   tiles += double(s.tiles_tested);
   a.reads += double(s.reads);
@@ -36,8 +38,8 @@ void addFrame(const FrameRecord& r, FrameAverages& a, double& tiles) {
   a.records_decided += double(s.records_decided);
   a.colliding_waits += double(s.colliding_waits);
   if (r.occluders >= 0) {
-    a.occluders = a.occluders.value_or(0) + double(r.occluders);
-    a.occluder_tiles = a.occluder_tiles.value_or(0) + double(s.occluder_tiles);
+    addPresent(a.occluders, double(r.occluders));
+    addPresent(a.occluder_tiles, double(s.occluder_tiles));
   }
   a.moved += double(r.moved);
   a.update_ms += r.update.seconds * 1e3;
