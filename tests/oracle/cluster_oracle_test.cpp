@@ -85,12 +85,19 @@ std::vector<OracleCase> clusterCases() {
     out.push_back(c);
   }
   // Movers clustered beside the static clusters, their clusters moving with them (a
-  // motion hierarchy over both); in the city with the clusters facing away skipped.
+  // motion hierarchy over both); with the cpu reader, whose buffer draws them where
+  // they are; in the city with the clusters facing away skipped.
   OracleCase moving =
       clusterCase("forest", 64, choice(Method::LogState), C::Standard, F::D32F, "movers");
   moving.scene.movers = 12;
   moving.time_step = 1.5;
   out.push_back(moving);
+  OracleCase moving_cpu =
+      clusterCase("forest", 64, choice(Method::LogZfar), C::Reversed, F::D24, "movers_cpu");
+  moving_cpu.scene.movers = 12;
+  moving_cpu.time_step = 1.5;
+  moving_cpu.reader = "cpu";  // the buffer draws each moving cluster where it is
+  out.push_back(moving_cpu);
   OracleCase moving_backfaces =
       clusterCase("city", 64, choice(Method::LogZfar), C::Reversed, F::D24, "movers_backfaces");
   moving_backfaces.scene.movers = 200;
