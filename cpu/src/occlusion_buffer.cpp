@@ -6,6 +6,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <deque>
+#include <iterator>
 #include <mutex>
 #include <optional>
 #include <sstream>
@@ -118,6 +119,52 @@ bool overlaps(const PixelRect& a, const PixelRect& b) {
   return a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1;
 }
 
+constexpr double kU = 1.0 / 16777216.0;  // float unit roundoff, 2^-24
+
+// How far GL may put a vertex of an object inside `box` (its own coordinates) from where
+// `t` places it, per axis (the header, "Moving objects"): 16 u max(1, max|R|) |p|_1.
+double placementPad(const Aabb& box, const ObjectTransform& t) {
+  const double size = std::max(std::fabs(box.min.x), std::fabs(box.max.x)) +
+                      std::max(std::fabs(box.min.y), std::fabs(box.max.y)) +
+                      std::max(std::fabs(box.min.z), std::fabs(box.max.z));
+  double r_max = 1;
+  for (double e : t.rotation) r_max = std::max(r_max, std::fabs(e));
+  return 16 * kU * r_max * size;
+}
+
+// The box of every vertex of `box` as GL draws it placed by `t`: the bounds of the eight
+// placed corners (each vertex is a convex combination of them, and so is its placement),
+// widened by the pad and rounded outwards to float.
+Aabb placedBox(const Aabb& box, const ObjectTransform& t, double pad) {
+  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  const double tr[3] = {t.translation.x, t.translation.y, t.translation.z};
+  for (int c = 0; c < 8; ++c) {
+    const double q[3] = {(c & 1) ? box.max.x : box.min.x, (c & 2) ? box.max.y : box.min.y,
+                         (c & 4) ? box.max.z : box.min.z};
+    for (int r = 0; r < 3; ++r) {
+      const double v =
+          t.rotation[r] * q[0] + t.rotation[3 + r] * q[1] + t.rotation[6 + r] * q[2] + tr[r];
+      lo[r] = std::min(lo[r], v);
+      hi[r] = std::max(hi[r], v);
+    }
+  }
+  // The double sums above are off by far less than the pad's 2^-20 relative; widen by
+  // the pad and one float step outwards.
+  auto down = [](double v) { return std::nextafter(float(v), -HUGE_VALF); };
+  auto up = [](double v) { return std::nextafter(float(v), HUGE_VALF); };
+  Aabb out;
+  out.min = {down(lo[0] - pad), down(lo[1] - pad), down(lo[2] - pad)};
+  out.max = {up(hi[0] + pad), up(hi[1] + pad), up(hi[2] + pad)};
+  return out;
+}
+
+// The sign of the determinant of a 3x3 column-major matrix (0: singular).
+int orientation(const double* m) {
+  const double det = m[0] * (m[4] * m[8] - m[7] * m[5]) - m[3] * (m[1] * m[8] - m[7] * m[2]) +
+                     m[6] * (m[1] * m[5] - m[4] * m[2]);
+  return det > 0 ? 1 : det < 0 ? -1 : 0;
+}
+
 }  // namespace
 
 struct OcclusionBuffer::Impl {
@@ -204,7 +251,7 @@ struct OcclusionBuffer::Impl {
   void clearBinIfStale(Bin& b, std::int32_t bx, std::int32_t by);
 
   Status begin(const Camera& camera);
-  void draw(std::uint32_t id);
+  void draw(std::uint32_t id, const ObjectTransform* transform);
   // Brings every buffer pixel under the viewport rectangle up to date.
   void ensure(const PixelRect& rect);
   void setUpObject(const PendingObject& p);
@@ -247,6 +294,9 @@ Status OcclusionBuffer::Impl::begin(const Camera& camera) {
   for (int i = 0; i < 16; ++i) frame.m[i] = m.m[i];
   const Mat4d render = multiply(camera.view_projection, translation(camera.render_origin));
   for (int i = 0; i < 16; ++i) frame.render_abs[i] = std::fabs(render.m[i]);
+  for (int r = 0; r < 4; ++r) {
+    frame.clip_abs[r] = std::fabs(m.m[r]) + std::fabs(m.m[4 + r]) + std::fabs(m.m[8 + r]);
+  }
   frame.origin[0] = camera.render_origin.x;
   frame.origin[1] = camera.render_origin.y;
   frame.origin[2] = camera.render_origin.z;
@@ -319,11 +369,17 @@ Status OcclusionBuffer::Impl::begin(const Camera& camera) {
   return {};
 }
 
-void OcclusionBuffer::Impl::draw(std::uint32_t id) {
+void OcclusionBuffer::Impl::draw(std::uint32_t id, const ObjectTransform* transform) {
   ++stats.objects_drawn;
+  stats.objects_moved += transform != nullptr;
+  // Where GL draws the object: its box, placed if it moves.
+  auto drawnBox = [&](std::uint32_t o) {
+    const Aabb& box = meshes.object(o).box;
+    return transform ? placedBox(box, *transform, placementPad(box, *transform)) : box;
+  };
   // A model inside its object holds only while the object lies wholly beyond the near
   // plane (the eye is then outside it and GL does not clip it).
-  BoxProjection p = projector->project(meshes.object(id).box);
+  BoxProjection p = projector->project(drawnBox(id));
   const bool model = meshes.object(id).inside_solid;
   for (int hops = 0; meshes.object(id).inside_solid && p.cls != ProjectionClass::Inside; ++hops) {
     const std::uint32_t fallback = meshes.object(id).fallback;
@@ -333,7 +389,7 @@ void OcclusionBuffer::Impl::draw(std::uint32_t id) {
     }
     ++stats.objects_fallback;
     id = fallback;
-    p = projector->project(meshes.object(id).box);
+    p = projector->project(drawnBox(id));
   }
   if (p.cls == ProjectionClass::Outside || p.cls == ProjectionClass::Invalid ||
       meshes.object(id).triangle_count == 0) {
@@ -352,6 +408,15 @@ void OcclusionBuffer::Impl::draw(std::uint32_t id) {
   stats.triangles_selected += triangles;
   PendingObject po;
   po.object.occluder = id;
+  if (transform) {
+    po.object.moved = true;
+    std::copy(std::begin(transform->rotation), std::end(transform->rotation), po.object.rotation);
+    po.object.translation[0] = transform->translation.x;
+    po.object.translation[1] = transform->translation.y;
+    po.object.translation[2] = transform->translation.z;
+    po.object.pad = placementPad(meshes.object(id).box, *transform);
+    po.object.orientation = orientation(transform->rotation);
+  }
   if (model && meshes.object(id).inside_solid) {
     // GL draws the object's vertices, not the model's: bound them by the object's box.
     po.object.s_x = double(p.widen_x) + snap_half;
@@ -655,7 +720,23 @@ Status OcclusionBuffer::endFrame() {
   return {};
 }
 
-Status OcclusionBuffer::tryDrawObject(std::uint32_t id) {
+Status OcclusionBuffer::tryDrawObject(std::uint32_t id) { return drawChecked(id, nullptr); }
+
+Status OcclusionBuffer::tryDrawObject(std::uint32_t id, const ObjectTransform& transform) {
+  bool finite = std::isfinite(transform.translation.x) && std::isfinite(transform.translation.y) &&
+                std::isfinite(transform.translation.z);
+  for (double e : transform.rotation) finite = finite && std::isfinite(e);
+  if (!finite) {
+    std::ostringstream out;
+    out << "OcclusionBuffer::drawObject: object " << id
+        << " has a transform that is not finite; give every rotation element and the "
+           "translation a finite value";
+    return Status(ErrorCode::InvalidArgument, out.str());
+  }
+  return drawChecked(id, &transform);
+}
+
+Status OcclusionBuffer::drawChecked(std::uint32_t id, const ObjectTransform* transform) {
   if (!impl_->in_frame) {
     return Status(ErrorCode::InvalidArgument,
                   "OcclusionBuffer::drawObject: call it between beginFrame() and endFrame()");
@@ -667,7 +748,7 @@ Status OcclusionBuffer::tryDrawObject(std::uint32_t id) {
     return Status(ErrorCode::InvalidArgument, out.str());
   }
   const auto start = Clock::now();
-  impl_->draw(id);
+  impl_->draw(id, transform);
   impl_->stats.seconds += secondsSince(start);
   return {};
 }

@@ -56,11 +56,31 @@ std::int32_t ceilInt(double v) {
 
 }  // namespace
 
-void TriangleSetup::transform(const SetupFrame& f, const float* positions, std::uint32_t count) {
+// How far a displacement of the clip coordinates by at most pad_clip (x, y, z, w) moves
+// a window coordinate (scaled by `scale`) whose clip value is `c` at this w: at most
+// (D_c + |c / w| D_w) / (w - D_w) times the scale; infinite where w - D_w <= 0 (the
+// triangle is then left out). 0 for a still object.
+double padError(const double* pad_clip, int r, double c, double w, double scale) {
+  if (pad_clip[3] == 0 && pad_clip[r] == 0) return 0;
+  const double den = w - pad_clip[3];
+  if (!(den > 0)) return HUGE_VAL;
+  return (pad_clip[r] + std::fabs(c / w) * pad_clip[3]) / den * scale;
+}
+
+void TriangleSetup::transform(const SetupFrame& f, const SetupObject& o, const float* positions,
+                              std::uint32_t count) {
   if (vertices_.size() < count) vertices_.resize(count);  // (kept: no refill per object)
   const double depth_scale = std::fabs(f.key_scale);
+  for (int r = 0; r < 4; ++r) pad_clip_[r] = o.moved ? o.pad * f.clip_abs[r] : 0.0;
+  const double* rot = o.rotation;
   for (std::uint32_t i = 0; i < count; ++i) {
-    const double x = positions[i * 3], y = positions[i * 3 + 1], z = positions[i * 3 + 2];
+    double x = positions[i * 3], y = positions[i * 3 + 1], z = positions[i * 3 + 2];
+    if (o.moved) {  // placed where the application draws it ("Moving objects")
+      const double px = x, py = y, pz = z;
+      x = rot[0] * px + rot[3] * py + rot[6] * pz + o.translation[0];
+      y = rot[1] * px + rot[4] * py + rot[7] * pz + o.translation[1];
+      z = rot[2] * px + rot[5] * py + rot[8] * pz + o.translation[2];
+    }
     double clip[4], mag[4];
     const double q[3] = {std::fabs(x - f.origin[0]), std::fabs(y - f.origin[1]),
                          std::fabs(z - f.origin[2])};
@@ -86,6 +106,9 @@ void TriangleSetup::transform(const SetupFrame& f, const float* positions, std::
       v.ex = (v.sx + std::fabs(clip[0] * inv_w) * v.sw) * inv_w * f.half_w;
       v.ey = (v.sy + std::fabs(clip[1] * inv_w) * v.sw) * inv_w * f.half_h;
       v.ez = (v.sz + std::fabs(clip[2] * inv_w) * v.sw) * inv_w * depth_scale;
+      v.px = padError(pad_clip_, 0, clip[0], v.w, f.half_w);
+      v.py = padError(pad_clip_, 1, clip[1], v.w, f.half_h);
+      v.pz = padError(pad_clip_, 2, clip[2], v.w, depth_scale);
     }
   }
 }
@@ -129,17 +152,21 @@ bool TriangleSetup::setUp(const SetupFrame& f, const SetupObject& o, const std::
     // How far GL may move this triangle's vertices: snapping, the float error of the
     // transform, and that of clipping (GL's new vertices, its guard band) at these
     // magnitudes; never less than the object's floor. Likewise the depth margin.
-    t.s_x = std::max(
-        o.s_x, f.snap + f.render_k * std::max({v[0]->ex, v[1]->ex, v[2]->ex}) + 16 * kU * mag);
-    t.s_y = std::max(
-        o.s_y, f.snap + f.render_k * std::max({v[0]->ey, v[1]->ey, v[2]->ey}) + 16 * kU * mag);
+    // A moving object's pad adds to both (0 for a still one: the same sums).
+    t.s_x = std::max(o.s_x, f.snap + f.render_k * std::max({v[0]->ex, v[1]->ex, v[2]->ex}) +
+                                std::max({v[0]->px, v[1]->px, v[2]->px}) + 16 * kU * mag);
+    t.s_y = std::max(o.s_y, f.snap + f.render_k * std::max({v[0]->ey, v[1]->ey, v[2]->ey}) +
+                                std::max({v[0]->py, v[1]->py, v[2]->py}) + 16 * kU * mag);
+    if (!(t.s_x < kGuardBand && t.s_y < kGuardBand)) return false;  // a pad it cannot bound
     if (!pixelBounds(f, x_min, x_max, y_min, y_max, t)) return false;
     const double key_max = std::max({v[0]->key, v[1]->key, v[2]->key});
     t.key_min = std::min({v[0]->key, v[1]->key, v[2]->key});
     t.margin =
         std::max(o.margin, f.quantisation +
                                f.render_k * (std::max({v[0]->ez, v[1]->ez, v[2]->ez}) +
-                                             std::max(std::fabs(t.key_min), std::fabs(key_max))));
+                                             std::max(std::fabs(t.key_min), std::fabs(key_max))) +
+                               std::max({v[0]->pz, v[1]->pz, v[2]->pz}));
+    if (!std::isfinite(t.margin)) return false;
     // Edge k runs from corner k+1 to corner k+2: E = a (x - x1) + b (y - y1), positive
     // inside once oriented counter-clockwise. Two triangles on the same two vertices in
     // opposite order get exactly opposite a and b.
@@ -197,6 +224,7 @@ bool TriangleSetup::setUpClipped(const SetupFrame& f, const SetupObject& o, cons
   }
   double x_min = HUGE_VAL, x_max = -HUGE_VAL, y_min = HUGE_VAL, y_max = -HUGE_VAL, mag = 0;
   double err_x = 0, err_y = 0, err_z = 0, key_mag = 0;
+  double pad_x = 0, pad_y = 0, pad_z = 0;  // a moving object's pad (0 for a still one)
   t.key_min = HUGE_VAL;
   const double depth_scale = std::fabs(f.key_scale);
   for (int i = 0; i < count; ++i) {
@@ -213,13 +241,17 @@ bool TriangleSetup::setUpClipped(const SetupFrame& f, const SetupObject& o, cons
     err_x = std::max(err_x, (p.sx + std::fabs(xn) * p.sw) * inv_w * f.half_w);
     err_y = std::max(err_y, (p.sy + std::fabs(yn) * p.sw) * inv_w * f.half_h);
     err_z = std::max(err_z, (p.sz + std::fabs(zn) * p.sw) * inv_w * depth_scale);
+    pad_x = std::max(pad_x, padError(pad_clip_, 0, p.w * xn, p.w, f.half_w));
+    pad_y = std::max(pad_y, padError(pad_clip_, 1, p.w * yn, p.w, f.half_h));
+    pad_z = std::max(pad_z, padError(pad_clip_, 2, p.w * zn, p.w, depth_scale));
     key_mag = std::max(key_mag, std::fabs(key));
     t.key_min = std::min(t.key_min, key);
   }
   if (!(mag < kGuardBand)) return false;
-  t.s_x = std::max(o.s_x, f.snap + f.render_k * err_x + 16 * kU * mag);
-  t.s_y = std::max(o.s_y, f.snap + f.render_k * err_y + 16 * kU * mag);
-  t.margin = std::max(o.margin, f.quantisation + f.render_k * (err_z + key_mag));
+  t.s_x = std::max(o.s_x, f.snap + f.render_k * err_x + pad_x + 16 * kU * mag);
+  t.s_y = std::max(o.s_y, f.snap + f.render_k * err_y + pad_y + 16 * kU * mag);
+  t.margin = std::max(o.margin, f.quantisation + f.render_k * (err_z + key_mag) + pad_z);
+  if (!(t.s_x < kGuardBand && t.s_y < kGuardBand) || !std::isfinite(t.margin)) return false;
   if (!pixelBounds(f, x_min, x_max, y_min, y_max, t)) return false;
 
   // Edge k = v[k+1] x v[k+2]: E_k(p) = det[v_k+1; v_k+2; (px, py, 1)], and
@@ -281,7 +313,7 @@ std::size_t TriangleSetup::run(const SetupFrame& f, const OccluderMeshes& meshes
                                const SetupObject& o, std::vector<RasterTriangle>& out,
                                std::size_t& count) {
   const OccluderObject& obj = meshes.object(o.occluder);
-  transform(f, meshes.positions().data() + std::size_t(obj.first_vertex) * 3, obj.vertex_count);
+  transform(f, o, meshes.positions().data() + std::size_t(obj.first_vertex) * 3, obj.vertex_count);
 
   if (work_.size() < obj.triangle_count) work_.resize(obj.triangle_count);
   const std::uint32_t* indices = meshes.indices().data() + std::size_t(obj.first_triangle) * 3;
@@ -289,9 +321,13 @@ std::size_t TriangleSetup::run(const SetupFrame& f, const OccluderMeshes& meshes
   std::uint32_t next = std::uint32_t(count);
   for (std::uint32_t t = 0; t < obj.triangle_count; ++t) {
     Work& w = work_[t];
-    w.out = setUp(f, o, indices + std::size_t(t) * 3, obj.first_vertex, closed[t], w)
-                ? next++
-                : kNoNeighbour;
+    // A mirroring transform turns a closed surface's winding round; a singular one
+    // leaves no side facing away.
+    const std::uint8_t c = o.orientation == 0                    ? 0
+                           : o.orientation < 0 && closed[t] != 0 ? std::uint8_t(3 - closed[t])
+                                                                 : closed[t];
+    w.out =
+        setUp(f, o, indices + std::size_t(t) * 3, obj.first_vertex, c, w) ? next++ : kNoNeighbour;
   }
 
   const std::uint32_t* adjacency = meshes.adjacency().data();

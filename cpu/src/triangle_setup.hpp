@@ -18,6 +18,7 @@ struct SetupFrame {
   // the matrix `render` = view_projection * translation(origin); |render| bounds the
   // magnitudes of the terms it sums.
   double render_abs[16] = {};
+  double clip_abs[4] = {};  // sum_j |m[r + 4 j]| over j < 3: clip r per unit of world motion
   double origin[3] = {};
   double render_k = 0;      // kRenderErrorUlps * u, as configured
   double quantisation = 0;  // one step of the depth format, as configured
@@ -42,6 +43,14 @@ struct SetupObject {
   std::uint32_t occluder = 0;  // index into the meshes
   double s_x = 0, s_y = 0;     // how far GL may move a vertex, per axis (viewport pixels)
   double margin = 0;           // depth margin (projection.hpp)
+  // A moving object (occlusion_buffer.hpp, "Moving objects"): its vertices placed at
+  // rotation * p + translation, GL's within `pad` of them per axis (world units);
+  // `orientation` the sign of the rotation's determinant (0: singular).
+  bool moved = false;
+  double rotation[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  double translation[3] = {0, 0, 0};
+  double pad = 0;
+  int orientation = 1;
 };
 
 class TriangleSetup {
@@ -60,6 +69,7 @@ class TriangleSetup {
     bool beyond_far;
     double wx, wy, key;  // window position and key (where front)
     double ex, ey, ez;   // GL's float error there, before the ulps factor
+    double px, py, pz;   // a moving object's pad there (window x, y, key; 0 if still)
   };
   struct Work {
     double a[kTriangleEdges], b[kTriangleEdges], c[kTriangleEdges];
@@ -75,7 +85,8 @@ class TriangleSetup {
     bool clipped;
     std::uint32_t out;  // index in the output, kNoNeighbour when unusable
   };
-  void transform(const SetupFrame& frame, const float* positions, std::uint32_t count);
+  void transform(const SetupFrame& frame, const SetupObject& object, const float* positions,
+                 std::uint32_t count);
   bool setUp(const SetupFrame& frame, const SetupObject& object, const std::uint32_t* corners,
              std::uint32_t first_vertex, std::uint8_t closed, Work& work) const;
   bool setUpClipped(const SetupFrame& frame, const SetupObject& object, const Vertex* const* v,
@@ -84,6 +95,8 @@ class TriangleSetup {
                    Work& work) const;
   void finish(const SetupFrame& frame, Work& work) const;
 
+  // The object's pad in clip coordinates (x, y, z, w): pad * SetupFrame::clip_abs.
+  double pad_clip_[4] = {};
   std::vector<Vertex> vertices_;
   std::vector<Work> work_;
 };

@@ -34,21 +34,23 @@ struct CpuFrameStats {
   std::uint64_t tiles = 0;           // tiles rasterised
   std::uint64_t fallbacks = 0;       // models replaced by their object's mesh
   std::uint64_t unselected = 0;      // drawn objects the occluder selection left out
+  std::uint64_t moved = 0;           // moving objects handed over with their transform
 };
 
 class CpuFrameReader final : public FrameReader {
  public:
   // Throws logrid::Error for options this machine cannot run. `method`: the culler's
   // (occlusion-state methods get models within their objects' boxes, occluders.hpp).
+  // `motion`: the movers' transforms of the frame being drawn (nullptr: none move).
   CpuFrameReader(const PreparedScene& scene, const CpuReaderOptions& options,
-                 const ProjectionSettings& projection, Method method);
+                 const ProjectionSettings& projection, Method method,
+                 const MotionFrame* motion = nullptr);
   DepthSource& source() override { return *buffer_; }
-  // Moving objects (ids from PreparedScene::static_objects on) are not rasterised: the
-  // occluder meshes hold them where they stand at time 0, not where the frame draws
-  // them. Leaving them out only loses occlusion, never hides what is visible.
-  void objectDrawn(ObjectId id) override {
-    if (id < static_objects_) buffer_->drawObject(id);
-  }
+  // Moving objects (ids from PreparedScene::static_objects on) are rasterised where the
+  // frame draws them: their own mesh placed by the frame's transform of that id
+  // (MotionFrame::transforms[id - static_objects]). One without a transform (no motion
+  // frame given) is left out, which only loses occlusion.
+  void objectDrawn(ObjectId id) override;
   // The counts since the previous call.
   CpuFrameStats takeFrameStats();
 
@@ -56,6 +58,7 @@ class CpuFrameReader final : public FrameReader {
   std::unique_ptr<cpu::OcclusionBuffer> buffer_;
   cpu::OcclusionBufferStats last_;
   ObjectId static_objects_;
+  const MotionFrame* motion_;
 };
 
 std::unique_ptr<FrameReader> makeCpuReader(const ReaderContext& context);

@@ -59,6 +59,7 @@ void addFrame(const FrameRecord& r, FrameAverages& a, double& tiles) {
     a.cpu_tiles += double(r.cpu->tiles);
     a.cpu_fallbacks += double(r.cpu->fallbacks);
     a.cpu_unselected += double(r.cpu->unselected);
+    a.cpu_moved += double(r.cpu->moved);
   }
   if (r.visible >= 0) {
     a.verified = true;
@@ -115,7 +116,8 @@ FrameAverages averageFrames(const std::vector<FrameRecord>& records) {
                       &a.cpu_tile_triangles,
                       &a.cpu_tiles,
                       &a.cpu_fallbacks,
-                      &a.cpu_unselected}) {
+                      &a.cpu_unselected,
+                      &a.cpu_moved}) {
     *sum /= n;
   }
   if (a.cluster_objects) *a.cluster_objects /= n;
@@ -191,7 +193,8 @@ nlohmann::json frameJson(const FrameRecord& r) {
                 {"tile_triangles", r.cpu->tile_triangles},
                 {"tiles", r.cpu->tiles},
                 {"fallbacks", r.cpu->fallbacks},
-                {"unselected", r.cpu->unselected}};
+                {"unselected", r.cpu->unselected},
+                {"moved", r.cpu->moved}};
   }
   if (r.visible >= 0) {
     j["visible_objects"] = r.visible;
@@ -297,7 +300,8 @@ nlohmann::json cpuJson(const RunConfig& config, const FrameAverages& a) {
           {"avg_tile_triangles", a.cpu_tile_triangles},
           {"avg_tiles", a.cpu_tiles},
           {"avg_fallbacks", a.cpu_fallbacks},
-          {"avg_unselected", a.cpu_unselected}};
+          {"avg_unselected", a.cpu_unselected},
+          {"avg_moved", a.cpu_moved}};
 }
 
 }  // namespace

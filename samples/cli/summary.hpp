@@ -53,7 +53,8 @@ struct FrameAverages {
   std::uint64_t rebuilds = 0, splits = 0, merges = 0, relocated = 0;
   // --reader cpu: averages of CpuFrameStats.
   double cpu_ms = 0, cpu_wait_ms = 0, cpu_worker_ms = 0, cpu_objects = 0, cpu_triangles = 0,
-         cpu_tile_triangles = 0, cpu_tiles = 0, cpu_fallbacks = 0, cpu_unselected = 0;
+         cpu_tile_triangles = 0, cpu_tiles = 0, cpu_fallbacks = 0, cpu_unselected = 0,
+         cpu_moved = 0;  // moving objects handed over with their transform
   // The object-ID oracle (frames checked with verify), sums.
   bool verified = false;
   std::int64_t visible = 0;

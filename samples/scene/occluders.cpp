@@ -18,8 +18,10 @@ std::optional<OccluderChoice> parseOccluderChoice(const std::string& name) {
 
 namespace {
 
-// The triangles of one draw, with its vertices renumbered from 0.
-void addDrawnMesh(const PreparedScene& scene, ObjectId id, cpu::OccluderMeshes& out) {
+// The triangles of one draw, with its vertices renumbered from 0. `box`: every vertex's
+// (nullptr: their bounds).
+void addDrawnMesh(const PreparedScene& scene, ObjectId id, const Aabb* box,
+                  cpu::OccluderMeshes& out) {
   const gl::RenderMesh& mesh = scene.mesh;
   const gl::RenderMesh::Draw& d = mesh.draws[id];
   std::uint32_t lo = std::numeric_limits<std::uint32_t>::max(), hi = 0;
@@ -33,8 +35,7 @@ void addDrawnMesh(const PreparedScene& scene, ObjectId id, cpu::OccluderMeshes& 
   if (indices.empty()) lo = hi = 0;
   for (std::uint32_t& i : indices) i -= lo;
   const float* positions = &mesh.positions[(std::size_t(d.base_vertex) + lo) * 3];
-  out.addObject(positions, indices.empty() ? 0 : hi - lo + 1, indices.data(), indices.size(),
-                &scene.object_boxes[id]);
+  out.addObject(positions, indices.empty() ? 0 : hi - lo + 1, indices.data(), indices.size(), box);
 }
 
 // A closed box, its 12 triangles counter-clockwise seen from outside.
@@ -84,22 +85,22 @@ std::shared_ptr<const cpu::OccluderMeshes> build(const PreparedScene& scene, int
   std::vector<ObjectId> modelled;
   for (ObjectId id = 0; id < objects; ++id) {
     if (id >= scene.static_objects) {
-      // Movers (after the static objects): the buffer never draws them (the cpu reader
-      // leaves them out), and their triangles are in their own coordinates, not inside
-      // their boxes in the scene; an empty object keeps the ids in step.
-      out->addObject(nullptr, 0, nullptr, 0, &scene.object_boxes[id]);
+      // A moving object (each its own draw): its triangles in its own coordinates, with
+      // their own bounds (its box in the scene changes); the buffer places them where
+      // the frame draws them (OcclusionBuffer::drawObject with its transform).
+      addDrawnMesh(scene, id, nullptr, *out);
       continue;
     }
     if (models && id < scene.occluder_models.size() &&
         addModel(scene, id, scene.occluder_models[id], slot == 2, *out)) {
       modelled.push_back(id);
     } else {
-      addDrawnMesh(scene, id, *out);
+      addDrawnMesh(scene, id, &scene.object_boxes[id], *out);
     }
   }
   for (ObjectId id : modelled) {
     const std::uint32_t fallback = std::uint32_t(out->objectCount());
-    addDrawnMesh(scene, id, *out);
+    addDrawnMesh(scene, id, &scene.object_boxes[id], *out);
     out->setInsideSolid(id, fallback);
   }
   return out;

@@ -22,7 +22,9 @@ enum class OccluderChoice : std::uint8_t {
 const char* toString(OccluderChoice choice);
 std::optional<OccluderChoice> parseOccluderChoice(const std::string& name);
 
-// Object i of the result is ObjectId i of the scene; fallbacks follow them.
+// Object i of the result is ObjectId i of the scene; fallbacks follow them. Moving
+// objects (ids from PreparedScene::static_objects on) hold their own mesh in their own
+// coordinates, to be drawn with the frame's transform.
 // `within_objects`: every model stays inside its object's box (boxes of solids that
 // reach beyond it are clipped to it; an object with nothing left uses its mesh), as
 // methods with occlusion-state semantics need (TestSemantics::OcclusionState: a pixel

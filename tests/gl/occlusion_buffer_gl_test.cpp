@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <random>
 #include <sstream>
 
 #include "gl_test_context.hpp"
@@ -42,10 +43,18 @@ struct Comparison {
   std::string first;
 };
 
+// How the objects are drawn: as they are, or moved (test::moveScene: each in its own
+// coordinates, turned about its centre by a transform, as the renderer draws movers),
+// and then either into the buffer with the same transforms or, to show what the
+// transforms do, without them.
+enum class Motion : std::uint8_t { Still, Moved, DrawnUnmoved };
+
 // Renders random scenes in GL and in the buffer and compares every pixel.
 Comparison compare(DepthFormat format, DepthConvention convention, cpu::Resolution resolution,
-                   const cpu::OcclusionBufferDesc& base, int scenes) {
+                   const cpu::OcclusionBufferDesc& base, int scenes,
+                   Motion motion = Motion::Still) {
   Comparison out;
+  std::mt19937 rng(77);
   for (int s = 0; s < scenes; ++s) {
     const std::uint32_t w = 96 + std::uint32_t(s % 5) * 7, h = 72 + std::uint32_t(s % 3) * 5;
     const ClipDepthRange range = convention == DepthConvention::Reversed || s % 2
@@ -53,12 +62,24 @@ Comparison compare(DepthFormat format, DepthConvention convention, cpu::Resoluti
                                      : ClipDepthRange::NegativeOneToOne;
     const Camera cam =
         test::randomCamera(std::uint32_t(s) * 13 + 5, w, h, convention, range, format);
-    const std::vector<TestMesh> scene = test::randomScene(std::uint32_t(s) + 900);
+    std::vector<TestMesh> scene = test::randomScene(std::uint32_t(s) + 900);
+    std::vector<cpu::ObjectTransform> transforms;
+    if (motion != Motion::Still) {
+      test::MovedScene moved = test::moveScene(scene, rng);
+      scene = std::move(moved.local);
+      transforms = std::move(moved.transforms);
+    }
     gl::Framebuffer fb({w, h, cam.depth, false});
     fb.bind();
     const float clear[4] = {0, 0, 0, 1};
     fb.clear(clear);
     gl::MeshRenderer renderer(renderMesh(scene));
+    for (ObjectId id = 0; id < transforms.size(); ++id) {
+      gl::ObjectTransform t;  // as the frame runner hands a mover's to the renderer
+      for (int k = 0; k < 9; ++k) t.rotation[k] = static_cast<float>(transforms[id].rotation[k]);
+      t.translation = transforms[id].translation;
+      renderer.setTransform(id, t);
+    }
     renderer.begin(gl::Pass::DepthOnly, cam);
     for (ObjectId id = 0; id < renderer.objectCount(); ++id) renderer.draw(id);
     renderer.end();
@@ -73,7 +94,13 @@ Comparison compare(DepthFormat format, DepthConvention convention, cpu::Resoluti
     desc.resolution = resolution;
     cpu::OcclusionBuffer buffer(meshes, desc);
     orThrow(buffer.beginFrame(cam));
-    for (std::uint32_t i = 0; i < meshes.objectCount(); ++i) buffer.drawObject(i);
+    for (std::uint32_t i = 0; i < meshes.objectCount(); ++i) {
+      if (motion == Motion::Moved) {
+        buffer.drawObject(i, transforms[i]);
+      } else {
+        buffer.drawObject(i);
+      }
+    }
     std::vector<float> keys(std::size_t(w) * h);
     buffer.readKeys({0, 0, std::int32_t(w), std::int32_t(h)}, keys.data());
     orThrow(buffer.endFrame());
@@ -141,6 +168,35 @@ std::vector<Case> cases() {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllFormats, OcclusionBufferGlTest, testing::ValuesIn(cases()), caseName);
+
+// Moving objects drawn by the renderer with their transforms (its float rotation and
+// offset) and into the buffer with the same transforms: never nearer than GL, in every
+// format and convention, per pixel and masked. Drawn into the buffer without them, the
+// buffer is nearer than GL somewhere.
+TEST(OcclusionBufferGlMovers, NeverNearerThanGl) {
+  LOGRID_REQUIRE_GL();
+  for (DepthFormat f : {DepthFormat::D16, DepthFormat::D24, DepthFormat::D32F}) {
+    for (DepthConvention c : {DepthConvention::Standard, DepthConvention::Reversed}) {
+      for (cpu::Representation m : {cpu::Representation::PerPixel, cpu::Representation::Masked}) {
+        cpu::OcclusionBufferDesc desc;
+        desc.representation = m;
+        const cpu::Resolution r =
+            m == cpu::Representation::Masked ? cpu::Resolution::Half : cpu::Resolution::Full;
+        const Comparison got = compare(f, c, r, desc, 12, Motion::Moved);
+        EXPECT_EQ(got.nearer, 0u) << toString(f) << " " << toString(c) << " " << cpu::toString(m)
+                                  << ": " << got.first;
+        const double share =
+            double(got.covered) / double(std::max<std::uint64_t>(1, got.gl_covered));
+        std::printf("[ cpu ] movers %s %s %s %s: covers %.1f%% of GL's pixels\n", toString(f),
+                    toString(c), cpu::toString(r), cpu::toString(m), 100 * share);
+        EXPECT_GT(share, r == cpu::Resolution::Full ? 0.8 : 0.3);
+      }
+    }
+  }
+  const Comparison unmoved = compare(DepthFormat::D24, DepthConvention::Standard,
+                                     cpu::Resolution::Full, {}, 12, Motion::DrawnUnmoved);
+  EXPECT_GT(unmoved.nearer, 0u) << "drawn without their transforms, never nearer than GL";
+}
 
 // Each conservative rule is needed on GL too: without the coverage slack the buffer
 // covers pixels GL leaves clear (edges through pixel centres after snapping), and

@@ -291,6 +291,7 @@ struct WalkTotals {
   std::uint64_t occluders = 0;  // DDO occluders drawn or entered into the map
   std::uint64_t occluder_tiles = 0;  // ddo+log: tiles recorded full from their coverage
   std::uint64_t backfacing = 0;      // clusters not drawn for facing away
+  std::uint64_t cpu_moved = 0;       // --reader cpu: moving objects drawn into its buffer
   double ms = 0;
 };
 
@@ -343,6 +344,7 @@ inline WalkTotals checkedWalk(const SceneKey& key, LoadedScene& scene, const Run
     t.occluders += std::uint64_t(std::max<std::int64_t>(r.occluders, 0));
     t.occluder_tiles += r.stats.occluder_tiles;
     t.backfacing += r.backfacing;
+    if (r.cpu) t.cpu_moved += r.cpu->moved;
     t.ms += r.ms;
   }
   return t;

@@ -4,12 +4,14 @@
 // indices, sliver fans, triangle soups, and a ground quad reaching behind the eye.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <random>
 #include <vector>
 
 #include "logrid/camera.hpp"
+#include "logrid/cpu/occlusion_buffer.hpp"
 #include "logrid/cpu/software_rasterizer.hpp"
 
 namespace logrid::test {
@@ -168,6 +170,60 @@ inline Camera randomCamera(std::uint32_t seed, std::uint32_t w, std::uint32_t h,
                                  lookAt(eye, {0, 0, 0}, {0, 1, 0}));
   cam.render_origin = eye;
   return cam;
+}
+
+// Moving objects: each object of a scene in its own coordinates (recentred on its box's
+// centre), and a transform that turns it about that centre by a random rotation (a
+// quarter of them mirrored) and puts it back there, and the vertices where that
+// transform places them (in double, rounded to float) for the reference.
+struct MovedScene {
+  std::vector<TestMesh> local;
+  std::vector<cpu::ObjectTransform> transforms;
+  std::vector<TestMesh> placed;
+};
+
+inline MovedScene moveScene(const std::vector<TestMesh>& scene, std::mt19937& rng) {
+  MovedScene out;
+  std::normal_distribution<double> n(0, 1);
+  for (std::size_t i = 0; i < scene.size(); ++i) {
+    const TestMesh& m = scene[i];
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (std::size_t v = 0; v < m.positions.size(); ++v) {
+      lo[v % 3] = std::min(lo[v % 3], double(m.positions[v]));
+      hi[v % 3] = std::max(hi[v % 3], double(m.positions[v]));
+    }
+    const double c[3] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+    TestMesh local = m;
+    for (std::size_t v = 0; v < m.positions.size(); ++v) {
+      local.positions[v] = float(double(m.positions[v]) - c[v % 3]);
+    }
+    // A random unit quaternion's rotation, column-major.
+    double q[4] = {n(rng), n(rng), n(rng), n(rng)};
+    const double len = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    for (double& e : q) e /= len;
+    const double w = q[0], x = q[1], y = q[2], z = q[3];
+    cpu::ObjectTransform t;
+    const double r[9] = {1 - 2 * (y * y + z * z), 2 * (x * y + w * z),     2 * (x * z - w * y),
+                         2 * (x * y - w * z),     1 - 2 * (x * x + z * z), 2 * (y * z + w * x),
+                         2 * (x * z + w * y),     2 * (y * z - w * x),     1 - 2 * (x * x + y * y)};
+    std::copy(r, r + 9, t.rotation);
+    if (i % 4 == 3) {
+      for (int k = 0; k < 3; ++k) t.rotation[k] = -t.rotation[k];  // mirrored in local x
+    }
+    t.translation = {c[0], c[1], c[2]};
+    TestMesh placed = local;
+    for (std::size_t v = 0; v < local.positions.size(); v += 3) {
+      const double p[3] = {local.positions[v], local.positions[v + 1], local.positions[v + 2]};
+      for (int k = 0; k < 3; ++k) {
+        placed.positions[v + std::size_t(k)] = float(
+            t.rotation[k] * p[0] + t.rotation[3 + k] * p[1] + t.rotation[6 + k] * p[2] + c[k]);
+      }
+    }
+    out.local.push_back(std::move(local));
+    out.transforms.push_back(t);
+    out.placed.push_back(std::move(placed));
+  }
+  return out;
 }
 
 }  // namespace logrid::test

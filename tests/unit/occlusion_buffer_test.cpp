@@ -29,12 +29,20 @@ OccluderMeshes meshesOf(const std::vector<TestMesh>& scene) {
   return m;
 }
 
-// Every key of the buffer at viewport resolution after drawing every object.
+// Every key of the buffer at viewport resolution after drawing every object (moved by
+// transforms[i] where given).
 std::vector<float> render(const OccluderMeshes& meshes, const Camera& cam,
-                          const OcclusionBufferDesc& desc) {
+                          const OcclusionBufferDesc& desc,
+                          const std::vector<cpu::ObjectTransform>* transforms = nullptr) {
   OcclusionBuffer buffer(meshes, desc);
   orThrow(buffer.beginFrame(cam));
-  for (std::uint32_t i = 0; i < meshes.objectCount(); ++i) buffer.drawObject(i);
+  for (std::uint32_t i = 0; i < meshes.objectCount(); ++i) {
+    if (transforms) {
+      buffer.drawObject(i, (*transforms)[i]);
+    } else {
+      buffer.drawObject(i);
+    }
+  }
   std::vector<float> keys(std::size_t(cam.width) * cam.height);
   buffer.readKeys({0, 0, std::int32_t(cam.width), std::int32_t(cam.height)}, keys.data());
   orThrow(buffer.endFrame());
@@ -157,8 +165,15 @@ struct Tally {
   std::string first;            // the first violation, described
 };
 
+enum class Motion : std::uint8_t {
+  Still,        // the scene as it is
+  Moved,        // moved, and drawn into the buffer with the transforms
+  DrawnUnmoved  // moved for the reference, but drawn into the buffer without them
+};
+
 // Renders `scenes` random scenes with the buffer and the reference and compares.
-Tally compareWithReference(int scenes, const OcclusionBufferDesc& base) {
+Tally compareWithReference(int scenes, const OcclusionBufferDesc& base,
+                           Motion motion = Motion::Still) {
   Tally tally;
   std::mt19937 rng(2024);
   for (int s = 0; s < scenes; ++s) {
@@ -166,10 +181,18 @@ Tally compareWithReference(int scenes, const OcclusionBufferDesc& base) {
     const std::uint32_t w = 45 + std::uint32_t(rng() % 40), h = 33 + std::uint32_t(rng() % 30);
     const Camera cam =
         test::randomCamera(std::uint32_t(s) * 7 + 1, w, h, c.convention, c.range, c.format);
-    const std::vector<TestMesh> scene = test::randomScene(std::uint32_t(s) + 100);
+    std::vector<TestMesh> scene = test::randomScene(std::uint32_t(s) + 100);
     OcclusionBufferDesc desc = base;
     desc.resolution = c.resolution;
-    const std::vector<float> got = render(meshesOf(scene), cam, desc);
+    std::vector<float> got;
+    if (motion == Motion::Still) {
+      got = render(meshesOf(scene), cam, desc);
+    } else {
+      test::MovedScene moved = test::moveScene(scene, rng);
+      got = render(meshesOf(moved.local), cam, desc,
+                   motion == Motion::Moved ? &moved.transforms : nullptr);
+      scene = std::move(moved.placed);
+    }
     test::SnappingRasterizer ref(cam, 4, c.snap, c.model);
     for (const TestMesh& m : scene) ref.draw(m);
     const float clear = clearKey(cam.depth);
@@ -214,6 +237,87 @@ TEST(OcclusionBufferTest, ExactDepthIsNearerThanGlMayStore) {
   const Tally t = compareWithReference(120, desc);
   EXPECT_GT(t.nearer, 0u) << "without the depth slack no pixel differed";
   std::printf("exact depth: %llu nearer: %s\n", (unsigned long long)t.nearer, t.first.c_str());
+}
+
+// Moving objects, drawn with their transforms (OcclusionBuffer::drawObject(id,
+// transform)): their vertices placed as the application draws them, every rule kept,
+// in both representations, lazily and with a worker. Drawn without their transforms
+// (where their own coordinates put them) the buffer holds keys where the reference has
+// none or farther ones: the placement is what makes it conservative.
+TEST(OcclusionBufferTest, MovedObjectsNeverNearerThanASnappingRasterizer) {
+  for (cpu::Representation r : {cpu::Representation::PerPixel, cpu::Representation::Masked}) {
+    for (std::uint32_t threads : {0u, 1u}) {
+      OcclusionBufferDesc desc;
+      desc.representation = r;
+      desc.threads = threads;
+      const Tally t = compareWithReference(threads ? 40 : 160, desc, Motion::Moved);
+      std::printf("moved, %s, %u workers: covered %llu of %llu reference pixels\n",
+                  cpu::toString(r), threads, (unsigned long long)t.covered,
+                  (unsigned long long)t.reference);
+      EXPECT_EQ(t.nearer, 0u) << cpu::toString(r) << ", " << threads << " workers: " << t.first;
+      EXPECT_GT(double(t.covered), 0.4 * double(t.reference)) << t.covered << " of " << t.reference;
+    }
+  }
+  const Tally unmoved = compareWithReference(40, {}, Motion::DrawnUnmoved);
+  EXPECT_GT(unmoved.nearer, 0u) << "drawn where their own coordinates put them, no pixel differed";
+}
+
+// A moving wall hides what is behind it where the frame draws it: a quad modelled in its
+// own y-z plane (edge-on to an eye on the z axis), turned a quarter about y to face the
+// eye and moved between the eye and a box. Drawn with that transform the box's pixels
+// all hold keys in front of the box; drawn unmoved (edge-on) the box's rectangle stays
+// clear.
+TEST(OcclusionBufferTest, AMovedWallHidesTheBoxBehindIt) {
+  const float quad[] = {0, -2, -2, 0, 2, -2, 0, 2, 2, 0, -2, 2};
+  const std::uint32_t indices[] = {0, 1, 2, 0, 2, 3};
+  OccluderMeshes meshes;
+  const std::uint32_t wall = meshes.addObject(quad, 4, indices, 6);
+  Camera cam;
+  cam.width = 64;
+  cam.height = 64;
+  for (DepthConvention convention : {DepthConvention::Standard, DepthConvention::Reversed}) {
+    cam.depth = {convention,
+                 convention == DepthConvention::Reversed ? ClipDepthRange::ZeroToOne
+                                                         : ClipDepthRange::NegativeOneToOne,
+                 DepthFormat::D24};
+    cam.view_projection = multiply(perspective(1.0, 1.0, 0.5, 100, cam.depth),
+                                   lookAt({0, 0, 10}, {0, 0, 0}, {0, 1, 0}));
+    cam.render_origin = {0, 0, 10};
+    const BoxProjection target = Projector(cam).project({{-0.5f, -0.5f, -6}, {0.5f, 0.5f, -5}});
+    ASSERT_EQ(target.cls, ProjectionClass::Inside);
+    cpu::ObjectTransform turned;  // a quarter turn about y: local x becomes -z
+    const double r[9] = {0, 0, -1, 0, 1, 0, 1, 0, 0};
+    std::copy(r, r + 9, turned.rotation);
+    turned.translation = {0.25, -0.1, 2};
+    for (bool moved : {true, false}) {
+      OcclusionBuffer buffer(meshes);
+      orThrow(buffer.beginFrame(cam));
+      if (moved) {
+        buffer.drawObject(wall, turned);
+      } else {
+        buffer.drawObject(wall);
+      }
+      AreaRequest request;
+      request.rect = target.rect;
+      AreaAnswer answer;
+      buffer.submit(&request, 1, &answer);
+      orThrow(buffer.endFrame());
+      if (moved) {
+        EXPECT_EQ(answer.depth.free_pixels, 0u) << toString(convention);
+        EXPECT_LT(answer.depth.max_key, target.occlusionThreshold()) << toString(convention);
+        EXPECT_EQ(buffer.stats().objects_moved, 1u);
+      } else {
+        EXPECT_EQ(answer.depth.free_pixels, std::uint32_t(target.rect.area()))
+            << toString(convention);
+      }
+    }
+  }
+  OcclusionBuffer buffer(meshes);
+  orThrow(buffer.beginFrame(cam));
+  cpu::ObjectTransform broken;
+  broken.translation.y = NAN;
+  test::expectError([&] { buffer.drawObject(wall, broken); }, ErrorCode::InvalidArgument,
+                    {"object 0", "not finite"});
 }
 
 // The masked representation (a mask and two keys per 8 x 4 block) under the same

@@ -7,6 +7,8 @@
 // runs this program under ThreadSanitizer, which also reports races that change none.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <random>
 
@@ -87,7 +89,13 @@ cpu::OccluderMeshes meshesOf(const std::vector<test::TestMesh>& scene) {
 TEST(Threads, OcclusionBufferWorkersAnswerAsTheLazyCaller) {
   // Three workers draw while the caller asks for areas between draws and reads the
   // whole buffer at the end, over frames of one buffer (the tiles of the frame before
-  // are cleared by the workers).
+  // are cleared by the workers). In the last frame every other object moves (turned
+  // about the y axis and lifted), handed over with its transform.
+  cpu::ObjectTransform turned;
+  const double c = std::cos(0.3), sn = std::sin(0.3);
+  const double rotation[9] = {c, 0, -sn, 0, 1, 0, sn, 0, c};
+  std::copy(rotation, rotation + 9, turned.rotation);
+  turned.translation = {0.2, 0.5, -0.1};
   for (int s = 0; s < 3; ++s) {
     const cpu::OccluderMeshes meshes = meshesOf(test::randomScene(std::uint32_t(s) + 70));
     cpu::OcclusionBufferDesc lazy;
@@ -105,7 +113,11 @@ TEST(Threads, OcclusionBufferWorkersAnswerAsTheLazyCaller) {
       for (cpu::OcclusionBuffer* b : {&reference, &threaded}) {
         orThrow(b->beginFrame(cam));
         for (std::uint32_t i = 0; i < meshes.objectCount(); ++i) {
-          b->drawObject(i);
+          if (frame == 2 && i % 2) {
+            b->drawObject(i, turned);
+          } else {
+            b->drawObject(i);
+          }
           const PixelRect corner{std::int32_t(i % 5) * 16, 8, std::int32_t(i % 5) * 16 + 24, 40};
           AreaDepth a;
           b->summarize(&corner, 1, &a);
@@ -124,6 +136,7 @@ TEST(Threads, OcclusionBufferWorkersAnswerAsTheLazyCaller) {
       }
     }
     EXPECT_GT(threaded.stats().worker_seconds, 0.0);
+    EXPECT_GT(threaded.stats().objects_moved, 0u);
   }
 }
 

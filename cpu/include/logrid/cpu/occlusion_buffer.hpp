@@ -96,6 +96,33 @@
 // the model only when the object box lies wholly beyond the near plane (it contains the
 // eye otherwise), and the fallback (or nothing) else.
 //
+// Moving objects (drawObject with an ObjectTransform): the application draws the
+// object's vertices p (the occluder meshes' coordinates, the object's own) at R p + t,
+// as MeshRenderer does (gl/mesh_renderer.hpp): R and t - render_origin rounded to float
+// once, R p + (t - render_origin) computed in float. The buffer places each vertex at
+// R p + t in double (off by 2^-53 relative, far below what follows) and bounds how far
+// GL's vertex may lie from it, per axis:
+//   * the rotation's rounding: R's elements (1 u each), three products and two sums
+//     (gamma_3 = 3 u): 4 u of sum_j |R_ij| |p_j| <= max|R| |p|_1;
+//   * the offset's rounding: u |t - render_origin| <= u |R p + t - render_origin| +
+//     u |R p|: the first part is the rounding of the same sum for a still object (the
+//     render error, projection.hpp, covers it: 17 u of its 32 are used), the second at
+//     most 1 u of max|R| |p|_1.
+// So GL's vertex lies within pad = 16 u max(1, max|R|) |p|_1 (|p|_1 bounded over the
+// object's box, the mover's box pad of samples/scene/motion.hpp; 5 u needed, the rest
+// spare) of the placed vertex on each axis, beyond the render error modelled at the
+// placed vertex. The set-up adds the pad to every vertex as the render error is added:
+// a world displacement d (|d_j| <= pad) moves clip coordinate r by at most
+// D_r = pad sum_j |M_rj| (M the view-projection), hence window x by at most
+// (D_x + |ndc_x| D_w) / (w - D_w) times half the viewport, and the key likewise (a
+// triangle with a corner where w <= D_w is left out): the coverage slack and the depth
+// margin grow by as much, and every rule above holds for the placed, padded vertices.
+// Welded vertices stay bit-identical after the placement in the buffer and in GL (the
+// same float inputs through the same transform), so shared edges stay shared. A
+// transform with a negative determinant turns the winding of a closed surface round;
+// the back-face rule follows it, and a singular one (determinant 0) rasterises every
+// triangle.
+//
 // Threads: with OcclusionBufferDesc::threads > 0, drawObject() hands the object to worker
 // threads, which set up each object and rasterise it at once into every tile it touches
 // (each tile under its own lock) while the application goes on drawing; a request (and
@@ -174,6 +201,14 @@ struct OcclusionBufferDesc {
   bool unsafe_masked_merge = false;
 };
 
+// Where the application draws a moving object ("Moving objects" above): its vertices p
+// at rotation * p + translation (rotation 3x3, column-major), in the coordinates the
+// Camera's view_projection takes. Finite; the identity is a still object.
+struct ObjectTransform {
+  double rotation[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  DVec3 translation;
+};
+
 // Returns an empty string if the descriptor is usable, else a message naming the field.
 std::string validateOcclusionBufferDesc(const OcclusionBufferDesc& desc);
 
@@ -184,6 +219,7 @@ struct OcclusionBufferStats {
   std::uint64_t objects_fallback = 0;      // models replaced by their fallback
   std::uint64_t objects_skipped = 0;       // models without a usable fallback, empty objects
   std::uint64_t objects_unselected = 0;    // left out by the occluder selection
+  std::uint64_t objects_moved = 0;         // drawObject() calls with a transform
   std::uint64_t triangles_selected = 0;    // triangles of the selected occluders
   std::uint64_t triangles_set_up = 0;      // triangles transformed and set up
   std::uint64_t triangles_rasterized = 0;  // triangle-tile pairs rasterised
@@ -218,6 +254,10 @@ class OcclusionBuffer final : public DepthSource, public KeyReader {
   // buffer). An error (InvalidArgument) for an id outside the meshes or outside a frame.
   Status tryDrawObject(std::uint32_t id);
   void drawObject(std::uint32_t id);
+  // The same for an object the application drew moved by `transform` (see "Moving
+  // objects"); also an error (InvalidArgument) for a transform that is not finite.
+  Status tryDrawObject(std::uint32_t id, const ObjectTransform& transform);
+  void drawObject(std::uint32_t id, const ObjectTransform& transform);
 
   // Synchronous: every answer is written inside submit(). Summary and Count requests
   // describe the buffer's keys (never nearer than GL's, see above).
@@ -230,6 +270,7 @@ class OcclusionBuffer final : public DepthSource, public KeyReader {
   struct Checked {};                                               // the descriptor was validated
   static Checked checkedOrThrow(const OcclusionBufferDesc& desc);  // the throwing form's check
   OcclusionBuffer(Checked, const OccluderMeshes& meshes, const OcclusionBufferDesc& desc);
+  Status drawChecked(std::uint32_t id, const ObjectTransform* transform);
 
   struct Impl;
   std::unique_ptr<Impl> impl_;
@@ -246,6 +287,9 @@ inline OcclusionBuffer::OcclusionBuffer(const OccluderMeshes& meshes,
                                         const OcclusionBufferDesc& desc)
     : OcclusionBuffer(checkedOrThrow(desc), meshes, desc) {}
 inline void OcclusionBuffer::drawObject(std::uint32_t id) { orThrow(tryDrawObject(id)); }
+inline void OcclusionBuffer::drawObject(std::uint32_t id, const ObjectTransform& transform) {
+  orThrow(tryDrawObject(id, transform));
+}
 #endif
 
 }  // namespace logrid::cpu
