@@ -23,26 +23,34 @@ H lerp(const H& a, const H& b, double t) {
           a.sz + t * (b.sz - a.sz), a.sw + t * (b.sw - a.sw)};
 }
 
-// The next float towards +infinity (-infinity) of a finite f.
-float stepUp(float f) {
-  if (f == 0) return 1e-45f;
-  std::uint32_t bits;
-  std::memcpy(&bits, &f, 4);
-  bits += f > 0 ? 1 : std::uint32_t(-1);
-  std::memcpy(&f, &bits, 4);
+std::uint32_t bitsOf(float f) {
+  std::uint32_t b;
+  std::memcpy(&b, &f, 4);
+  return b;
+}
+float fromBits(std::uint32_t b) {
+  float f;
+  std::memcpy(&f, &b, 4);
   return f;
 }
-float stepDown(float f) { return -stepUp(-f); }
 
-// The float nearest to v that is not below (above) it (v finite).
+// The float nearest to v that is not below (above) it (v finite). Without a branch: the
+// set-up rounds several bounds a triangle, and which way float(v) went is as good as
+// random, so a branch on it is mispredicted half the time. The step up from float(v) is
+// one unit in the last place on its bits (+1 for +0 and above, -1 below), and from +-0
+// the smallest subnormal.
 float floatUp(double v) {
   const float f = float(v);
-  return double(f) < v ? stepUp(f) : f;
+  const std::uint32_t b = bitsOf(f);
+  const std::uint32_t toward = 1u | std::uint32_t(std::int32_t(b) >> 31);  // +1 or -1
+  const std::uint32_t zero = 0u - std::uint32_t((b & 0x7FFFFFFFu) == 0);   // all ones if +-0
+  const std::uint32_t up = (1u & zero) | ((b + toward) & ~zero);
+  const std::uint32_t below = 0u - std::uint32_t(double(f) < v);  // all ones if f < v
+  return fromBits((up & below) | (b & ~below));
 }
-float floatDown(double v) {
-  const float f = float(v);
-  return double(f) > v ? stepDown(f) : f;
-}
+// float(-v) is -float(v) (round to nearest is symmetric), so this steps down exactly
+// where float(v) > v.
+float floatDown(double v) { return -floatUp(-v); }
 
 // floor and ceil of a double already clamped to the int range.
 std::int32_t floorInt(double v) {

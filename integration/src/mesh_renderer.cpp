@@ -213,6 +213,14 @@ void MeshRenderer::draw(ObjectId id) {
   } else if (pass_ == Pass::ObjectIds) {
     glUniform1ui(id_location_, id);
   }
+  bindTransformOf(id);
+  glDrawElementsBaseVertex(GL_TRIANGLES, GLsizei(d.index_count), index_type_,
+                           reinterpret_cast<const void*>(std::size_t(d.first_index) * index_bytes_),
+                           d.base_vertex);
+  ++draw_calls_;
+}
+
+void MeshRenderer::bindTransformOf(ObjectId id) {
   if (id < moving_.size() && moving_[id]) {
     const ObjectTransform& t = transforms_[id];
     glUniformMatrix3fv(rotation_location_, 1, GL_FALSE, t.rotation);
@@ -224,56 +232,72 @@ void MeshRenderer::draw(ObjectId id) {
   } else if (!identity_bound_) {
     bindIdentity();
   }
-  glDrawElementsBaseVertex(GL_TRIANGLES, GLsizei(d.index_count), index_type_,
-                           reinterpret_cast<const void*>(std::size_t(d.first_index) * index_bytes_),
-                           d.base_vertex);
-  ++draw_calls_;
 }
 
+namespace {
+
+bool sameTransform(const ObjectTransform& a, const ObjectTransform& b) {
+  return std::equal(a.rotation, a.rotation + 9, b.rotation) && a.translation.x == b.translation.x &&
+         a.translation.y == b.translation.y && a.translation.z == b.translation.z;
+}
+
+}  // namespace
+
 void MeshRenderer::drawBatch(const ObjectId* ids, std::size_t count) {
+  if (pass_ == Pass::ObjectIds) {  // every object its own id: one call each
+    for (std::size_t i = 0; i < count; ++i) draw(ids[i]);
+    return;
+  }
   together_.clear();
+  moved_.clear();
   for (std::size_t i = 0; i < count; ++i) {
     const ObjectId id = ids[i];
-    if (pass_ == Pass::ObjectIds || (id < moving_.size() && moving_[id])) {
-      draw(id);
-    } else {
-      together_.push_back(id);
-    }
+    (id < moving_.size() && moving_[id] ? moved_ : together_).push_back(id);
   }
-  if (together_.empty()) return;
   const bool by_color = pass_ == Pass::Shaded && !vertex_colors_;
-  // By colour where it matters, then by place in the index buffer, so that an object's
-  // clusters drawn together become one range.
+  // Without a transform: by colour where it matters, then by place in the index buffer,
+  // so that an object's clusters drawn together become one range.
   std::sort(together_.begin(), together_.end(), [&](ObjectId a, ObjectId b) {
     const RenderMesh::Draw &da = draws_[a], &db = draws_[b];
     if (by_color && da.color != db.color) return da.color < db.color;
     return da.first_index < db.first_index;
   });
-  if (!identity_bound_) bindIdentity();
-  for (std::size_t run = 0; run < together_.size();) {
-    const std::uint32_t color = draws_[together_[run]].color;
-    counts_.clear(), offsets_.clear(), base_vertices_.clear();
-    std::uint32_t next_index = 0;  // where the last range ends
-    std::size_t i = run;
-    for (; i < together_.size() && (!by_color || draws_[together_[i]].color == color); ++i) {
-      const RenderMesh::Draw& d = draws_[together_[i]];
-      if (!counts_.empty() && d.first_index == next_index &&
-          d.base_vertex == base_vertices_.back()) {
-        counts_.back() += GLsizei(d.index_count);
-      } else {
-        counts_.push_back(GLsizei(d.index_count));
-        offsets_.push_back(
-            reinterpret_cast<const void*>(std::size_t(d.first_index) * index_bytes_));
-        base_vertices_.push_back(d.base_vertex);
+  // Transformed: by id, so that the parts of one moving object (ids that follow each
+  // other, with one transform: a mover's clusters) are drawn together.
+  std::sort(moved_.begin(), moved_.end());
+  auto drawRuns = [&](const std::vector<ObjectId>& objects, auto same_call) {
+    for (std::size_t run = 0; run < objects.size();) {
+      const ObjectId first = objects[run];
+      counts_.clear(), offsets_.clear(), base_vertices_.clear();
+      std::uint32_t next_index = 0;  // where the last range ends
+      std::size_t i = run;
+      for (; i < objects.size() && (i == run || same_call(first, objects[i])); ++i) {
+        const RenderMesh::Draw& d = draws_[objects[i]];
+        if (!counts_.empty() && d.first_index == next_index &&
+            d.base_vertex == base_vertices_.back()) {
+          counts_.back() += GLsizei(d.index_count);
+        } else {
+          counts_.push_back(GLsizei(d.index_count));
+          offsets_.push_back(
+              reinterpret_cast<const void*>(std::size_t(d.first_index) * index_bytes_));
+          base_vertices_.push_back(d.base_vertex);
+        }
+        next_index = d.first_index + d.index_count;
       }
-      next_index = d.first_index + d.index_count;
+      if (by_color) setDrawColor(draws_[first].color);
+      bindTransformOf(first);
+      glMultiDrawElementsBaseVertex(GL_TRIANGLES, counts_.data(), index_type_, offsets_.data(),
+                                    GLsizei(counts_.size()), base_vertices_.data());
+      ++draw_calls_;
+      run = i;
     }
-    if (by_color) setDrawColor(color);
-    glMultiDrawElementsBaseVertex(GL_TRIANGLES, counts_.data(), index_type_, offsets_.data(),
-                                  GLsizei(counts_.size()), base_vertices_.data());
-    ++draw_calls_;
-    run = i;
-  }
+  };
+  drawRuns(together_,
+           [&](ObjectId a, ObjectId b) { return !by_color || draws_[a].color == draws_[b].color; });
+  drawRuns(moved_, [&](ObjectId a, ObjectId b) {
+    return (!by_color || draws_[a].color == draws_[b].color) &&
+           sameTransform(transforms_[a], transforms_[b]);
+  });
 }
 
 void MeshRenderer::bindIdentity() {

@@ -506,7 +506,7 @@ void FrameRunner::drawBatch(const Camera& camera, const ObjectId* ids, std::size
     facing_.clear();
     for (std::size_t i = 0; i < count; ++i) {
       const ObjectId id = ids[i];
-      if (id < scene_.static_objects && facesAway(scene_.cluster_cones[id], camera.render_origin)) {
+      if (clusterFacesAway(scene_, motion_, id, camera.render_origin)) {
         ++rec.backfacing;
       } else {
         facing_.push_back(id);

@@ -185,8 +185,10 @@ class FrameRunner {
   // for a runner with a motion hierarchy or no culler.
   void setHierarchy(const Hierarchy* hierarchy);
   const bvh::MotionHierarchy* motionHierarchy() const { return dynamic_.get(); }
-  // Every object's box in the last frame rendered (movers where they were).
+  // The last frame rendered's motion: every object's box (movers where they were) and
+  // the moving objects' transforms.
   const std::vector<Aabb>& objectBoxes() const { return motion_.boxes; }
+  const MotionFrame& motionFrame() const { return motion_; }
   // Share ID-pass results with other runners of the same frames and view.
   void shareOracle(std::shared_ptr<OracleCache> cache) { oracle_cache_ = std::move(cache); }
   // Last frame's colour image (RGBA8, bottom-up rows).

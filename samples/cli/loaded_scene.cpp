@@ -18,7 +18,7 @@ nlohmann::json LoadedScene::describe() const {
           {"scene_objects", p.mesh.draws.size()},
           {"source_objects", p.source_objects},
           {"objects", p.objectCount()},
-          {"clusters", p.clustered() ? p.static_objects : 0},
+          {"clusters", p.clustered() ? p.mesh.draws.size() : 0},
           {"cluster_ms", p.cluster_ms},
           {"hierarchy_nodes", p.hierarchy.nodes().size()},
           {"hierarchy_depth", p.hierarchy.depth()},

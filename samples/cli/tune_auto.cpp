@@ -5,8 +5,8 @@
 //   2. lookahead around the best grid setting's (K / 4 and K x 4);
 //   3. tile size (8, 16, 32, 64);
 //   4. depth reader (readpixels, pbo, reduce);
-//   5. box granularity (leaf sizes; the forest's tree parts), one scene each, runs
-//      alternating per repetition.
+//   5. box granularity (leaf sizes; the forest's tree parts; clusters of 64 and 128
+//      triangles), one scene each, runs alternating per repetition.
 // A stage is skipped where it cannot matter (no grid: no tile size; no depth read: no
 // reader). What the scene needed is read off stage 1: occlusion tests pay only if a
 // grid setting beats vfc by the margin, batching only if K > 1 beats K = 1, coherence
@@ -57,6 +57,7 @@ std::string describe(const WalkOptions& o) {
   std::string out = o.method + " tile " + std::to_string(o.tile) + " " + o.reader;
   if (o.leaf) out += " leaf " + std::to_string(o.leaf);
   if (o.tree_parts != "whole") out += " " + o.tree_parts;
+  if (o.cluster) out += " cluster " + std::to_string(o.cluster);
   return out;
 }
 
@@ -220,12 +221,19 @@ Stage lookaheadStage(const WalkOptions& best, const MethodChoice& choice) {
   return s;
 }
 
-// Leaf sizes, and for the forest its trees' trunk and crown apart.
+// Leaf sizes, for the forest its trees' trunk and crown apart, and clusters of 64 and
+// 128 triangles (clusters.hpp).
 Stage granularityStage(const WalkOptions& best, const std::string& scene) {
   Stage s = variantStage("5. box granularity", best, &WalkOptions::leaf, {1u, 4u});
   if (scene == "forest" && best.tree_parts == "whole") {
     WalkOptions g = best;
     g.tree_parts = "trunk-crown";
+    s.candidates.push_back({g});
+  }
+  for (std::uint32_t cluster : {64u, 128u}) {
+    if (cluster == best.cluster) continue;
+    WalkOptions g = best;
+    g.cluster = cluster;
     s.candidates.push_back({g});
   }
   return s;

@@ -43,6 +43,32 @@ bool sameBox(const Aabb& a, const Aabb& b) {
          a.max.y == b.max.y && a.max.z == b.max.z;
 }
 
+// The box of `b` (mesh coordinates) moved by `t`: see motion.hpp.
+Aabb movedBox(const RigidTransform& t, const Aabb& b) {
+  double lo[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+                  std::numeric_limits<double>::infinity()};
+  double hi[3] = {-lo[0], -lo[1], -lo[2]};
+  double size = 0;
+  for (int c = 0; c < 8; ++c) {
+    const double q[3] = {(c & 1) ? b.max.x : b.min.x, (c & 2) ? b.max.y : b.min.y,
+                         (c & 4) ? b.max.z : b.min.z};
+    size = std::max(size, std::fabs(q[0]) + std::fabs(q[1]) + std::fabs(q[2]));
+    for (int r = 0; r < 3; ++r) {
+      const double v = t.rotation[r] * q[0] + t.rotation[3 + r] * q[1] + t.rotation[6 + r] * q[2];
+      lo[r] = std::min(lo[r], v);
+      hi[r] = std::max(hi[r], v);
+    }
+  }
+  // The renderer's float rotation: its rounded elements and three products and sums are
+  // off by a few ulps of the local coordinates' size; 16 ulps cover them.
+  const double pad = 16 * kUlp * size;
+  const double tr[3] = {t.translation.x, t.translation.y, t.translation.z};
+  Aabb out;
+  out.min = {down(lo[0] - pad + tr[0]), down(lo[1] - pad + tr[1]), down(lo[2] - pad + tr[2])};
+  out.max = {up(hi[0] + pad + tr[0]), up(hi[1] + pad + tr[1]), up(hi[2] + pad + tr[2])};
+  return out;
+}
+
 }  // namespace
 
 void MotionPath::finish(const std::string& what) {
@@ -124,41 +150,36 @@ RigidTransform Motion::transformAt(std::size_t i, double time) const {
   return t;
 }
 
+std::uint32_t Motion::moverOf(std::size_t k) const {
+  return parts.empty() ? static_cast<std::uint32_t>(k) : parts[k].mover;
+}
+
+const Aabb& Motion::meshBoxOf(std::size_t k) const {
+  return parts.empty() ? movers[k].mesh_box : parts[k].mesh_box;
+}
+
 Aabb Motion::boxAt(std::size_t i, double time) const {
-  const RigidTransform t = transformAt(i, time);
-  const Aabb& b = movers[i].mesh_box;
-  double lo[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-                  std::numeric_limits<double>::infinity()};
-  double hi[3] = {-lo[0], -lo[1], -lo[2]};
-  double size = 0;
-  for (int c = 0; c < 8; ++c) {
-    const double q[3] = {(c & 1) ? b.max.x : b.min.x, (c & 2) ? b.max.y : b.min.y,
-                         (c & 4) ? b.max.z : b.min.z};
-    size = std::max(size, std::fabs(q[0]) + std::fabs(q[1]) + std::fabs(q[2]));
-    for (int r = 0; r < 3; ++r) {
-      const double v = t.rotation[r] * q[0] + t.rotation[3 + r] * q[1] + t.rotation[6 + r] * q[2];
-      lo[r] = std::min(lo[r], v);
-      hi[r] = std::max(hi[r], v);
-    }
-  }
-  // The renderer's float rotation: its rounded elements and three products and sums are
-  // off by a few ulps of the local coordinates' size; 16 ulps cover them.
-  const double pad = 16 * kUlp * size;
-  const double tr[3] = {t.translation.x, t.translation.y, t.translation.z};
-  Aabb out;
-  out.min = {down(lo[0] - pad + tr[0]), down(lo[1] - pad + tr[1]), down(lo[2] - pad + tr[2])};
-  out.max = {up(hi[0] + pad + tr[0]), up(hi[1] + pad + tr[1]), up(hi[2] + pad + tr[2])};
-  return out;
+  return movedBox(transformAt(i, time), movers[i].mesh_box);
+}
+
+Aabb Motion::movingBoxAt(std::size_t k, double time) const {
+  return movedBox(transformAt(moverOf(k), time), meshBoxOf(k));
 }
 
 void evaluateMotion(const Motion& motion, ObjectId first_mover, double time, MotionFrame& frame) {
   frame.time = time;
   frame.moved.clear();
-  frame.transforms.resize(motion.movers.size());
-  for (std::size_t i = 0; i < motion.movers.size(); ++i) {
-    const ObjectId id = first_mover + static_cast<ObjectId>(i);
-    frame.transforms[i] = motion.transformAt(i, time);
-    const Aabb box = motion.boxAt(i, time);
+  frame.transforms.resize(motion.movingObjects());
+  std::size_t mover = motion.movers.size();  // whose transform `t` is
+  RigidTransform t;
+  for (std::size_t k = 0; k < motion.movingObjects(); ++k) {
+    const ObjectId id = first_mover + static_cast<ObjectId>(k);
+    if (motion.moverOf(k) != mover) {  // a mover's parts follow each other: one transform
+      mover = motion.moverOf(k);
+      t = motion.transformAt(mover, time);
+    }
+    frame.transforms[k] = t;
+    const Aabb box = movedBox(t, motion.meshBoxOf(k));
     if (!sameBox(box, frame.boxes[id])) {
       frame.boxes[id] = box;
       frame.moved.push_back(id);

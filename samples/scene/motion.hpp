@@ -69,18 +69,36 @@ struct MoverSpec {
   std::uint32_t triangles = 0;
 };
 
+// Part of a mover drawn as an object of its own: with clusters (prepare.hpp) each
+// cluster of a mover's mesh is a moving object, culled on its own box, and moves with
+// its mover.
+struct MovingPart {
+  std::uint32_t mover = 0;  // into Motion::movers
+  Aabb mesh_box;            // the part's box in the mesh's own coordinates
+};
+
 struct Motion {
   std::vector<MotionPath> paths;
-  std::vector<MoverSpec> movers;  // mover i is the scene's i-th moving object
+  std::vector<MoverSpec> movers;
+  // The moving objects, in order: moving object k is parts[k], a part of mover
+  // parts[k].mover (a mover's parts one after the other). Empty: moving object k is
+  // mover k, whole.
+  std::vector<MovingPart> parts;
   // Ground height at (x, z), for paths that follow it; empty: the path's own heights.
   std::function<double(double, double)> ground;
 
   bool empty() const { return movers.empty(); }
+  std::size_t movingObjects() const { return parts.empty() ? movers.size() : parts.size(); }
+  std::uint32_t moverOf(std::size_t moving_object) const;
+  // Moving object k's box in its mesh's own coordinates (its part, or the whole mesh).
+  const Aabb& meshBoxOf(std::size_t moving_object) const;
   // Arc length travelled by mover i at `time` (stops included).
   double travelled(std::size_t mover, double time) const;
   RigidTransform transformAt(std::size_t mover, double time) const;
   // The box of mover i's mesh at `time` (see above). Conservative for the renderer.
   Aabb boxAt(std::size_t mover, double time) const;
+  // The box of moving object k (its part of its mover's mesh) at `time`, likewise.
+  Aabb movingBoxAt(std::size_t moving_object, double time) const;
 };
 
 // The state of every object at one time: what a frame hands the renderer, the
@@ -88,12 +106,12 @@ struct Motion {
 struct MotionFrame {
   double time = 0;
   std::vector<Aabb> boxes;                 // every object's box, indexed by ObjectId
-  std::vector<RigidTransform> transforms;  // per mover
+  std::vector<RigidTransform> transforms;  // per moving object (its mover's)
   std::vector<ObjectId> moved;             // objects whose box changed in the last evaluate()
 };
 
-// Sets `frame` to the state at `time`: the movers' boxes (objects first_mover + i) and
-// transforms, and `moved` to the movers whose box differs from what `frame` held.
+// Sets `frame` to the state at `time`: the moving objects' boxes (objects first_mover + k)
+// and transforms, and `moved` to those whose box differs from what `frame` held.
 // `frame.boxes` must already hold every object (static ones are left alone).
 void evaluateMotion(const Motion& motion, ObjectId first_mover, double time, MotionFrame& frame);
 

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <limits>
 #include <map>
+#include <optional>
 
 #include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
@@ -156,6 +157,19 @@ bool spansApart(const Scene& scene, std::vector<TriangleSpan> spans) {
   return true;
 }
 
+// The object's draw (the last of `draws`, its triangles in cluster order) cut into its
+// clusters' ranges.
+void cutIntoClusters(const std::vector<Cluster>& clusters,
+                     std::vector<gl::RenderMesh::Draw>& draws) {
+  gl::RenderMesh::Draw part = draws.back();
+  draws.pop_back();
+  for (const Cluster& c : clusters) {
+    part.index_count = c.triangles * 3;
+    draws.push_back(part);
+    part.first_index += part.index_count;
+  }
+}
+
 // Every object (or chunk) split into clusters, each cluster an ObjectId of its own: the
 // hierarchy over the clusters' boxes, one leaf each (args.max_leaf_size, which counts
 // objects or triangles, is about the objects the clusters replace), and one draw per
@@ -218,15 +232,7 @@ void prepareClusters(Scene& scene, std::vector<TriangleSpan> spans, const std::u
   MeshBuilder mesh(scene, out.mesh, needsWideIndices(scene, spans, nullptr));
   for (std::size_t i = 0; i < objects; ++i) {
     mesh.addObject(IotaRange{spans[i].first, spans[i].second}, color_of(i));
-    // The object's draw, cut into its clusters' ranges.
-    const gl::RenderMesh::Draw whole = out.mesh.draws.back();
-    out.mesh.draws.pop_back();
-    gl::RenderMesh::Draw part = whole;
-    for (const Cluster& c : object_clusters[i]) {
-      part.index_count = c.triangles * 3;
-      out.mesh.draws.push_back(part);
-      part.first_index += part.index_count;
-    }
+    cutIntoClusters(object_clusters[i], out.mesh.draws);
   }
   out.occluder_models.clear();
 }
@@ -302,8 +308,11 @@ void prepareObjects(Scene& scene, const bvh::BuildArgs& args, const ClusterOptio
 }
 
 // Moving objects after the static ones; objects over the same indices share a draw's
-// geometry (the movers of one shape).
-void appendMovers(const Scene& scene, PreparedScene& out) {
+// geometry (the movers of one shape). With clusters each shape is clustered once and a
+// mover is drawn as its shape's clusters, each a moving object of its own
+// (Motion::parts) with its cone in the mesh's coordinates; the clustered triangles are
+// appended to scene.indices.
+void appendMovers(Scene& scene, const ClusterOptions& clusters, PreparedScene& out) {
   out.static_objects = static_cast<std::uint32_t>(out.mesh.draws.size());
   if (scene.moving.empty()) return;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> spans;
@@ -316,15 +325,47 @@ void appendMovers(const Scene& scene, PreparedScene& out) {
     out.mesh.indices16.clear();
   }
   MeshBuilder builder(scene, out.mesh, wide);
-  std::map<std::pair<std::uint32_t, std::uint32_t>, std::size_t> shared;  // span -> draw
+  std::optional<ClusterBuilder> cluster_builder;
+  if (clusters.enabled()) {
+    cluster_builder.emplace(scene.positions.data(), scene.positions.size() / 3, clusters);
+  }
+  // A shape's draws (one, or one a cluster) and clusters (none without clusters).
+  struct Shape {
+    std::vector<gl::RenderMesh::Draw> draws;
+    std::vector<Cluster> clusters;
+  };
+  std::map<std::pair<std::uint32_t, std::uint32_t>, Shape> shapes;  // by span
+  const std::uint32_t first_object =
+      out.cluster_objects.empty() ? 0 : out.cluster_objects.back() + 1;
+  std::vector<std::uint32_t> clustered;
   for (std::size_t i = 0; i < scene.moving.size(); ++i) {
-    const auto [it, first] = shared.emplace(spans[i], out.mesh.draws.size());
+    const auto [it, first] = shapes.try_emplace(spans[i]);
+    Shape& shape = it->second;
     if (first) {
-      builder.addObject(IotaRange{spans[i].first, spans[i].second}, scene.moving[i].color);
-    } else {
-      gl::RenderMesh::Draw draw = out.mesh.draws[it->second];
+      const std::size_t draw = out.mesh.draws.size();
+      if (cluster_builder) {
+        clustered.clear();
+        const std::uint32_t* source = &scene.indices[std::size_t(spans[i].first) * 3];
+        shape.clusters = cluster_builder->build(
+            source, std::size_t(spans[i].second - spans[i].first) * 3, clustered);
+        const auto at = static_cast<std::uint32_t>(scene.indices.size() / 3);
+        scene.indices.insert(scene.indices.end(), clustered.begin(), clustered.end());
+        builder.addObject(IotaRange{at, static_cast<std::uint32_t>(scene.indices.size() / 3)}, 0);
+        cutIntoClusters(shape.clusters, out.mesh.draws);
+      } else {
+        builder.addObject(IotaRange{spans[i].first, spans[i].second}, 0);
+      }
+      shape.draws.assign(out.mesh.draws.begin() + std::ptrdiff_t(draw), out.mesh.draws.end());
+      out.mesh.draws.resize(draw);
+    }
+    for (std::size_t c = 0; c < shape.draws.size(); ++c) {
+      gl::RenderMesh::Draw draw = shape.draws[c];
       draw.color = scene.moving[i].color;
       out.mesh.draws.push_back(draw);
+      if (!cluster_builder) continue;
+      out.motion.parts.push_back({static_cast<std::uint32_t>(i), shape.clusters[c].box});
+      out.cluster_objects.push_back(first_object + static_cast<std::uint32_t>(i));
+      out.cluster_cones.push_back(shape.clusters[c].cone);
     }
   }
 }
@@ -341,7 +382,7 @@ void measureObjects(PreparedScene& out) {
   out.object_boxes.reserve(out.mesh.draws.size());
   for (std::size_t o = 0; o < out.mesh.draws.size(); ++o) {
     if (o >= out.static_objects) {  // a mover, at time 0
-      out.object_boxes.push_back(out.motion.boxAt(o - out.static_objects, 0.0));
+      out.object_boxes.push_back(out.motion.movingBoxAt(o - out.static_objects, 0.0));
       continue;
     }
     const gl::RenderMesh::Draw& d = out.mesh.draws[o];
@@ -369,16 +410,27 @@ std::size_t PreparedScene::memoryBytes() const {
 }
 
 std::uint32_t PreparedScene::objectOf(ObjectId id) const {
-  if (!clustered()) return id;
-  // Every static object has a cluster (validateScene refuses empty ones), the last the
-  // last; the movers follow.
-  const std::uint32_t static_count = cluster_objects.back() + 1;
-  return id < static_objects ? cluster_objects[id] : static_count + (id - static_objects);
+  return clustered() ? cluster_objects[id] : id;
 }
 
 std::uint32_t PreparedScene::objectCount() const {
   const auto ids = static_cast<std::uint32_t>(mesh.draws.size());
   return ids ? objectOf(ids - 1) + 1 : 0;
+}
+
+// A moving cluster's cone is in its mesh's coordinates: the eye is taken there, through
+// the inverse of the rigid transform the cluster is drawn with (the renderer's float
+// rotation turns a normal by about 1e-7 radians, far inside the cone's 0.005).
+bool clusterFacesAway(const PreparedScene& scene, const MotionFrame& motion, ObjectId id,
+                      const DVec3& eye) {
+  if (id < scene.static_objects) return facesAway(scene.cluster_cones[id], eye);
+  const RigidTransform& t = motion.transforms[id - scene.static_objects];
+  const double d[3] = {eye.x - t.translation.x, eye.y - t.translation.y, eye.z - t.translation.z};
+  const double* r = t.rotation;  // column-major: the inverse's row c is column c
+  const DVec3 local{r[0] * d[0] + r[1] * d[1] + r[2] * d[2],
+                    r[3] * d[0] + r[4] * d[1] + r[5] * d[2],
+                    r[6] * d[0] + r[7] * d[1] + r[8] * d[2]};
+  return facesAway(scene.cluster_cones[id], local);
 }
 
 bvh::BuildArgs defaultBuildArgs(const Scene& scene) {
@@ -406,8 +458,8 @@ PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args,
   } else {
     prepareObjects(scene, args, clusters, out);
   }
-  appendMovers(scene, out);
   out.motion = std::move(scene.motion);
+  appendMovers(scene, clusters, out);
   // Release the source geometry before computing the per-object boxes from the mesh.
   scene.positions = {};
   scene.indices = {};

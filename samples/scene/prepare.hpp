@@ -38,16 +38,18 @@ struct PreparedScene {
   gl::RenderMesh mesh;
   // Local, indexed by ObjectId; the movers' at time 0 (MotionFrame has them per frame).
   std::vector<Aabb> object_boxes;
-  // Objects [static_objects, static_objects + motion.movers.size()) move: mover i is
-  // object static_objects + i, drawn with its transform (mesh_renderer.hpp).
+  // Objects [static_objects, static_objects + motion.movingObjects()) move: moving
+  // object k (mover k, or with clusters a cluster of mover motion.moverOf(k)) is object
+  // static_objects + k, drawn with its mover's transform (mesh_renderer.hpp).
   std::uint32_t static_objects = 0;
   Motion motion;
   // Occluder models by ObjectId of the static objects (Scene::occluder_models; for split
   // scenes, the chunks' models from Scene::occluder_solids), empty when the scene has none.
   std::vector<OccluderModel> occluder_models;
-  // With clusters (prepareScene's ClusterOptions) every static ObjectId is a cluster:
-  // cluster_objects[id] is the object it belongs to (the chunk, for split scenes) and
-  // cluster_cones[id] its normal cone. Empty for whole objects.
+  // With clusters (prepareScene's ClusterOptions) every ObjectId is a cluster:
+  // cluster_objects[id] is the object it belongs to (the chunk, for split scenes; the
+  // movers' objects follow the static ones) and cluster_cones[id] its normal cone (a
+  // moving cluster's in its mesh's coordinates). Empty for whole objects.
   std::vector<std::uint32_t> cluster_objects;
   std::vector<ClusterCone> cluster_cones;
   // The CPU occlusion buffer's meshes, built on first use (scene/occluders.hpp).
@@ -69,12 +71,17 @@ struct PreparedScene {
   std::uint32_t objectCount() const;
 };
 
+// Whether every triangle of cluster `id` of a clustered scene faces away from `eye`
+// (facesAway, clusters.hpp), the moving clusters where `motion` has them.
+bool clusterFacesAway(const PreparedScene& scene, const MotionFrame& motion, ObjectId id,
+                      const DVec3& eye);
+
 // Consumes the scene (its arrays are released as soon as they are no longer needed).
 // Moving objects are appended after the static ones; movers of one shape share one copy
 // of its geometry.
 // args.max_leaf_size: objects per leaf for object scenes, triangles per chunk for split
-// scenes. `clusters`: whole objects (the default) or each static object split into
-// clusters (clusters.hpp; movers stay whole). Throws logrid::Error(BadInput) through
+// scenes. `clusters`: whole objects (the default) or each object split into clusters
+// (clusters.hpp; a mover's shape is clustered once). Throws logrid::Error(BadInput) through
 // validateScene for broken geometry, InvalidArgument for invalid cluster options.
 PreparedScene prepareScene(Scene&& scene, const bvh::BuildArgs& args,
                            const ClusterOptions& clusters = {});

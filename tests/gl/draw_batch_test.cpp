@@ -1,6 +1,7 @@
 // MeshRenderer::drawBatch (logrid/gl/mesh_renderer.hpp): a batch draws exactly what its
 // objects draw one call each (the same colour and depth images), in fewer calls: ranges
-// that follow each other merged, one multi-draw per colour, transformed objects apart.
+// that follow each other merged, one multi-draw per colour, transformed objects one per
+// run of the same transform and colour (a moving object's clusters).
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -105,6 +106,38 @@ TEST(DrawBatchTest, DrawsWhatItsObjectsDrawOneByOneInFewerCalls) {
   }
   EXPECT_GT(red, 100);
   EXPECT_GT(blue, 100);
+}
+
+// The clusters of a moving object share its transform: drawn together, one call per
+// transform and colour, and exactly as one by one.
+TEST(DrawBatchTest, ObjectsWithOneTransformAreDrawnTogether) {
+  LOGRID_REQUIRE_GL();
+  const gl::RenderMesh mesh = rowOfBoxes();
+  gl::MeshRenderer renderer(mesh);
+  const Camera cam = rowCamera();
+  gl::ObjectTransform turned, lifted;
+  turned.rotation[0] = turned.rotation[8] = 0.8f;  // a turn about +y (0.6, 0.8)
+  turned.rotation[2] = -0.6f, turned.rotation[6] = 0.6f;
+  turned.translation = {0.25, -0.5, 0};
+  lifted.translation = {0, 0.5, 0};
+  for (ObjectId id : {0u, 1u, 2u, 3u, 6u}) renderer.setTransform(id, turned);
+  renderer.setTransform(7, lifted);
+  const std::vector<ObjectId> batch = {7, 2, 5, 0, 6, 3, 4, 1};
+  for (gl::Pass pass : {gl::Pass::Shaded, gl::Pass::DepthOnly}) {
+    SCOPED_TRACE(int(pass));
+    const Images one_by_one = render(renderer, pass, cam, [&] {
+      for (ObjectId id : batch) renderer.draw(id);
+    });
+    const std::uint64_t before = renderer.drawCalls();
+    const Images batched =
+        render(renderer, pass, cam, [&] { renderer.drawBatch(batch.data(), batch.size()); });
+    const std::uint64_t calls = renderer.drawCalls() - before;
+    EXPECT_EQ(batched.color, one_by_one.color);
+    EXPECT_EQ(batched.depth, one_by_one.depth);
+    // Shaded: 4 and 5 (red, no transform) one call; turned: 0-3 (red) one, 6 (blue)
+    // another; 7 lifted. Depth only: 4-5; 0-3 and 6; 7.
+    EXPECT_EQ(calls, pass == gl::Pass::Shaded ? 4u : 3u);
+  }
 }
 
 TEST(DrawBatchTest, TheIdPassDrawsEachObjectWithItsOwnId) {

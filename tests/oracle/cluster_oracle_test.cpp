@@ -5,7 +5,8 @@
 //
 //   ClusterWalk   forest, city, office and a model file; both depth conventions;
 //                 log-state, log-zfar, a lookahead with temporal coherence, a query
-//                 schedule (chc), the cpu reader, and movers (whole) beside clusters.
+//                 schedule (chc), the cpu reader, back-face cluster culling, and
+//                 movers, clustered, their clusters moving with them.
 //   ClusterObjects  the objects the visible clusters belong to are the object-level
 //                 oracle's visible objects, frame by frame (the same triangles drawn).
 #include <gtest/gtest.h>
@@ -83,12 +84,28 @@ std::vector<OracleCase> clusterCases() {
     c.expect_backfacing = true;
     out.push_back(c);
   }
-  // Movers stay whole beside the static clusters (a motion hierarchy over both).
+  // Movers clustered beside the static clusters, their clusters moving with them (a
+  // motion hierarchy over both); with the cpu reader, whose buffer draws them where
+  // they are; in the city with the clusters facing away skipped.
   OracleCase moving =
       clusterCase("forest", 64, choice(Method::LogState), C::Standard, F::D32F, "movers");
   moving.scene.movers = 12;
   moving.time_step = 1.5;
   out.push_back(moving);
+  OracleCase moving_cpu =
+      clusterCase("forest", 64, choice(Method::LogZfar), C::Reversed, F::D24, "movers_cpu");
+  moving_cpu.scene.movers = 12;
+  moving_cpu.time_step = 1.5;
+  moving_cpu.reader = "cpu";  // the buffer draws each moving cluster where it is
+  out.push_back(moving_cpu);
+  OracleCase moving_backfaces =
+      clusterCase("city", 64, choice(Method::LogZfar), C::Reversed, F::D24, "movers_backfaces");
+  moving_backfaces.scene.movers = 200;
+  moving_backfaces.time_step = 1.5;
+  moving_backfaces.view.cull_back_faces = true;
+  moving_backfaces.adjust = [](RunConfig& config) { config.backface_clusters = true; };
+  moving_backfaces.expect_backfacing = true;
+  out.push_back(moving_backfaces);
   return out;
 }
 
@@ -139,6 +156,7 @@ TEST(ClusterObjects, TheVisibleClustersObjectsAreTheObjectOraclesObjects) {
 // draws what the ID pass saw), with back faces culled or not.
 struct Facing {
   std::uint64_t visible = 0, facing_away = 0;
+  std::uint64_t moving_visible = 0;  // of them, clusters of movers
 };
 Facing visibleFacingAway(LoadedScene& scene, bool cull, std::size_t frames) {
   View view;
@@ -153,26 +171,31 @@ Facing visibleFacingAway(LoadedScene& scene, bool cull, std::size_t frames) {
     runner.renderFrame(f);
     const DVec3 eye = runner.cameraFor(f).render_origin;
     for (ObjectId id : runner.drawnObjects()) {
-      if (id >= scene.prepared.static_objects) continue;
-      out.facing_away += samples::facesAway(scene.prepared.cluster_cones[id], eye);
+      out.facing_away += samples::clusterFacesAway(scene.prepared, runner.motionFrame(), id, eye);
       ++out.visible;
+      out.moving_visible += id >= scene.prepared.static_objects;
     }
   }
   return out;
 }
 
 // The cone test against GL itself: where back faces are culled no visible cluster is
-// said to face away, on the scenes and on an open surface seen from behind.
+// said to face away, on the scenes (the city's vehicles' clusters turned and moved with
+// them) and on an open surface seen from behind.
 TEST(ClusterBackfaces, NoVisibleClusterFacesAwayWhereGlCullsBackFaces) {
   LOGRID_REQUIRE_GL();
-  for (const char* name : {"forest", "city", "office"}) {
-    SceneKey key = sceneKey(name);
+  for (const auto& [name, movers] : {std::pair{"forest", 0u}, {"city", 200u}, {"office", 0u}}) {
+    SceneKey key = sceneKey(name, movers);
     key.cluster = 64;
     const Facing f = visibleFacingAway(loadScene(key), true, 8);
-    std::printf("[ oracle ] %s, back faces culled: %llu of %llu visible clusters face away\n", name,
-                (unsigned long long)f.facing_away, (unsigned long long)f.visible);
+    std::printf(
+        "[ oracle ] %s, back faces culled: %llu of %llu visible clusters (%llu moving) face "
+        "away\n",
+        name, (unsigned long long)f.facing_away, (unsigned long long)f.visible,
+        (unsigned long long)f.moving_visible);
     EXPECT_EQ(f.facing_away, 0u) << name;
     EXPECT_GT(f.visible, 0u) << name;
+    if (movers) EXPECT_GT(f.moving_visible, 0u) << name << ": no mover seen; the check tests none";
   }
 }
 

@@ -98,8 +98,8 @@ TEST(Clusters, AClusteredSceneDrawsTheWholeScenesTrianglesOneIdPerCluster) {
     EXPECT_EQ(clustered.triangles, whole.triangles);
     EXPECT_EQ(clustered.objectCount(), whole.objectCount());
     EXPECT_GT(clustered.static_objects, whole.static_objects);
-    ASSERT_EQ(clustered.cluster_objects.size(), clustered.static_objects);
-    EXPECT_EQ(clustered.cluster_cones.size(), clustered.static_objects);
+    ASSERT_EQ(clustered.cluster_objects.size(), clustered.mesh.draws.size());
+    EXPECT_EQ(clustered.cluster_cones.size(), clustered.mesh.draws.size());
     // The hierarchy holds every cluster once, one a leaf.
     std::vector<int> seen(clustered.static_objects, 0);
     for (NodeId n = 0; n < clustered.hierarchy.nodes().size(); ++n) {
@@ -110,7 +110,7 @@ TEST(Clusters, AClusteredSceneDrawsTheWholeScenesTrianglesOneIdPerCluster) {
     EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), std::ptrdiff_t(seen.size()));
 
     // Each object's clusters: consecutive ids and index ranges over its vertices, inside
-    // its box, adding up to its triangles; the movers stay whole, after them.
+    // its box, adding up to its triangles; the movers' after them.
     std::vector<std::uint32_t> triangles(whole.objectCount(), 0);
     std::vector<Aabb> boxes(whole.objectCount(), emptyBox());
     for (ObjectId id = 0; id < clustered.mesh.draws.size(); ++id) {
@@ -131,11 +131,73 @@ TEST(Clusters, AClusteredSceneDrawsTheWholeScenesTrianglesOneIdPerCluster) {
       EXPECT_EQ(triangles[o], whole.mesh.draws[o].index_count / 3) << "object " << o;
       EXPECT_TRUE(contains(whole.object_boxes[o], boxes[o])) << "object " << o;
     }
+    // Each mover is clustered too: its clusters are moving objects (Motion::parts) that
+    // move with it, each in its part of the mover's mesh box.
     const std::uint32_t movers = whole.objectCount() - whole.static_objects;
-    EXPECT_EQ(clustered.mesh.draws.size() - clustered.static_objects, movers);
+    const std::size_t moving = clustered.mesh.draws.size() - clustered.static_objects;
+    EXPECT_GT(moving, movers);
+    ASSERT_EQ(clustered.motion.movingObjects(), moving);
+    const std::uint32_t first_mover = whole.static_objects;  // its object number
+    for (std::size_t k = 0; k < moving; ++k) {
+      const ObjectId id = clustered.static_objects + ObjectId(k);
+      const std::uint32_t mover = clustered.motion.moverOf(k);
+      EXPECT_EQ(clustered.objectOf(id), first_mover + mover) << "moving object " << k;
+      EXPECT_TRUE(contains(clustered.motion.movers[mover].mesh_box, clustered.motion.meshBoxOf(k)));
+    }
     EXPECT_EQ(clustered.objectOf(ObjectId(clustered.mesh.draws.size() - 1)),
               whole.objectCount() - 1);
   }
+}
+
+// A moving cluster faces away where its triangles, turned and moved as the renderer
+// draws them at that time, all face away from the eye: checked from eyes all around the
+// city's vehicles at several times (and the test must fire for some).
+TEST(Clusters, AMovingClusterFacesAwayOnlyWhereItsMovedTrianglesDo) {
+  Scene city = makeCity({0.01, 1});
+  addMovers(city, 6, 3);
+  ClusterOptions options;
+  options.triangles = 16;
+  const PreparedScene p = prepareScene(std::move(city), defaultBuildArgs(city), options);
+  const gl::RenderMesh& mesh = p.mesh;
+  auto vertex = [&](const gl::RenderMesh::Draw& d, std::uint32_t i, const RigidTransform& t) {
+    const std::uint32_t local = mesh.indices16.empty() ? mesh.indices32[i] : mesh.indices16[i];
+    const float* q = &mesh.positions[(std::size_t(d.base_vertex) + local) * 3];
+    const double* r = t.rotation;
+    return DVec3{r[0] * q[0] + r[3] * q[1] + r[6] * q[2] + t.translation.x,
+                 r[1] * q[0] + r[4] * q[1] + r[7] * q[2] + t.translation.y,
+                 r[2] * q[0] + r[5] * q[1] + r[8] * q[2] + t.translation.z};
+  };
+  auto sub = [](const DVec3& a, const DVec3& b) { return DVec3{a.x - b.x, a.y - b.y, a.z - b.z}; };
+  std::size_t away = 0, checked = 0;
+  MotionFrame frame;
+  frame.boxes = p.object_boxes;
+  for (double time : {0.0, 7.5, 31.0}) {
+    evaluateMotion(p.motion, p.static_objects, time, frame);
+    for (ObjectId id = p.static_objects; id < mesh.draws.size(); ++id) {
+      const Aabb& b = frame.boxes[id];
+      const DVec3 centre{(double(b.min.x) + b.max.x) / 2, (double(b.min.y) + b.max.y) / 2,
+                         (double(b.min.z) + b.max.z) / 2};
+      const RigidTransform& t = frame.transforms[id - p.static_objects];
+      const gl::RenderMesh::Draw& d = mesh.draws[id];
+      for (int e = 0; e < 26; ++e) {       // the 26 directions of a cube's faces, edges, corners
+        const int k = e < 13 ? e : e + 1;  // 13 is the centre
+        const int dx = k % 3 - 1, dy = k / 3 % 3 - 1, dz = k / 9 - 1;
+        const DVec3 eye{centre.x + 40.0 * dx, centre.y + 40.0 * dy, centre.z + 40.0 * dz};
+        ++checked;
+        if (!clusterFacesAway(p, frame, id, eye)) continue;
+        ++away;
+        for (std::uint32_t i = d.first_index; i < d.first_index + d.index_count; i += 3) {
+          const DVec3 a = vertex(d, i, t), b1 = vertex(d, i + 1, t), c = vertex(d, i + 2, t);
+          const DVec3 u = sub(b1, a), v = sub(c, a), w = sub(eye, a);
+          const DVec3 n{u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z, u.x * v.y - u.y * v.x};
+          ASSERT_LT(n.x * w.x + n.y * w.y + n.z * w.z, 0.0)
+              << "moving object " << id - p.static_objects << " at time " << time
+              << ": a triangle faces the eye";
+        }
+      }
+    }
+  }
+  EXPECT_GT(away, 0u) << "no moving cluster ever faced away of " << checked;
 }
 
 TEST(Clusters, OptionsOutsideMeshoptimizersLimitsAreRefusedByName) {

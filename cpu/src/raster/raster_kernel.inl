@@ -32,27 +32,27 @@ float blockMax(const RasterTarget& tg, int xa, int xb, int ya, int yb) {
   return L::hmax(m);
 }
 
-// One row of lanes of a triangle: which samples it claims (`cand` holds the lanes that
-// pass every edge's `lo`) and the key bound of each. Samples within the slack of a shared
-// edge are claimed if the neighbour's other edges pass too (the union of both is then
-// surely covered), with the key raised by what the neighbour's plane may add there.
-// e[k] are the edge values at the row's samples, px their x relative to t's reference.
+// Forced inlining for the per-row fast path below (the compilers otherwise call it once
+// per row of eight samples).
+#ifndef LOGRID_RASTER_INLINE
+#if defined(__GNUC__) || defined(__clang__)
+#define LOGRID_RASTER_INLINE inline __attribute__((always_inline))
+#else
+#define LOGRID_RASTER_INLINE inline
+#endif
+#endif
+
+// The samples of a row in the band of a shared edge (`band`: candidates not inside every
+// edge by its `hi`): claimed if the neighbour's other edges pass too (the union of both
+// is then surely covered), with the key raised by what the neighbour's plane may add
+// there. Returns `cover` with the band's claimed samples added; adds to `sample_key`.
 template <class L>
-typename L::M claimRow(const RasterTriangle* tris, const RasterTriangle& t, const RasterTarget& tg,
-                       int x, int y, typename L::M columns, const typename L::F* e,
-                       const typename L::F* lo, const typename L::F* hi, typename L::F key,
-                       typename L::F& sample_key) {
+typename L::M claimBand(const RasterTriangle* tris, const RasterTriangle& t, const RasterTarget& tg,
+                        int x, int y, typename L::M columns, const typename L::F* e,
+                        const typename L::F* hi, typename L::M cover, typename L::M band,
+                        typename L::F& sample_key) {
   using F = typename L::F;
   using M = typename L::M;
-  M cand = columns;
-  for (int k = 0; k < kTriangleEdges; ++k) cand = L::and_(cand, L::gt(e[k], lo[k]));
-  sample_key = key;
-  if (!L::any(cand)) return cand;
-  M inside = L::gt(e[0], hi[0]);
-  for (int k = 1; k < kTriangleEdges; ++k) inside = L::and_(inside, L::gt(e[k], hi[k]));
-  M cover = L::and_(cand, inside);
-  const M band = L::andNot(cand, inside);
-  if (!L::any(band)) return cover;
   const F zero = L::set1(0.0f);
   const F lane_offset = L::mul(L::iota(), L::set1(tg.scale));
   M ok = band;
@@ -75,6 +75,29 @@ typename L::M claimRow(const RasterTriangle* tris, const RasterTriangle& t, cons
   }
   sample_key = L::add(sample_key, extra);
   return L::or_(cover, ok);
+}
+
+// One row of lanes of a triangle: which samples it claims (`cand` holds the lanes that
+// pass every edge's `lo`) and the key bound of each. Samples within the slack of a shared
+// edge go to claimBand. e[k] are the edge values at the row's samples, px their x
+// relative to t's reference. Inlined: most rows end before the band.
+template <class L>
+LOGRID_RASTER_INLINE typename L::M claimRow(const RasterTriangle* tris, const RasterTriangle& t,
+                                            const RasterTarget& tg, int x, int y,
+                                            typename L::M columns, const typename L::F* e,
+                                            const typename L::F* lo, const typename L::F* hi,
+                                            typename L::F key, typename L::F& sample_key) {
+  using M = typename L::M;
+  M cand = columns;
+  for (int k = 0; k < kTriangleEdges; ++k) cand = L::and_(cand, L::gt(e[k], lo[k]));
+  sample_key = key;
+  if (!L::any(cand)) return cand;
+  M inside = L::gt(e[0], hi[0]);
+  for (int k = 1; k < kTriangleEdges; ++k) inside = L::and_(inside, L::gt(e[k], hi[k]));
+  M cover = L::and_(cand, inside);
+  const M band = L::andNot(cand, inside);
+  if (!L::any(band)) return cover;
+  return claimBand<L>(tris, t, tg, x, y, columns, e, hi, cover, band, sample_key);
 }
 
 // A block of samples [xa, xb) x [ya, yb) of a triangle, every test per sample, going

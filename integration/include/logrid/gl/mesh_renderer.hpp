@@ -92,8 +92,10 @@ class MeshRenderer {
   // without a transform in one glMultiDrawElementsBaseVertex per colour (one in all
   // where the mesh has colours per vertex, and in the depth-only pass), ranges that
   // follow each other in the index buffer over the same vertices (the clusters of an
-  // object) merged into one; transformed objects one call each, and in the object-ID
-  // pass every object (its id is a uniform). The objects are drawn in another order.
+  // object) merged into one; transformed objects likewise, one call per run of ids that
+  // follow each other with the same transform and colour (the clusters of a moving
+  // object); in the object-ID pass every object one call (its id is a uniform). The
+  // objects are drawn in another order.
   void drawBatch(const ObjectId* ids, std::size_t count);
   void end();
   // Draw calls made so far (a frame's: the difference across it).
@@ -112,6 +114,7 @@ class MeshRenderer {
   explicit MeshRenderer(Empty);  // nothing uploaded: upload() does
   Status upload(const RenderMesh& mesh);
   void bindIdentity();
+  void bindTransformOf(ObjectId id);  // its transform, or the identity
   struct Programs;
   std::unique_ptr<Programs> programs_;
   std::vector<RenderMesh::Draw> draws_;
@@ -133,8 +136,10 @@ class MeshRenderer {
   std::vector<std::uint8_t> moving_;
   std::uint64_t draw_calls_ = 0;
   bool cull_back_faces_ = false;
-  // drawBatch()'s scratch: the objects it draws together, and the ranges of one call.
+  // drawBatch()'s scratch: the objects it draws together (without and with a
+  // transform), and the ranges of one call.
   std::vector<ObjectId> together_;
+  std::vector<ObjectId> moved_;
   std::vector<std::int32_t> counts_;
   std::vector<const void*> offsets_;
   std::vector<std::int32_t> base_vertices_;
