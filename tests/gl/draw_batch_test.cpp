@@ -70,6 +70,23 @@ Images render(gl::MeshRenderer& renderer, gl::Pass pass, const Camera& cam, Draw
   return {fb.readColor(), fb.readDepth()};
 }
 
+// Draws `batch` with drawBatch and one by one, checks that both give the same colour and
+// depth images, and returns drawBatch's calls.
+std::uint64_t batchedCalls(gl::MeshRenderer& renderer, gl::Pass pass, const Camera& cam,
+                           const std::vector<ObjectId>& batch) {
+  SCOPED_TRACE(int(pass));
+  const Images one_by_one = render(renderer, pass, cam, [&] {
+    for (ObjectId id : batch) renderer.draw(id);
+  });
+  const std::uint64_t before = renderer.drawCalls();
+  const Images batched =
+      render(renderer, pass, cam, [&] { renderer.drawBatch(batch.data(), batch.size()); });
+  const std::uint64_t calls = renderer.drawCalls() - before;
+  EXPECT_EQ(batched.color, one_by_one.color);
+  EXPECT_EQ(batched.depth, one_by_one.depth);
+  return calls;
+}
+
 TEST(DrawBatchTest, DrawsWhatItsObjectsDrawOneByOneInFewerCalls) {
   LOGRID_REQUIRE_GL();
   const gl::RenderMesh mesh = rowOfBoxes();
@@ -81,21 +98,10 @@ TEST(DrawBatchTest, DrawsWhatItsObjectsDrawOneByOneInFewerCalls) {
   lifted.translation = {0, 0.5, 0};
   renderer.setTransform(4, lifted);
 
-  for (gl::Pass pass : {gl::Pass::Shaded, gl::Pass::DepthOnly}) {
-    SCOPED_TRACE(int(pass));
-    const Images one_by_one = render(renderer, pass, cam, [&] {
-      for (ObjectId id : batch) renderer.draw(id);
-    });
-    const std::uint64_t before = renderer.drawCalls();
-    const Images batched =
-        render(renderer, pass, cam, [&] { renderer.drawBatch(batch.data(), batch.size()); });
-    const std::uint64_t calls = renderer.drawCalls() - before;
-    EXPECT_EQ(batched.color, one_by_one.color);
-    EXPECT_EQ(batched.depth, one_by_one.depth);
-    // Shaded: object 4 alone (transformed); red: the clusters 0-3 one range, 5 another,
-    // in one call; blue: one call. Depth only: colours do not matter, one call.
-    EXPECT_EQ(calls, pass == gl::Pass::Shaded ? 3u : 2u);
-  }
+  // Shaded: object 4 alone (transformed); red: the clusters 0-3 one range, 5 another,
+  // in one call; blue: one call. Depth only: colours do not matter, one call.
+  EXPECT_EQ(batchedCalls(renderer, gl::Pass::Shaded, cam, batch), 3u);
+  EXPECT_EQ(batchedCalls(renderer, gl::Pass::DepthOnly, cam, batch), 2u);
   // Something was drawn at all, and both colours show.
   const Images shaded = render(renderer, gl::Pass::Shaded, cam,
                                [&] { renderer.drawBatch(batch.data(), batch.size()); });
@@ -123,21 +129,10 @@ TEST(DrawBatchTest, ObjectsWithOneTransformAreDrawnTogether) {
   for (ObjectId id : {0u, 1u, 2u, 3u, 6u}) renderer.setTransform(id, turned);
   renderer.setTransform(7, lifted);
   const std::vector<ObjectId> batch = {7, 2, 5, 0, 6, 3, 4, 1};
-  for (gl::Pass pass : {gl::Pass::Shaded, gl::Pass::DepthOnly}) {
-    SCOPED_TRACE(int(pass));
-    const Images one_by_one = render(renderer, pass, cam, [&] {
-      for (ObjectId id : batch) renderer.draw(id);
-    });
-    const std::uint64_t before = renderer.drawCalls();
-    const Images batched =
-        render(renderer, pass, cam, [&] { renderer.drawBatch(batch.data(), batch.size()); });
-    const std::uint64_t calls = renderer.drawCalls() - before;
-    EXPECT_EQ(batched.color, one_by_one.color);
-    EXPECT_EQ(batched.depth, one_by_one.depth);
-    // Shaded: 4 and 5 (red, no transform) one call; turned: 0-3 (red) one, 6 (blue)
-    // another; 7 lifted. Depth only: 4-5; 0-3 and 6; 7.
-    EXPECT_EQ(calls, pass == gl::Pass::Shaded ? 4u : 3u);
-  }
+  // Shaded: 4 and 5 (red, no transform) one call; turned: 0-3 (red) one, 6 (blue)
+  // another; 7 lifted. Depth only: 4-5; 0-3 and 6; 7.
+  EXPECT_EQ(batchedCalls(renderer, gl::Pass::Shaded, cam, batch), 4u);
+  EXPECT_EQ(batchedCalls(renderer, gl::Pass::DepthOnly, cam, batch), 3u);
 }
 
 TEST(DrawBatchTest, TheIdPassDrawsEachObjectWithItsOwnId) {

@@ -195,7 +195,9 @@ TEST(ClusterBackfaces, NoVisibleClusterFacesAwayWhereGlCullsBackFaces) {
         (unsigned long long)f.moving_visible);
     EXPECT_EQ(f.facing_away, 0u) << name;
     EXPECT_GT(f.visible, 0u) << name;
-    if (movers) EXPECT_GT(f.moving_visible, 0u) << name << ": no mover seen; the check tests none";
+    if (movers) {
+      EXPECT_GT(f.moving_visible, 0u) << name << ": no mover seen; the check tests none";
+    }
   }
 }
 
