@@ -47,20 +47,27 @@ void grow(Aabb& a, const float* p) {
   a.max.y = std::max(a.max.y, p[1]), a.max.z = std::max(a.max.z, p[2]);
 }
 
-// Phase 1: partition `order` in place by recursive object-median splits. The shape of
+// A primitive's centroid beside its number, so that the partition below compares and
+// moves contiguous memory (with numbers into a separate centroid array, every
+// comparison was a cache miss at the city's 35 million triangles).
+struct Item {
+  float centroid[3];
+  std::uint32_t id;
+};
+
+// Phase 1: partition `items` in place by recursive object-median splits. The shape of
 // the split tree depends only on the counts (left half = count / 2), so the layout phase
 // can recompute it without recording anything.
 class Partitioner {
  public:
-  Partitioner(const std::vector<float>& centroids, std::vector<std::uint32_t>& order,
-              std::uint32_t leaf_size, unsigned parallel_depth)
-      : centroids_(centroids), order_(order), leaf_(leaf_size), parallel_depth_(parallel_depth) {}
+  Partitioner(std::vector<Item>& items, std::uint32_t leaf_size, unsigned parallel_depth)
+      : items_(items), leaf_(leaf_size), parallel_depth_(parallel_depth) {}
 
   void run(std::size_t begin, std::size_t end, unsigned depth) {
     if (end - begin <= leaf_) return;
     float lo[3] = {kInf, kInf, kInf}, hi[3] = {-kInf, -kInf, -kInf};
     for (std::size_t i = begin; i < end; ++i) {
-      const float* c = &centroids_[std::size_t(order_[i]) * 3];
+      const float* c = items_[i].centroid;
       for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], c[a]), hi[a] = std::max(hi[a], c[a]);
     }
     int axis = 0;
@@ -68,14 +75,11 @@ class Partitioner {
       if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
     }
     const std::size_t mid = begin + (end - begin) / 2;
-    const float* cs = centroids_.data();
-    // Ties broken by index: deterministic whatever the standard library's nth_element.
-    std::nth_element(order_.begin() + std::ptrdiff_t(begin), order_.begin() + std::ptrdiff_t(mid),
-                     order_.begin() + std::ptrdiff_t(end),
-                     [cs, axis](std::uint32_t a, std::uint32_t b) {
-                       const float ka = cs[std::size_t(a) * 3 + std::size_t(axis)];
-                       const float kb = cs[std::size_t(b) * 3 + std::size_t(axis)];
-                       return ka < kb || (ka == kb && a < b);
+    // Ties broken by number: deterministic whatever the standard library's nth_element.
+    std::nth_element(items_.begin() + std::ptrdiff_t(begin), items_.begin() + std::ptrdiff_t(mid),
+                     items_.begin() + std::ptrdiff_t(end), [axis](const Item& a, const Item& b) {
+                       const float ka = a.centroid[axis], kb = b.centroid[axis];
+                       return ka < kb || (ka == kb && a.id < b.id);
                      });
     if (depth < parallel_depth_ && end - begin > 100000) {
       auto left = std::async(std::launch::async, [&] { run(begin, mid, depth + 1); });
@@ -88,8 +92,7 @@ class Partitioner {
   }
 
  private:
-  const std::vector<float>& centroids_;
-  std::vector<std::uint32_t>& order_;
+  std::vector<Item>& items_;
   std::uint32_t leaf_;
   unsigned parallel_depth_;
 };
@@ -153,6 +156,16 @@ unsigned parallelDepth(const BuildArgs& args) {
   unsigned depth = 0;
   while ((1u << depth) < threads) ++depth;
   return depth;
+}
+
+// The primitives' numbers in the order of the partitioned items; `items` is spent.
+std::vector<std::uint32_t> partitionedOrder(std::vector<Item>& items, const BuildArgs& args) {
+  Partitioner(items, args.max_leaf_size, parallelDepth(args)).run(0, items.size(), 0);
+  std::vector<std::uint32_t> order;
+  order.reserve(items.size());
+  for (const Item& item : items) order.push_back(item.id);
+  items = {};
+  return order;
 }
 
 // Phase 3: boxes bottom-up; children have larger indices than parents.
@@ -287,17 +300,16 @@ Result<FlatHierarchy> tryBuildOverBoxes(const std::vector<Aabb>& boxes, const Bu
   if (boxes.size() >= std::numeric_limits<std::uint32_t>::max()) {
     return Status(ErrorCode::BadInput, "bvh: too many objects (at most 2^32 - 2)");
   }
-  std::vector<float> centroids(boxes.size() * 3);
+  std::vector<Item> items;
+  items.reserve(boxes.size());
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     const Aabb& b = boxes[i];
     if (Status s = checkBox("bvh", i, b); !s) return s;
-    centroids[i * 3 + 0] = 0.5f * b.min.x + 0.5f * b.max.x;
-    centroids[i * 3 + 1] = 0.5f * b.min.y + 0.5f * b.max.y;
-    centroids[i * 3 + 2] = 0.5f * b.min.z + 0.5f * b.max.z;
+    items.push_back({{0.5f * b.min.x + 0.5f * b.max.x, 0.5f * b.min.y + 0.5f * b.max.y,
+                      0.5f * b.min.z + 0.5f * b.max.z},
+                     static_cast<std::uint32_t>(i)});
   }
-  std::vector<std::uint32_t> order(boxes.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<std::uint32_t>(i);
-  Partitioner(centroids, order, args.max_leaf_size, parallelDepth(args)).run(0, order.size(), 0);
+  const std::vector<std::uint32_t> order = partitionedOrder(items, args);
 
   Layout layout = layOut(boxes.size(), args.max_leaf_size, args.max_children);
   FlatHierarchy h;
@@ -342,7 +354,8 @@ Result<TriangleHierarchy> tryBuildOverTriangles(const std::vector<float>& positi
       return Status(ErrorCode::BadInput, out.str());
     }
   }
-  std::vector<float> centroids(triangles * 3);
+  std::vector<Item> items;
+  items.reserve(triangles);
   for (std::size_t t = 0; t < triangles; ++t) {
     for (int k = 0; k < 3; ++k) {
       if (indices[t * 3 + std::size_t(k)] >= vertices) {
@@ -355,12 +368,11 @@ Result<TriangleHierarchy> tryBuildOverTriangles(const std::vector<float>& positi
     const float* a = &positions[std::size_t(indices[t * 3 + 0]) * 3];
     const float* b = &positions[std::size_t(indices[t * 3 + 1]) * 3];
     const float* c = &positions[std::size_t(indices[t * 3 + 2]) * 3];
-    for (int k = 0; k < 3; ++k) centroids[t * 3 + std::size_t(k)] = (a[k] + b[k] + c[k]) / 3.0f;
+    items.push_back(
+        {{(a[0] + b[0] + c[0]) / 3.0f, (a[1] + b[1] + c[1]) / 3.0f, (a[2] + b[2] + c[2]) / 3.0f},
+         static_cast<std::uint32_t>(t)});
   }
-  std::vector<std::uint32_t> order(triangles);
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<std::uint32_t>(i);
-  Partitioner(centroids, order, args.max_leaf_size, parallelDepth(args)).run(0, order.size(), 0);
-  centroids = {};
+  std::vector<std::uint32_t> order = partitionedOrder(items, args);
 
   Layout layout = layOut(triangles, args.max_leaf_size, args.max_children);
   TriangleHierarchy out;

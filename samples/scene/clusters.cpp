@@ -3,8 +3,12 @@
 #include <meshoptimizer.h>
 
 #include <algorithm>
+#include <atomic>
+#include <cassert>
 #include <cmath>
+#include <exception>
 #include <limits>
+#include <thread>
 
 #include "logrid/error.hpp"
 #include "scene/scene.hpp"
@@ -103,71 +107,165 @@ std::string validateClusterOptions(const ClusterOptions& o) {
   if (!(o.cone_weight >= 0 && o.cone_weight <= 1)) {
     return "cluster cone weight " + std::to_string(o.cone_weight) + " is invalid; use 0 to 1";
   }
+  if (o.threads > 1024) {
+    return "cluster threads " + std::to_string(o.threads) +
+           " is out of range; use 0 (one per hardware thread) up to 1024";
+  }
   return {};
 }
 
 ClusterBuilder::ClusterBuilder(const float* positions, std::size_t vertex_count,
                                const ClusterOptions& options)
-    : positions_(positions), options_(options), local_of_(vertex_count, kNone) {}
+    : positions_(positions), vertex_count_(vertex_count), options_(options) {}
 
-std::vector<Cluster> ClusterBuilder::build(const std::uint32_t* indices, std::size_t index_count,
-                                           std::vector<std::uint32_t>& out) {
-  // The object's own vertices, numbered from 0, so that meshoptimizer's work (and its
-  // per-vertex arrays) is the object's size.
+ClusterBuilder::~ClusterBuilder() = default;
+
+void ClusterBuilder::localize(const std::uint32_t* indices, std::size_t index_count) {
+  // A hash table of at least twice the object's indices (so at most half full): the
+  // object's size, where an array over the scene's vertices would be the scene's, for
+  // every thread.
+  std::size_t slots = 16;
+  int bits = 4;
+  while (slots < 2 * index_count) slots *= 2, ++bits;
+  if (slot_vertex_.size() < slots) {
+    slot_vertex_.assign(slots, kNone);
+    slot_local_.resize(slots);
+  }
+  const std::size_t mask = slots - 1;
+  const auto slotOf = [&](std::uint32_t v) {
+    // Fibonacci hashing: the top bits of v times 2^64 / golden ratio.
+    std::size_t s = std::size_t((std::uint64_t(v) * 0x9E3779B97F4A7C15ull) >> (64 - bits));
+    while (slot_vertex_[s] != kNone && slot_vertex_[s] != v) s = (s + 1) & mask;
+    return s;
+  };
   global_of_.clear();
   local_positions_.clear();
   local_indices_.resize(index_count);
   for (std::size_t i = 0; i < index_count; ++i) {
     const std::uint32_t v = indices[i];
-    if (local_of_[v] == kNone) {
-      local_of_[v] = static_cast<std::uint32_t>(global_of_.size());
+    assert(v < vertex_count_ && "ClusterBuilder::build: an index past the vertices");
+    const std::size_t s = slotOf(v);
+    if (slot_vertex_[s] == kNone) {
+      slot_vertex_[s] = v;
+      slot_local_[s] = static_cast<std::uint32_t>(global_of_.size());
       global_of_.push_back(v);
       local_positions_.insert(local_positions_.end(), positions_ + std::size_t(v) * 3,
                               positions_ + std::size_t(v) * 3 + 3);
     }
-    local_indices_[i] = local_of_[v];
+    local_indices_[i] = slot_local_[s];
   }
-  for (std::uint32_t v : global_of_) local_of_[v] = kNone;  // ready for the next object
+  // Emptied for the next object, the last in first: then each one's probe still passes
+  // over the slots of those before it, as when it was put in.
+  for (std::size_t i = global_of_.size(); i-- > 0;) slot_vertex_[slotOf(global_of_[i])] = kNone;
+}
+
+std::vector<Cluster> ClusterBuilder::build(const std::uint32_t* indices, std::size_t index_count,
+                                           std::uint32_t* out) {
+  // The object's own vertices, numbered from 0, so that meshoptimizer's work (and its
+  // per-vertex arrays) is the object's size. Read before `out` is written: it may be
+  // `indices`.
+  localize(indices, index_count);
 
   const std::size_t max_vertices = options_.maxVertices();
   const std::size_t max_triangles = options_.triangles;
-  std::vector<meshopt_Meshlet> meshlets(
-      meshopt_buildMeshletsBound(index_count, max_vertices, max_triangles));
-  meshlet_vertices_.resize(meshlets.size() * max_vertices);
-  meshlet_triangles_.resize(meshlets.size() * max_triangles * 3);
+  meshlets_.resize(meshopt_buildMeshletsBound(index_count, max_vertices, max_triangles));
+  meshlet_vertices_.resize(meshlets_.size() * max_vertices);
+  meshlet_triangles_.resize(meshlets_.size() * max_triangles * 3);
   const std::size_t vertex_count = global_of_.size();
-  meshlets.resize(meshopt_buildMeshlets(
-      meshlets.data(), meshlet_vertices_.data(), meshlet_triangles_.data(), local_indices_.data(),
+  const std::size_t made = meshopt_buildMeshlets(
+      meshlets_.data(), meshlet_vertices_.data(), meshlet_triangles_.data(), local_indices_.data(),
       index_count, local_positions_.data(), vertex_count, 3 * sizeof(float), max_vertices,
-      max_triangles, options_.cone_weight));
+      max_triangles, options_.cone_weight);
 
+  // Checked before `out` is written (it may be `indices`).
+  std::size_t returned = 0;
+  for (std::size_t k = 0; k < made; ++k) returned += meshlets_[k].triangle_count;
+  if (returned * 3 != index_count) {
+    throw Error(ErrorCode::Runtime, "clusters: meshoptimizer returned " + std::to_string(returned) +
+                                        " triangles for " + std::to_string(index_count / 3) +
+                                        "; build with whole objects (--cluster 0)");
+  }
   std::vector<Cluster> clusters;
-  clusters.reserve(meshlets.size());
-  std::size_t written = 0;
-  for (const meshopt_Meshlet& m : meshlets) {
+  clusters.reserve(made);
+  std::size_t written = 0;  // triangles
+  for (std::size_t k = 0; k < made; ++k) {
+    const meshopt_Meshlet& m = meshlets_[k];
     const std::uint32_t* verts = &meshlet_vertices_[m.vertex_offset];
     const unsigned char* tris = &meshlet_triangles_[m.triangle_offset];
     Cluster c;
     c.triangles = m.triangle_count;
     c.box = emptyBox();
-    for (std::size_t k = 0; k < std::size_t(m.triangle_count) * 3; ++k) {
-      const std::uint32_t local = verts[tris[k]];
-      out.push_back(global_of_[local]);
+    std::uint32_t* written_indices = out + written * 3;
+    for (std::size_t i = 0; i < std::size_t(m.triangle_count) * 3; ++i) {
+      const std::uint32_t local = verts[tris[i]];
+      written_indices[i] = global_of_[local];
       growBox(c.box, &local_positions_[std::size_t(local) * 3]);
     }
     const meshopt_Bounds b = meshopt_computeMeshletBounds(
         verts, tris, m.triangle_count, local_positions_.data(), vertex_count, 3 * sizeof(float));
     if (b.cone_cutoff < 1) {
-      c.cone = checkedCone(b.cone_axis, c.box, &out[out.size() - std::size_t(m.triangle_count) * 3],
-                           m.triangle_count, positions_);
+      c.cone = checkedCone(b.cone_axis, c.box, written_indices, m.triangle_count, positions_);
     }
     written += m.triangle_count;
     clusters.push_back(c);
   }
-  if (written * 3 != index_count) {
-    throw Error(ErrorCode::Runtime, "clusters: meshoptimizer returned " + std::to_string(written) +
-                                        " triangles for " + std::to_string(index_count / 3) +
-                                        "; build with whole objects (--cluster 0)");
+  return clusters;
+}
+
+std::vector<Cluster> ClusterBuilder::build(const std::uint32_t* indices, std::size_t index_count,
+                                           std::vector<std::uint32_t>& out) {
+  const std::size_t at = out.size();
+  out.resize(at + index_count);
+  return build(indices, index_count, out.data() + at);
+}
+
+std::vector<std::vector<Cluster>> buildClusters(const float* positions, std::size_t vertex_count,
+                                                const std::uint32_t* indices,
+                                                const std::uint32_t* order,
+                                                const std::vector<TriangleSpan>& spans,
+                                                std::uint32_t* out, const ClusterOptions& options) {
+  std::vector<std::vector<Cluster>> clusters(spans.size());
+  const unsigned wanted =
+      options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+  const auto threads = static_cast<unsigned>(std::min<std::size_t>(wanted, spans.size()));
+  // Objects taken a few at a time from a shared counter: the city's chunks cost alike,
+  // a file's objects need not. Which thread builds an object changes nothing in it.
+  constexpr std::size_t kObjectsATake = 8;
+  std::atomic<std::size_t> next{0};
+  std::vector<std::exception_ptr> failed(threads);
+  const auto work = [&](unsigned t) {
+    try {
+      ClusterBuilder builder(positions, vertex_count, options);
+      std::vector<std::uint32_t> gathered;
+      for (;;) {
+        const std::size_t first = next.fetch_add(kObjectsATake);
+        if (first >= spans.size()) return;
+        for (std::size_t o = first; o < std::min(spans.size(), first + kObjectsATake); ++o) {
+          const auto [begin, end] = spans[o];
+          const std::uint32_t* object = indices + std::size_t(begin) * 3;
+          if (order) {
+            gathered.clear();
+            for (std::size_t i = begin; i < end; ++i) {
+              const std::uint32_t* triangle = indices + std::size_t(order[i]) * 3;
+              gathered.insert(gathered.end(), triangle, triangle + 3);
+            }
+            object = gathered.data();
+          }
+          clusters[o] =
+              builder.build(object, (std::size_t(end) - begin) * 3, out + std::size_t(begin) * 3);
+        }
+      }
+    } catch (...) {
+      failed[t] = std::current_exception();
+      next = spans.size();  // the others stop at their next take
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work, t);
+  if (threads > 0) work(0);
+  for (std::thread& thread : pool) thread.join();
+  for (const std::exception_ptr& e : failed) {
+    if (e) std::rethrow_exception(e);
   }
   return clusters;
 }

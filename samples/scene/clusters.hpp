@@ -7,9 +7,12 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "logrid/types.hpp"
+
+struct meshopt_Meshlet;
 
 namespace logrid::samples {
 
@@ -23,6 +26,9 @@ struct ClusterOptions {
   // meshoptimizer's cone_weight, 0 to 1: how much it trades a cluster's compactness for
   // a narrow normal cone (what back-face cluster culling needs); 0: compactness only.
   float cone_weight = 0;
+  // Threads that split the objects among them (buildClustersInPlace), at most 1024; 0:
+  // one per hardware thread. The clusters are the same for any number.
+  unsigned threads = 0;
 
   bool enabled() const { return triangles != 0; }
   std::uint32_t maxVertices() const;
@@ -61,29 +67,58 @@ struct Cluster {
 };
 
 // Splits triangles into clusters. Keeps the memory of the last call (meshoptimizer's
-// output and a vertex map as large as the scene's vertices), so that an object's
-// clusters cost its own size, not the scene's.
+// input and output), so that an object's clusters cost its own size, not the scene's.
+// One builder per thread: build() changes the builder.
 class ClusterBuilder {
  public:
   // `positions`: xyz of every vertex the triangles may use (vertex_count of them).
   ClusterBuilder(const float* positions, std::size_t vertex_count, const ClusterOptions& options);
+  ~ClusterBuilder();  // where meshoptimizer's types are known
+  ClusterBuilder(const ClusterBuilder&) = delete;
+  ClusterBuilder& operator=(const ClusterBuilder&) = delete;
 
   // The triangles `indices` (index_count, a multiple of 3) in clusters: the same
-  // triangles, each with its vertices in their order, appended to `out` cluster after
-  // cluster; returns the clusters in that order. Throws logrid::Error(Runtime) if
-  // meshoptimizer loses or adds a triangle.
+  // triangles, each with its vertices in their order, written to `out` (index_count of
+  // them, which may be `indices` itself) cluster after cluster; returns the clusters in
+  // that order. Throws logrid::Error(Runtime) if meshoptimizer loses or adds a triangle.
+  std::vector<Cluster> build(const std::uint32_t* indices, std::size_t index_count,
+                             std::uint32_t* out);
+  // As above, the clustered triangles appended to `out`.
   std::vector<Cluster> build(const std::uint32_t* indices, std::size_t index_count,
                              std::vector<std::uint32_t>& out);
 
  private:
+  // Numbers the object's vertices from 0 in the order they are first used.
+  void localize(const std::uint32_t* indices, std::size_t index_count);
+
   const float* positions_;
+  std::size_t vertex_count_;
   ClusterOptions options_;
-  std::vector<std::uint32_t> local_of_;   // scene vertex -> local number, or kNone
-  std::vector<std::uint32_t> global_of_;  // local number -> scene vertex
+  std::vector<std::uint32_t> slot_vertex_;  // scene vertex of each hash slot, or kNone
+  std::vector<std::uint32_t> slot_local_;   // its local number
+  std::vector<std::uint32_t> global_of_;    // local number -> scene vertex
   std::vector<float> local_positions_;
   std::vector<std::uint32_t> local_indices_;
+  std::vector<meshopt_Meshlet> meshlets_;
   std::vector<std::uint32_t> meshlet_vertices_;
   std::vector<unsigned char> meshlet_triangles_;
 };
+
+// Triangles [first, second) of `indices` (three indices each), one range an object.
+using TriangleSpan = std::pair<std::uint32_t, std::uint32_t>;
+
+// Every object's triangles in clusters, on options.threads threads. Object o's
+// triangles are order[spans[o].first, spans[o].second) of `indices` (three indices a
+// triangle), or without an order (nullptr) that range itself; its clusters' triangles
+// (ClusterBuilder::build) are written to out[3 * spans[o].first, 3 * spans[o].second),
+// and answer[o] is its clusters. The spans must not overlap; `out` may be `indices`
+// when there is no order (each object's clusters then take the place of its triangles).
+// The answer and `out` are the same for any number of threads: each object's clusters
+// depend on its own triangles only.
+std::vector<std::vector<Cluster>> buildClusters(const float* positions, std::size_t vertex_count,
+                                                const std::uint32_t* indices,
+                                                const std::uint32_t* order,
+                                                const std::vector<TriangleSpan>& spans,
+                                                std::uint32_t* out, const ClusterOptions& options);
 
 }  // namespace logrid::samples

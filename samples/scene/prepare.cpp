@@ -1,5 +1,6 @@
 #include "scene/prepare.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <limits>
 #include <map>
@@ -143,6 +144,19 @@ std::vector<OccluderModel> chunkModels(
   return models;
 }
 
+// Whether the objects' triangle ranges, and the movers', are apart: then each object's
+// clusters can take the place of its triangles.
+bool spansApart(const Scene& scene, std::vector<TriangleSpan> spans) {
+  for (const SceneObject& o : scene.moving) {
+    spans.emplace_back(o.first_index / 3, (o.first_index + o.index_count) / 3);
+  }
+  std::sort(spans.begin(), spans.end());
+  for (std::size_t i = 1; i < spans.size(); ++i) {
+    if (spans[i].first < spans[i - 1].second) return false;
+  }
+  return true;
+}
+
 // The object's draw (the last of `draws`, its triangles in cluster order) cut into its
 // clusters' ranges.
 void cutIntoClusters(const std::vector<Cluster>& clusters,
@@ -160,31 +174,45 @@ void cutIntoClusters(const std::vector<Cluster>& clusters,
 // hierarchy over the clusters' boxes, one leaf each (args.max_leaf_size, which counts
 // objects or triangles, is about the objects the clusters replace), and one draw per
 // cluster, the clusters of an object consecutive in the index buffer over the object's
-// vertices (a batch of them draws as a few ranges, MeshRenderer::drawBatch). The
-// clustered triangles are appended to scene.indices (the movers' ranges stay valid).
-// Occluder models are not kept: each cluster occludes with its own triangles.
-template <typename TrianglesOf, typename ColorOf>
-void prepareClusters(Scene& scene, std::size_t objects, TrianglesOf triangles_of, ColorOf color_of,
-                     const ClusterOptions& options, const bvh::BuildArgs& args,
+// vertices (a batch of them draws as a few ranges, MeshRenderer::drawBatch). Object i's
+// triangles: order[spans[i].first, spans[i].second) of scene.indices, or without an
+// order that range itself. With an order (the city's chunks, in the triangle
+// hierarchy's order: static triangles [0, order's size)), the clustered triangles take
+// the place of the static triangles, spans[i] then the object's; without one, of each
+// object's own where no two ranges overlap (the movers' stay as they are), else they
+// are appended to scene.indices. Occluder models are not kept: each cluster occludes
+// with its own triangles.
+template <typename ColorOf>
+void prepareClusters(Scene& scene, std::vector<TriangleSpan> spans, const std::uint32_t* order,
+                     ColorOf color_of, const ClusterOptions& options, const bvh::BuildArgs& args,
                      PreparedScene& out) {
   const auto cluster_start = std::chrono::steady_clock::now();
-  ClusterBuilder builder(scene.positions.data(), scene.positions.size() / 3, options);
-  std::vector<std::uint32_t> object_indices, clustered;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> spans;  // clustered triangles per object
-  std::vector<std::vector<Cluster>> object_clusters(objects);
-  const std::size_t base = scene.indices.size() / 3;  // the first clustered triangle
-  for (std::size_t i = 0; i < objects; ++i) {
-    object_indices.clear();
-    for (std::uint32_t t : triangles_of(i)) {
-      const std::uint32_t* tri = &scene.indices[std::size_t(t) * 3];
-      object_indices.insert(object_indices.end(), tri, tri + 3);
+  const std::size_t objects = spans.size();
+  if (!order && !spansApart(scene, spans)) {
+    std::size_t end = scene.indices.size() / 3;
+    for (const auto& [first, last] : spans) end += last - first;
+    std::size_t at = scene.indices.size() / 3;
+    scene.indices.resize(end * 3);
+    for (auto& [first, last] : spans) {
+      std::copy(scene.indices.begin() + std::ptrdiff_t(first) * 3,
+                scene.indices.begin() + std::ptrdiff_t(last) * 3,
+                scene.indices.begin() + std::ptrdiff_t(at) * 3);
+      last = static_cast<std::uint32_t>(at + (last - first));
+      first = static_cast<std::uint32_t>(at);
+      at = last;
     }
-    const std::uint32_t first = static_cast<std::uint32_t>(base + clustered.size() / 3);
-    object_clusters[i] = builder.build(object_indices.data(), object_indices.size(), clustered);
-    spans.emplace_back(first, static_cast<std::uint32_t>(base + clustered.size() / 3));
   }
-  scene.indices.insert(scene.indices.end(), clustered.begin(), clustered.end());
-  clustered = {};
+  std::vector<std::vector<Cluster>> object_clusters;
+  if (order) {
+    std::vector<std::uint32_t> clustered(spans.empty() ? 0 : std::size_t(spans.back().second) * 3);
+    object_clusters = buildClusters(scene.positions.data(), scene.positions.size() / 3,
+                                    scene.indices.data(), order, spans, clustered.data(), options);
+    std::copy(clustered.begin(), clustered.end(), scene.indices.begin());
+  } else {
+    object_clusters =
+        buildClusters(scene.positions.data(), scene.positions.size() / 3, scene.indices.data(),
+                      nullptr, spans, scene.indices.data(), options);
+  }
   out.cluster_ms = msSince(cluster_start);
 
   std::vector<Aabb> boxes;
@@ -231,13 +259,9 @@ void prepareChunks(Scene& scene, const bvh::BuildArgs& args, const ClusterOption
     spans.emplace_back(th.chunk_first[c], th.chunk_first[c + 1]);
   }
   if (clusters.enabled()) {
-    const std::uint32_t* order = th.triangle_order.data();
     prepareClusters(
-        scene, spans.size(),
-        [&](std::size_t c) {
-          return SpanRange{order + spans[c].first, order + spans[c].second};
-        },
-        [](std::size_t) { return 0xFFFFFFFFu; }, clusters, args, out);
+        scene, std::move(spans), th.triangle_order.data(), [](std::size_t) { return 0xFFFFFFFFu; },
+        clusters, args, out);
     return;
   }
   const bool wide = needsWideIndices(scene, spans, th.triangle_order.data());
@@ -256,13 +280,13 @@ void prepareObjects(Scene& scene, const bvh::BuildArgs& args, const ClusterOptio
                     PreparedScene& out) {
   out.source_objects = scene.objects.size();
   if (clusters.enabled()) {
+    std::vector<TriangleSpan> spans;
+    for (const SceneObject& o : scene.objects) {
+      spans.emplace_back(o.first_index / 3, (o.first_index + o.index_count) / 3);
+    }
     prepareClusters(
-        scene, scene.objects.size(),
-        [&](std::size_t i) {
-          const SceneObject& o = scene.objects[i];
-          return IotaRange{o.first_index / 3, (o.first_index + o.index_count) / 3};
-        },
-        [&](std::size_t i) { return scene.objects[i].color; }, clusters, args, out);
+        scene, std::move(spans), nullptr, [&](std::size_t i) { return scene.objects[i].color; },
+        clusters, args, out);
     return;
   }
   std::vector<Aabb> boxes;

@@ -225,6 +225,137 @@ TEST(Clusters, OptionsOutsideMeshoptimizersLimitsAreRefusedByName) {
   fine.triangles = 124;
   fine.vertices = 255;
   EXPECT_TRUE(validateClusterOptions(fine).empty());
+  fine.threads = 1025;
+  EXPECT_NE(validateClusterOptions(fine).find("cluster threads 1025"), std::string::npos);
+}
+
+bool sameCluster(const Cluster& a, const Cluster& b) {
+  const auto same3 = [](const double* x, const double* y) {
+    return x[0] == y[0] && x[1] == y[1] && x[2] == y[2];
+  };
+  return a.triangles == b.triangles && a.box.min.x == b.box.min.x && a.box.min.y == b.box.min.y &&
+         a.box.min.z == b.box.min.z && a.box.max.x == b.box.max.x && a.box.max.y == b.box.max.y &&
+         a.box.max.z == b.box.max.z && same3(a.cone.apex, b.cone.apex) &&
+         same3(a.cone.axis, b.cone.axis) && a.cone.cutoff == b.cone.cutoff &&
+         a.cone.reach == b.cone.reach;
+}
+
+TEST(Clusters, TheSameForAnyNumberOfThreadsAsOneObjectAfterAnother) {
+  // The city's chunks in the triangle hierarchy's order (gathered), and the forest's
+  // trees in place: buildClusters on 1, 2 and 5 threads writes what one ClusterBuilder
+  // writes object after object.
+  for (const std::string name : {"city", "forest"}) {
+    SCOPED_TRACE(name);
+    Scene s = name == "city" ? makeCity({0.02, 1}) : makeForest({0.05, 1, TreeParts::Whole});
+    std::vector<TriangleSpan> spans;
+    std::vector<std::uint32_t> order;
+    if (name == "city") {
+      const bvh::TriangleHierarchy th =
+          bvh::buildOverTriangles(s.positions, s.indices, defaultBuildArgs(s));
+      for (std::size_t c = 0; c + 1 < th.chunk_first.size(); ++c) {
+        spans.emplace_back(th.chunk_first[c], th.chunk_first[c + 1]);
+      }
+      order = th.triangle_order;
+    } else {
+      for (const SceneObject& o : s.objects) {
+        spans.emplace_back(o.first_index / 3, (o.first_index + o.index_count) / 3);
+      }
+    }
+    ASSERT_GT(spans.size(), 20u);
+    ClusterOptions options;
+    options.triangles = 64;
+    ClusterBuilder builder(s.positions.data(), s.positions.size() / 3, options);
+    std::vector<std::uint32_t> expected(s.indices.size());
+    std::vector<std::vector<Cluster>> expected_clusters;
+    for (const auto& [first, last] : spans) {
+      std::vector<std::uint32_t> object;
+      for (std::uint32_t i = first; i < last; ++i) {
+        const std::uint32_t t = order.empty() ? i : order[i];
+        object.insert(object.end(), &s.indices[std::size_t(t) * 3],
+                      &s.indices[std::size_t(t) * 3] + 3);
+      }
+      expected_clusters.push_back(
+          builder.build(object.data(), object.size(), &expected[std::size_t(first) * 3]));
+    }
+    for (unsigned threads : {1u, 2u, 5u}) {
+      SCOPED_TRACE(threads);
+      options.threads = threads;
+      std::vector<std::uint32_t> indices = s.indices;
+      std::vector<std::uint32_t> out(indices.size());
+      std::uint32_t* written = order.empty() ? indices.data() : out.data();
+      const std::vector<std::vector<Cluster>> clusters =
+          buildClusters(s.positions.data(), s.positions.size() / 3, indices.data(),
+                        order.empty() ? nullptr : order.data(), spans, written, options);
+      ASSERT_EQ(clusters.size(), spans.size());
+      for (const auto& [first, last] : spans) {
+        ASSERT_TRUE(std::equal(expected.begin() + std::ptrdiff_t(first) * 3,
+                               expected.begin() + std::ptrdiff_t(last) * 3,
+                               written + std::size_t(first) * 3))
+            << "triangles " << first << " to " << last;
+      }
+      for (std::size_t o = 0; o < spans.size(); ++o) {
+        ASSERT_EQ(clusters[o].size(), expected_clusters[o].size()) << "object " << o;
+        for (std::size_t c = 0; c < clusters[o].size(); ++c) {
+          ASSERT_TRUE(sameCluster(clusters[o][c], expected_clusters[o][c]))
+              << "object " << o << ", cluster " << c;
+        }
+      }
+    }
+  }
+}
+
+// Each object's triangles as the renderer draws them, by their corners' positions:
+// sorted, so that two meshes of the same triangles compare equal.
+std::vector<std::array<float, 9>> drawnTriangles(const PreparedScene& p, std::uint32_t object) {
+  std::vector<std::array<float, 9>> out;
+  for (ObjectId id = 0; id < p.mesh.draws.size(); ++id) {
+    if (p.objectOf(id) != object) continue;
+    const gl::RenderMesh::Draw& d = p.mesh.draws[id];
+    for (std::uint32_t i = d.first_index; i < d.first_index + d.index_count; i += 3) {
+      std::array<float, 9> t{};
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        const std::uint32_t local =
+            p.mesh.indices16.empty() ? p.mesh.indices32[i + k] : p.mesh.indices16[i + k];
+        const float* v = &p.mesh.positions[(std::size_t(d.base_vertex) + local) * 3];
+        std::copy(v, v + 3, t.begin() + k * 3);
+      }
+      out.push_back(t);
+    }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST(Clusters, ObjectsThatShareTrianglesEachGetThemAll) {
+  // Objects whose index ranges overlap (allowed: validateScene does not refuse it)
+  // cannot be clustered in place; each still draws all of its triangles.
+  auto make = [] {
+    Scene s = makeForest({0.01, 1, TreeParts::Whole});
+    s.objects.push_back(s.objects[1]);
+    // The second half of object 0 and the first half of the next.
+    SceneObject across;
+    across.first_index = s.objects[0].first_index + s.objects[0].index_count / 6 * 3;
+    across.index_count =
+        s.objects[1].first_index + s.objects[1].index_count / 6 * 3 - across.first_index;
+    across.box = emptyBox();
+    for (std::uint32_t i = across.first_index; i < across.first_index + across.index_count; ++i) {
+      growBox(across.box, &s.positions[std::size_t(s.indices[i]) * 3]);
+    }
+    s.objects.push_back(across);
+    s.occluder_models.resize(s.objects.size());
+    return s;
+  };
+  Scene plain = make();
+  const bvh::BuildArgs args = defaultBuildArgs(plain);
+  const PreparedScene whole = prepareScene(std::move(plain), args);
+  ClusterOptions options;
+  options.triangles = 64;
+  const PreparedScene clustered = prepareScene(make(), args, options);
+  ASSERT_EQ(clustered.objectCount(), whole.objectCount());
+  ASSERT_GT(clustered.static_objects, whole.static_objects);
+  for (std::uint32_t o = 0; o < whole.objectCount(); ++o) {
+    EXPECT_EQ(drawnTriangles(clustered, o), drawnTriangles(whole, o)) << "object " << o;
+  }
 }
 
 }  // namespace
