@@ -205,6 +205,9 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
                                                 "path) or a positive number of seconds");
   }
   checkFaceCulling(config, scene);
+  GLint subpixel_bits = 0;  // GL guarantees 4 or more
+  glGetIntegerv(GL_SUBPIXEL_BITS, &subpixel_bits);
+  snap_step_ = std::ldexp(1.0, -std::clamp(int(subpixel_bits), 0, 30));
   // Every object's box, the movers' where they are at the first frame; the motion
   // hierarchy is built over them.
   motion_.boxes = scene.object_boxes;
@@ -506,7 +509,7 @@ void FrameRunner::drawBatch(const Camera& camera, const ObjectId* ids, std::size
     facing_.clear();
     for (std::size_t i = 0; i < count; ++i) {
       const ObjectId id = ids[i];
-      if (clusterFacesAway(scene_, motion_, id, camera.render_origin)) {
+      if (clusterFacesAway(scene_, motion_, id, camera, camera.render_origin, snap_step_)) {
         ++rec.backfacing;
       } else {
         facing_.push_back(id);

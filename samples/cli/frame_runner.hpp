@@ -252,6 +252,7 @@ class FrameRunner {
   std::vector<std::uint8_t> drawn_;  // per object, this frame
   std::vector<ObjectId> drawn_list_;
   std::vector<ObjectId> facing_;  // a batch without its clusters facing away
+  double snap_step_ = 1;          // GL's sub-pixel step, in pixels (clusterFacesAway)
   std::vector<ObjectId> missed_;
   std::shared_ptr<OracleCache> oracle_cache_;
 };

@@ -55,7 +55,10 @@ ClusterCone checkedCone(const float* meshopt_axis, const Aabb& box, const std::u
              e2 = at(positions, indices[t * 3 + 2]) - p0;
     const D3 n = cross(e1, e2);
     const double area2 = std::sqrt(dot(n, n));
-    if (!(area2 > kLeastSine * std::sqrt(dot(e1, e1) * dot(e2, e2)))) return none;
+    // The sine at each corner: twice the area over the product of the edges that meet there.
+    const D3 e3 = e2 - e1;
+    const double l1 = dot(e1, e1), l2 = dot(e2, e2), l3 = dot(e3, e3);
+    if (!(area2 > kLeastSine * std::sqrt(std::max({l1 * l2, l1 * l3, l2 * l3})))) return none;
     const D3 unit{n.x / area2, n.y / area2, n.z / area2};
     const double cos_axis = dot(unit, axis);
     if (!(cos_axis > 0)) return none;

@@ -45,10 +45,12 @@ std::string validateClusterOptions(const ClusterOptions& options);
 // behind every triangle's plane: an eye e with dot(normalize(apex - e), axis) >=
 // sin(a + delta) sees each triangle from behind at delta or more from the apex, and at
 // no less than half that from the triangle when |e - apex| >= `reach` (the farthest
-// vertex from the apex). delta = 0.01 radians, and triangles whose edges make an angle
-// under 0.01 (sine) make the cone void: GL decides facing from the sign of the window
-// area in float, whose error is about 1e-6 of the edges' product, far below the area
-// such a triangle shows at that angle. cutoff > 1: no eye (a void cone).
+// vertex from the apex). delta = 0.01 radians, and a triangle with an angle under 0.01
+// (sine) at any corner makes the cone void. This bounds angles only: GL snaps window
+// corners to its sub-pixel grid before it takes the area's sign, which can turn a thin
+// triangle small on screen to face the eye, so the cone is a first, cheap test, and a
+// cluster is skipped only where every triangle, where GL puts it, is a back face by more
+// than that (clusterFacesAway, prepare.hpp). cutoff > 1: no eye (a void cone).
 struct ClusterCone {
   double apex[3] = {0, 0, 0};
   double axis[3] = {0, 0, 0};

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <map>
 #include <optional>
@@ -418,19 +419,91 @@ std::uint32_t PreparedScene::objectCount() const {
   return ids ? objectOf(ids - 1) + 1 : 0;
 }
 
-// A moving cluster's cone is in its mesh's coordinates: the eye is taken there, through
-// the inverse of the rigid transform the cluster is drawn with (the renderer's float
-// rotation turns a normal by about 1e-7 radians, far inside the cone's 0.005).
+// Each triangle must either lie wholly outside one clip plane, or wholly inside the clip
+// volume (by a margin, so that GL's float transform clips nothing) and be clockwise in
+// window space by more than its corners' error can turn. GL snaps each window corner to
+// its sub-pixel grid (by up to a step in x and y, rounding or truncating) after a float
+// transform relative to the render origin near the eye (a few ulps of the clip
+// coordinates, about 1e-6 of the viewport's width plus height in window space; 1e-5
+// taken), so a corner is off by at most e in each axis and the doubled area
+// (b - a) x (c - a) by at most 2 sqrt(2) e (|b - a| + |c - a|) + 8 e^2. Computed in
+// double from the mesh's own floats.
+bool drawsNothingWithBackFacesCulled(const gl::RenderMesh& mesh, const gl::RenderMesh::Draw& d,
+                                     const RigidTransform* t, const Camera& camera,
+                                     double snap_step) {
+  const Mat4d& m = camera.view_projection;
+  const bool zero_to_one = camera.depth.clip_range == ClipDepthRange::ZeroToOne;
+  const double e = snap_step + 1e-5 * (double(camera.width) + camera.height);
+  struct Corner {
+    double x, y;      // window
+    double plane[6];  // >= 0 inside each clip plane
+  };
+  auto corner = [&](std::uint32_t i) {
+    const std::uint32_t local = mesh.indices16.empty() ? mesh.indices32[i] : mesh.indices16[i];
+    const float* q = &mesh.positions[(std::size_t(d.base_vertex) + local) * 3];
+    double p[3] = {q[0], q[1], q[2]};
+    if (t) {
+      const double* r = t->rotation;
+      const double w[3] = {r[0] * p[0] + r[3] * p[1] + r[6] * p[2] + t->translation.x,
+                           r[1] * p[0] + r[4] * p[1] + r[7] * p[2] + t->translation.y,
+                           r[2] * p[0] + r[5] * p[1] + r[8] * p[2] + t->translation.z};
+      std::copy(w, w + 3, p);
+    }
+    double c[4];
+    for (int row = 0; row < 4; ++row) {
+      c[row] = m(row, 0) * p[0] + m(row, 1) * p[1] + m(row, 2) * p[2] + m(row, 3);
+    }
+    Corner out{};
+    const double tol =
+        1e-4 * (std::fabs(c[0]) + std::fabs(c[1]) + std::fabs(c[2]) + std::fabs(c[3]));
+    const double planes[6] = {c[3] - c[0], c[3] + c[0], c[3] - c[1],
+                              c[3] + c[1], c[3] - c[2], zero_to_one ? c[2] : c[3] + c[2]};
+    for (int k = 0; k < 6; ++k) {  // the sign, or 0 within the margin of the plane
+      out.plane[k] = planes[k] > tol ? 1 : planes[k] < -tol ? -1 : 0;
+    }
+    if (c[3] > 0) {
+      out.x = (c[0] / c[3] + 1) * 0.5 * camera.width;
+      out.y = (c[1] / c[3] + 1) * 0.5 * camera.height;
+    }
+    return out;
+  };
+  for (std::uint32_t i = d.first_index; i < d.first_index + d.index_count; i += 3) {
+    const Corner a = corner(i), b = corner(i + 1), c = corner(i + 2);
+    bool outside = false, inside = true;
+    for (int k = 0; k < 6; ++k) {
+      outside = outside || (a.plane[k] < 0 && b.plane[k] < 0 && c.plane[k] < 0);
+      inside = inside && a.plane[k] > 0 && b.plane[k] > 0 && c.plane[k] > 0;
+    }
+    if (outside) continue;
+    if (!inside) return false;
+    const double ux = b.x - a.x, uy = b.y - a.y, vx = c.x - a.x, vy = c.y - a.y;
+    const double area2 = ux * vy - uy * vx;  // > 0: counter-clockwise, a front face
+    const double turn =
+        2 * std::sqrt(2.0) * e * (std::hypot(ux, uy) + std::hypot(vx, vy)) + 8 * e * e;
+    if (!(-area2 > turn)) return false;
+  }
+  return true;
+}
+
+// The cone first (cheap, and it turns most clusters down); a moving cluster's cone is in
+// its mesh's coordinates, the eye taken there through the inverse of the rigid transform
+// it is drawn with. Then every triangle where GL puts it (drawsNothingWithBackFacesCulled): the
+// cone's margin bounds angles, not GL's snapping of small or thin triangles to its sub-pixel grid,
+// which can turn a triangle seen from behind to face the eye.
 bool clusterFacesAway(const PreparedScene& scene, const MotionFrame& motion, ObjectId id,
-                      const DVec3& eye) {
-  if (id < scene.static_objects) return facesAway(scene.cluster_cones[id], eye);
-  const RigidTransform& t = motion.transforms[id - scene.static_objects];
-  const double d[3] = {eye.x - t.translation.x, eye.y - t.translation.y, eye.z - t.translation.z};
-  const double* r = t.rotation;  // column-major: the inverse's row c is column c
-  const DVec3 local{r[0] * d[0] + r[1] * d[1] + r[2] * d[2],
-                    r[3] * d[0] + r[4] * d[1] + r[5] * d[2],
-                    r[6] * d[0] + r[7] * d[1] + r[8] * d[2]};
-  return facesAway(scene.cluster_cones[id], local);
+                      const Camera& camera, const DVec3& eye, double snap_step) {
+  const RigidTransform* t =
+      id < scene.static_objects ? nullptr : &motion.transforms[id - scene.static_objects];
+  DVec3 local = eye;
+  if (t) {
+    const double d[3] = {eye.x - t->translation.x, eye.y - t->translation.y,
+                         eye.z - t->translation.z};
+    const double* r = t->rotation;  // column-major: the inverse's row c is column c
+    local = {r[0] * d[0] + r[1] * d[1] + r[2] * d[2], r[3] * d[0] + r[4] * d[1] + r[5] * d[2],
+             r[6] * d[0] + r[7] * d[1] + r[8] * d[2]};
+  }
+  return facesAway(scene.cluster_cones[id], local) &&
+         drawsNothingWithBackFacesCulled(scene.mesh, scene.mesh.draws[id], t, camera, snap_step);
 }
 
 bvh::BuildArgs defaultBuildArgs(const Scene& scene) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "logrid/bvh/bvh.hpp"
+#include "logrid/camera.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
 #include "scene/clusters.hpp"
 #include "scene/scene.hpp"
@@ -71,10 +72,19 @@ struct PreparedScene {
   std::uint32_t objectCount() const;
 };
 
-// Whether every triangle of cluster `id` of a clustered scene faces away from `eye`
-// (facesAway, clusters.hpp), the moving clusters where `motion` has them.
+// Whether GL, culling back faces (counter-clockwise front), draws nothing of draw `d` of
+// `mesh`, its vertices placed by `t` (nullptr: as they are), seen by `camera`, whose
+// window corners GL snaps to `snap_step` pixels (1 / 2^GL_SUBPIXEL_BITS).
+bool drawsNothingWithBackFacesCulled(const gl::RenderMesh& mesh, const gl::RenderMesh::Draw& d,
+                                     const RigidTransform* t, const Camera& camera,
+                                     double snap_step);
+
+// Whether a renderer that culls back faces (counter-clockwise front) draws nothing of
+// cluster `id` of a clustered scene seen by `camera` from `eye`, the moving clusters
+// where `motion` has them: its cone faces away (facesAway, clusters.hpp) and GL draws
+// nothing of it (drawsNothingWithBackFacesCulled).
 bool clusterFacesAway(const PreparedScene& scene, const MotionFrame& motion, ObjectId id,
-                      const DVec3& eye);
+                      const Camera& camera, const DVec3& eye, double snap_step);
 
 // Consumes the scene (its arrays are released as soon as they are no longer needed).
 // Moving objects are appended after the static ones; movers of one shape share one copy

@@ -11,7 +11,10 @@
 //                 oracle's visible objects, frame by frame (the same triangles drawn).
 #include <gtest/gtest.h>
 
+#include <epoxy/gl.h>
+
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <tuple>
 
@@ -156,6 +159,13 @@ TEST(ClusterObjects, TheVisibleClustersObjectsAreTheObjectOraclesObjects) {
 // The clusters of a scene whose visible set GL's back-face culling decides, and how
 // many of those the cone test says face away: over `frames` frames of the oracle (which
 // draws what the ID pass saw), with back faces culled or not.
+// GL's sub-pixel step in pixels.
+double snapStep() {
+  GLint bits = 0;
+  glGetIntegerv(GL_SUBPIXEL_BITS, &bits);
+  return std::ldexp(1.0, -bits);
+}
+
 struct Facing {
   std::uint64_t visible = 0, facing_away = 0;
   std::uint64_t moving_visible = 0;  // of them, clusters of movers
@@ -171,9 +181,10 @@ Facing visibleFacingAway(LoadedScene& scene, bool cull, std::size_t frames) {
   Facing out;
   for (std::size_t f = 0; f < config.frames; ++f) {
     runner.renderFrame(f);
-    const DVec3 eye = runner.cameraFor(f).render_origin;
+    const Camera camera = runner.cameraFor(f);
     for (ObjectId id : runner.drawnObjects()) {
-      out.facing_away += samples::clusterFacesAway(scene.prepared, runner.motionFrame(), id, eye);
+      out.facing_away += samples::clusterFacesAway(scene.prepared, runner.motionFrame(), id, camera,
+                                                   camera.render_origin, snapStep());
       ++out.visible;
       out.moving_visible += id >= scene.prepared.static_objects;
     }
@@ -226,16 +237,15 @@ TEST(ClusterBackfaces, AnOpenSurfaceSeenFromBehindIsVisibleOnlyWithoutCulling) {
 }
 
 // Sub-pixel snapping can turn a thin triangle seen from behind to face the eye, which
-// facesAway() does not allow for (clusters.hpp: it bounds GL's float error, not the
-// snapping of each vertex to the sub-pixel grid). A triangle in a plane seen from
-// behind at 0.0187 radians (the cone's cutoff is 0.01), every angle's sine at least
-// 0.032, placed so that its window corners lie 0.49 to 0.51 of a 1/256-pixel step on
-// either side of a row of pixel centres: exact arithmetic has it clockwise (a back
-// face), llvmpipe's snapped corners counter-clockwise, and with back faces culled GL
-// draws 3 pixels of the cluster that facesAway() says it culls. Disabled until the
-// cone test bounds the snapping (it needs the view's pixel scale); run it with
-// --gtest_also_run_disabled_tests.
-TEST(ClusterBackfaces, DISABLED_ATriangleSnappedToFaceTheEyeIsNotSkipped) {
+// the cone alone does not allow for (it bounds angles, not GL's snapping of each window
+// corner to its sub-pixel grid). A triangle in a plane seen from behind at 0.0187
+// radians (the cone's cutoff is 0.01), every angle's sine at least 0.032, placed so
+// that its window corners lie 0.49 to 0.51 of a 1/256-pixel step on either side of a row
+// of pixel centres: exact arithmetic has it clockwise (a back face), llvmpipe's snapped
+// corners counter-clockwise, and with back faces culled GL draws pixels of it. The cone
+// says it faces away; clusterFacesAway's check of every triangle where GL puts it
+// (drawsNothingWithBackFacesCulled) must not, and well-shaped back faces it must skip.
+TEST(ClusterBackfaces, ATriangleSnappedToFaceTheEyeIsNotSkipped) {
   LOGRID_REQUIRE_GL();
   Camera cam;
   cam.width = 64;
@@ -281,7 +291,33 @@ TEST(ClusterBackfaces, DISABLED_ATriangleSnappedToFaceTheEyeIsNotSkipped) {
   const std::vector<std::uint8_t> color = fb.readColor();
   std::size_t drawn = 0;
   for (std::size_t i = 0; i < color.size(); i += 4) drawn += (color[i] | color[i + 1]) != 0;
-  EXPECT_EQ(drawn, 0u) << "GL drew " << drawn << " pixels of a cluster facesAway() skips";
+  const double step_here = snapStep();
+  EXPECT_FALSE(
+      samples::drawsNothingWithBackFacesCulled(mesh, mesh.draws[0], nullptr, cam, step_here))
+      << "GL drew " << drawn << " pixels of it";
+  if (step_here == step) {  // the reproducer is placed for llvmpipe's grid
+    EXPECT_GT(drawn, 0u) << "the snapping no longer turns the triangle; the check tests less";
+  }
+  // The same triangle's plane seen from behind well clear of the grid (its corners a
+  // pixel apart in y): skipped, and GL draws nothing of it.
+  positions.clear();
+  add(40.3, row + 1.0);
+  add(43.3, row - 1.0);
+  add(37.3, row + 1.5);
+  mesh.positions = positions;
+  gl::MeshRenderer clear_renderer(mesh);
+  clear_renderer.setCullBackFaces(true);
+  fb.bind();
+  fb.clear(black);
+  clear_renderer.begin(gl::Pass::Shaded, cam);
+  clear_renderer.draw(0);
+  clear_renderer.end();
+  const std::vector<std::uint8_t> clear_color = fb.readColor();
+  for (std::size_t i = 0; i < clear_color.size(); i += 4) {
+    ASSERT_EQ(clear_color[i] | clear_color[i + 1], 0) << "a back face was drawn";
+  }
+  EXPECT_TRUE(
+      samples::drawsNothingWithBackFacesCulled(mesh, mesh.draws[0], nullptr, cam, step_here));
 }
 
 TEST(ClusterBackfaces, SkippingIsRefusedWhereItCouldMiss) {
