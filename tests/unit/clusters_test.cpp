@@ -45,9 +45,13 @@ bool contains(const Aabb& outer, const Aabb& inner) {
 
 TEST(Clusters, KeepEveryTriangleWithItsWindingWithinTheLimits) {
   const Scene forest = makeForest({0.02, 3, TreeParts::Whole});
-  for (std::uint32_t size : {4u, 64u, 128u, 512u}) {
+  for (const auto& [size, method] :
+       {std::pair{4u, ClusterMethod::Grow}, std::pair{64u, ClusterMethod::Grow},
+        std::pair{128u, ClusterMethod::Grow}, std::pair{512u, ClusterMethod::Grow},
+        std::pair{4u, ClusterMethod::Scan}, std::pair{128u, ClusterMethod::Scan}}) {
     ClusterOptions options;
     options.triangles = size;
+    options.method = method;
     ClusterBuilder builder(forest.positions.data(), forest.positions.size() / 3, options);
     std::size_t clusters = 0;
     for (std::size_t o = 0; o < forest.objects.size(); o += 7) {
@@ -56,7 +60,7 @@ TEST(Clusters, KeepEveryTriangleWithItsWindingWithinTheLimits) {
       std::vector<std::uint32_t> out;
       const std::vector<Cluster> made = builder.build(indices, object.index_count, out);
       ASSERT_EQ(trianglesOf(out.data(), out.size()), trianglesOf(indices, object.index_count))
-          << "object " << o << ", clusters of " << size;
+          << "object " << o << ", clusters of " << size << ", method " << int(method);
       std::size_t at = 0;
       for (const Cluster& c : made) {
         EXPECT_GT(c.triangles, 0u);
