@@ -16,6 +16,8 @@
 #include <tuple>
 
 #include "logrid/error.hpp"
+#include "logrid/gl/framebuffer.hpp"
+#include "scene/clusters.hpp"
 
 #include "flat_grid.hpp"
 #include "oracle_harness.hpp"
@@ -221,6 +223,65 @@ TEST(ClusterBackfaces, AnOpenSurfaceSeenFromBehindIsVisibleOnlyWithoutCulling) {
   EXPECT_GT(open.facing_away, 0u) << "the cone test never fired; the check tests nothing";
   EXPECT_EQ(culled.visible, 0u);
   EXPECT_EQ(culled.facing_away, 0u);
+}
+
+// Sub-pixel snapping can turn a thin triangle seen from behind to face the eye, which
+// facesAway() does not allow for (clusters.hpp: it bounds GL's float error, not the
+// snapping of each vertex to the sub-pixel grid). A triangle in a plane seen from
+// behind at 0.0187 radians (the cone's cutoff is 0.01), every angle's sine at least
+// 0.032, placed so that its window corners lie 0.49 to 0.51 of a 1/256-pixel step on
+// either side of a row of pixel centres: exact arithmetic has it clockwise (a back
+// face), llvmpipe's snapped corners counter-clockwise, and with back faces culled GL
+// draws 3 pixels of the cluster that facesAway() says it culls. Disabled until the
+// cone test bounds the snapping (it needs the view's pixel scale); run it with
+// --gtest_also_run_disabled_tests.
+TEST(ClusterBackfaces, DISABLED_ATriangleSnappedToFaceTheEyeIsNotSkipped) {
+  LOGRID_REQUIRE_GL();
+  Camera cam;
+  cam.width = 64;
+  cam.height = 64;
+  cam.view_projection = multiply(perspective(1.0, 1.0, 0.1, 100, cam.depth),
+                                 lookAt({0, 0, 0}, {0, 0, -1}, {0, 1, 0}));
+  const double pixels = 32.0 / std::tan(0.5);  // per unit of x / -z
+  // The point of the plane through (0, 0, -10) with normal (0, cos b, -sin b),
+  // sin b = 0.0102, that the eye sees at window (x, y).
+  const double sin_b = 0.0102, cos_b = std::sqrt(1 - sin_b * sin_b);
+  std::vector<float> positions;
+  auto add = [&](double x, double y) {
+    const double dx = (x - 32) / pixels, dy = (y - 32) / pixels;
+    const double t = 10 * sin_b / (dy * cos_b + sin_b);
+    positions.insert(positions.end(), {float(t * dx), float(t * dy), float(-t)});
+  };
+  const double step = 1.0 / 256, row = 32.5;  // llvmpipe's sub-pixel step; a centre row
+  add(40.3, row + 0.49 * step);
+  add(43.3, row - 0.49 * step);
+  add(37.3, row + 0.51 * step);
+  const std::uint32_t triangle[] = {0, 1, 2};  // clockwise on screen: seen from behind
+  samples::ClusterOptions options;
+  options.triangles = 4;
+  samples::ClusterBuilder builder(positions.data(), 3, options);
+  std::vector<std::uint32_t> indices;
+  const std::vector<samples::Cluster> clusters = builder.build(triangle, 3, indices);
+  ASSERT_EQ(clusters.size(), 1u);
+  ASSERT_TRUE(samples::facesAway(clusters[0].cone, {0, 0, 0}));
+
+  gl::RenderMesh mesh;
+  mesh.positions = positions;
+  mesh.indices32 = indices;
+  mesh.draws.push_back({0, 3, 0, 0xFFFFFFFFu});
+  gl::MeshRenderer renderer(mesh);
+  renderer.setCullBackFaces(true);
+  gl::Framebuffer fb({cam.width, cam.height, cam.depth, false});
+  fb.bind();
+  const float black[4] = {0, 0, 0, 1};
+  fb.clear(black);
+  renderer.begin(gl::Pass::Shaded, cam);
+  renderer.draw(0);
+  renderer.end();
+  const std::vector<std::uint8_t> color = fb.readColor();
+  std::size_t drawn = 0;
+  for (std::size_t i = 0; i < color.size(); i += 4) drawn += (color[i] | color[i + 1]) != 0;
+  EXPECT_EQ(drawn, 0u) << "GL drew " << drawn << " pixels of a cluster facesAway() skips";
 }
 
 TEST(ClusterBackfaces, SkippingIsRefusedWhereItCouldMiss) {
