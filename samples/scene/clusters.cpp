@@ -175,10 +175,23 @@ std::vector<Cluster> ClusterBuilder::build(const std::uint32_t* indices, std::si
   meshlet_vertices_.resize(meshlets_.size() * max_vertices);
   meshlet_triangles_.resize(meshlets_.size() * max_triangles * 3);
   const std::size_t vertex_count = global_of_.size();
-  const std::size_t made = meshopt_buildMeshlets(
-      meshlets_.data(), meshlet_vertices_.data(), meshlet_triangles_.data(), local_indices_.data(),
-      index_count, local_positions_.data(), vertex_count, 3 * sizeof(float), max_vertices,
-      max_triangles, options_.cone_weight);
+  std::size_t made = 0;
+  if (options_.method == ClusterMethod::Scan) {
+    // Both keep each triangle's vertices in their order.
+    sorted_indices_.resize(index_count);
+    meshopt_spatialSortTriangles(sorted_indices_.data(), local_indices_.data(), index_count,
+                                 local_positions_.data(), vertex_count, 3 * sizeof(float));
+    meshopt_optimizeVertexCache(local_indices_.data(), sorted_indices_.data(), index_count,
+                                vertex_count);
+    made = meshopt_buildMeshletsScan(meshlets_.data(), meshlet_vertices_.data(),
+                                     meshlet_triangles_.data(), local_indices_.data(), index_count,
+                                     vertex_count, max_vertices, max_triangles);
+  } else {
+    made = meshopt_buildMeshlets(meshlets_.data(), meshlet_vertices_.data(),
+                                 meshlet_triangles_.data(), local_indices_.data(), index_count,
+                                 local_positions_.data(), vertex_count, 3 * sizeof(float),
+                                 max_vertices, max_triangles, options_.cone_weight);
+  }
 
   // Checked before `out` is written (it may be `indices`).
   std::size_t returned = 0;

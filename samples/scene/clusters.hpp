@@ -16,6 +16,18 @@ struct meshopt_Meshlet;
 
 namespace logrid::samples {
 
+// How meshoptimizer groups an object's triangles.
+enum class ClusterMethod : std::uint8_t {
+  // meshopt_buildMeshlets: grows each cluster from its neighbours by position (compact
+  // clusters; the default).
+  Grow,
+  // The triangles sorted by place (meshopt_spatialSortTriangles) and for the vertex
+  // cache (meshopt_optimizeVertexCache), then cut in that order (meshopt_
+  // buildMeshletsScan): several times cheaper, clusters less compact where an object's
+  // triangles are not already in a local order (docs/CLUSTERS.md).
+  Scan,
+};
+
 struct ClusterOptions {
   // At most this many triangles a cluster: 4 to 512, a multiple of 4 (meshoptimizer's
   // limits); 0: no clusters, whole objects.
@@ -29,6 +41,7 @@ struct ClusterOptions {
   // Threads that split the objects among them (buildClustersInPlace), at most 1024; 0:
   // one per hardware thread. The clusters are the same for any number.
   unsigned threads = 0;
+  ClusterMethod method = ClusterMethod::Grow;
 
   bool enabled() const { return triangles != 0; }
   std::uint32_t maxVertices() const;
@@ -101,6 +114,7 @@ class ClusterBuilder {
   std::vector<std::uint32_t> global_of_;    // local number -> scene vertex
   std::vector<float> local_positions_;
   std::vector<std::uint32_t> local_indices_;
+  std::vector<std::uint32_t> sorted_indices_;  // ClusterMethod::Scan
   std::vector<meshopt_Meshlet> meshlets_;
   std::vector<std::uint32_t> meshlet_vertices_;
   std::vector<unsigned char> meshlet_triangles_;

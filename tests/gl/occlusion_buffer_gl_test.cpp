@@ -46,8 +46,10 @@ struct Comparison {
 // How the objects are drawn: as they are, or moved (test::moveScene: each in its own
 // coordinates, turned about its centre by a transform, as the renderer draws movers),
 // and then either into the buffer with the same transforms or, to show what the
-// transforms do, without them.
-enum class Motion : std::uint8_t { Still, Moved, DrawnUnmoved };
+// transforms do, without them. MovedFar: moved, their own origin 1e4 from them on each
+// axis (test::moveScene's `far`), and the scene and the eye 1e4 from the world's origin.
+enum class Motion : std::uint8_t { Still, Moved, DrawnUnmoved, MovedFar };
+constexpr double kFar = 1e4;
 
 // Renders random scenes in GL and in the buffer and compares every pixel.
 Comparison compare(DepthFormat format, DepthConvention convention, cpu::Resolution resolution,
@@ -60,14 +62,22 @@ Comparison compare(DepthFormat format, DepthConvention convention, cpu::Resoluti
     const ClipDepthRange range = convention == DepthConvention::Reversed || s % 2
                                      ? ClipDepthRange::ZeroToOne
                                      : ClipDepthRange::NegativeOneToOne;
-    const Camera cam =
+    Camera cam =
         test::randomCamera(std::uint32_t(s) * 13 + 5, w, h, convention, range, format);
     std::vector<TestMesh> scene = test::randomScene(std::uint32_t(s) + 900);
     std::vector<cpu::ObjectTransform> transforms;
     if (motion != Motion::Still) {
-      test::MovedScene moved = test::moveScene(scene, rng);
+      test::MovedScene moved = test::moveScene(scene, rng, motion == Motion::MovedFar ? kFar : 0);
       scene = std::move(moved.local);
       transforms = std::move(moved.transforms);
+    }
+    if (motion == Motion::MovedFar) {
+      for (cpu::ObjectTransform& t : transforms) {
+        t.translation = {t.translation.x + kFar, t.translation.y + kFar, t.translation.z + kFar};
+      }
+      cam.view_projection = multiply(cam.view_projection, translation({-kFar, -kFar, -kFar}));
+      cam.render_origin = {cam.render_origin.x + kFar, cam.render_origin.y + kFar,
+                           cam.render_origin.z + kFar};
     }
     gl::Framebuffer fb({w, h, cam.depth, false});
     fb.bind();
@@ -95,7 +105,7 @@ Comparison compare(DepthFormat format, DepthConvention convention, cpu::Resoluti
     cpu::OcclusionBuffer buffer(meshes, desc);
     orThrow(buffer.beginFrame(cam));
     for (std::uint32_t i = 0; i < meshes.objectCount(); ++i) {
-      if (motion == Motion::Moved) {
+      if (motion == Motion::Moved || motion == Motion::MovedFar) {
         buffer.drawObject(i, transforms[i]);
       } else {
         buffer.drawObject(i);
@@ -196,6 +206,35 @@ TEST(OcclusionBufferGlMovers, NeverNearerThanGl) {
   const Comparison unmoved = compare(DepthFormat::D24, DepthConvention::Standard,
                                      cpu::Resolution::Full, {}, 12, Motion::DrawnUnmoved);
   EXPECT_GT(unmoved.nearer, 0u) << "drawn without their transforms, never nearer than GL";
+}
+
+// The pad of a moving object's vertices (occlusion_buffer.hpp, "Moving objects": 16 u
+// max(1, max|R|) |p|_1) against GL's float rotation and offset where they matter: each
+// object's own origin 1e4 from it, so that |p|_1 is about 3e4, with rotations mirrored,
+// scaled by 3.7 and singular, the eye 1e4 from the world's origin. Never nearer than
+// GL; with the pad left out (placementPad returning 0) the buffer is nearer than GL in
+// every format and convention, which the recentred objects above do not show.
+TEST(OcclusionBufferGlMovers, NeverNearerThanGlFarFromTheirOwnOrigin) {
+  LOGRID_REQUIRE_GL();
+  for (DepthFormat f : {DepthFormat::D16, DepthFormat::D24, DepthFormat::D32F}) {
+    for (DepthConvention c : {DepthConvention::Standard, DepthConvention::Reversed}) {
+      for (cpu::Representation m : {cpu::Representation::PerPixel, cpu::Representation::Masked}) {
+        cpu::OcclusionBufferDesc desc;
+        desc.representation = m;
+        const cpu::Resolution r =
+            m == cpu::Representation::Masked ? cpu::Resolution::Half : cpu::Resolution::Full;
+        const Comparison got = compare(f, c, r, desc, 12, Motion::MovedFar);
+        EXPECT_EQ(got.nearer, 0u) << toString(f) << " " << toString(c) << " " << cpu::toString(m)
+                                  << ": " << got.first;
+        const double share =
+            double(got.covered) / double(std::max<std::uint64_t>(1, got.gl_covered));
+        std::printf("[ cpu ] movers far from their origin %s %s %s %s: covers %.1f%% of GL's "
+                    "pixels\n",
+                    toString(f), toString(c), cpu::toString(r), cpu::toString(m), 100 * share);
+        EXPECT_GT(share, r == cpu::Resolution::Full ? 0.6 : 0.3);
+      }
+    }
+  }
 }
 
 // Each conservative rule is needed on GL too: without the coverage slack the buffer

@@ -176,13 +176,17 @@ inline Camera randomCamera(std::uint32_t seed, std::uint32_t w, std::uint32_t h,
 // centre), and a transform that turns it about that centre by a random rotation (a
 // quarter of them mirrored) and puts it back there, and the vertices where that
 // transform places them (in double, rounded to float) for the reference.
+// `far` > 0: the object's own origin lies `far` from it on each axis (its coordinates
+// about `far`, as a mesh modelled where it stands), and of the transforms not mirrored
+// a third are scaled by 3.7 and a third flatten the local z axis (singular).
 struct MovedScene {
   std::vector<TestMesh> local;
   std::vector<cpu::ObjectTransform> transforms;
   std::vector<TestMesh> placed;
 };
 
-inline MovedScene moveScene(const std::vector<TestMesh>& scene, std::mt19937& rng) {
+inline MovedScene moveScene(const std::vector<TestMesh>& scene, std::mt19937& rng,
+                            double far = 0) {
   MovedScene out;
   std::normal_distribution<double> n(0, 1);
   for (std::size_t i = 0; i < scene.size(); ++i) {
@@ -195,7 +199,7 @@ inline MovedScene moveScene(const std::vector<TestMesh>& scene, std::mt19937& rn
     const double c[3] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
     TestMesh local = m;
     for (std::size_t v = 0; v < m.positions.size(); ++v) {
-      local.positions[v] = float(double(m.positions[v]) - c[v % 3]);
+      local.positions[v] = float(double(m.positions[v]) - c[v % 3] + far);
     }
     // A random unit quaternion's rotation, column-major.
     double q[4] = {n(rng), n(rng), n(rng), n(rng)};
@@ -210,13 +214,23 @@ inline MovedScene moveScene(const std::vector<TestMesh>& scene, std::mt19937& rn
     if (i % 4 == 3) {
       for (int k = 0; k < 3; ++k) t.rotation[k] = -t.rotation[k];  // mirrored in local x
     }
-    t.translation = {c[0], c[1], c[2]};
+    if (far > 0 && i % 4 == 1) {
+      for (double& e : t.rotation) e *= 3.7;
+    } else if (far > 0 && i % 4 == 2) {
+      for (int k = 6; k < 9; ++k) t.rotation[k] = 0;
+    }
+    // The origin (far, far, far) of the object's coordinates goes to its centre.
+    double tr[3];
+    for (int k = 0; k < 3; ++k) {
+      tr[k] = c[k] - (t.rotation[k] + t.rotation[3 + k] + t.rotation[6 + k]) * far;
+    }
+    t.translation = {tr[0], tr[1], tr[2]};
     TestMesh placed = local;
     for (std::size_t v = 0; v < local.positions.size(); v += 3) {
       const double p[3] = {local.positions[v], local.positions[v + 1], local.positions[v + 2]};
       for (int k = 0; k < 3; ++k) {
         placed.positions[v + std::size_t(k)] = float(
-            t.rotation[k] * p[0] + t.rotation[3 + k] * p[1] + t.rotation[6 + k] * p[2] + c[k]);
+            t.rotation[k] * p[0] + t.rotation[3 + k] * p[1] + t.rotation[6 + k] * p[2] + tr[k]);
       }
     }
     out.local.push_back(std::move(local));
