@@ -179,12 +179,10 @@ std::vector<Case> cases() {
 
 INSTANTIATE_TEST_SUITE_P(AllFormats, OcclusionBufferGlTest, testing::ValuesIn(cases()), caseName);
 
-// Moving objects drawn by the renderer with their transforms (its float rotation and
-// offset) and into the buffer with the same transforms: never nearer than GL, in every
-// format and convention, per pixel and masked. Drawn into the buffer without them, the
-// buffer is nearer than GL somewhere.
-TEST(OcclusionBufferGlMovers, NeverNearerThanGl) {
-  LOGRID_REQUIRE_GL();
+// The movers placed by `motion` in every format and convention, per pixel (full
+// resolution) and masked (half): never nearer than GL, and covering at least
+// `least_full_share` of GL's pixels at full resolution (0.3 at half).
+void checkMoversInEveryFormat(Motion motion, const char* label, double least_full_share) {
   for (DepthFormat f : {DepthFormat::D16, DepthFormat::D24, DepthFormat::D32F}) {
     for (DepthConvention c : {DepthConvention::Standard, DepthConvention::Reversed}) {
       for (cpu::Representation m : {cpu::Representation::PerPixel, cpu::Representation::Masked}) {
@@ -192,17 +190,26 @@ TEST(OcclusionBufferGlMovers, NeverNearerThanGl) {
         desc.representation = m;
         const cpu::Resolution r =
             m == cpu::Representation::Masked ? cpu::Resolution::Half : cpu::Resolution::Full;
-        const Comparison got = compare(f, c, r, desc, 12, Motion::Moved);
-        EXPECT_EQ(got.nearer, 0u) << toString(f) << " " << toString(c) << " " << cpu::toString(m)
-                                  << ": " << got.first;
+        const Comparison got = compare(f, c, r, desc, 12, motion);
+        EXPECT_EQ(got.nearer, 0u) << label << " " << toString(f) << " " << toString(c) << " "
+                                  << cpu::toString(m) << ": " << got.first;
         const double share =
             double(got.covered) / double(std::max<std::uint64_t>(1, got.gl_covered));
-        std::printf("[ cpu ] movers %s %s %s %s: covers %.1f%% of GL's pixels\n", toString(f),
+        std::printf("[ cpu ] %s %s %s %s %s: covers %.1f%% of GL's pixels\n", label, toString(f),
                     toString(c), cpu::toString(r), cpu::toString(m), 100 * share);
-        EXPECT_GT(share, r == cpu::Resolution::Full ? 0.8 : 0.3);
+        EXPECT_GT(share, r == cpu::Resolution::Full ? least_full_share : 0.3);
       }
     }
   }
+}
+
+// Moving objects drawn by the renderer with their transforms (its float rotation and
+// offset) and into the buffer with the same transforms: never nearer than GL, in every
+// format and convention, per pixel and masked. Drawn into the buffer without them, the
+// buffer is nearer than GL somewhere.
+TEST(OcclusionBufferGlMovers, NeverNearerThanGl) {
+  LOGRID_REQUIRE_GL();
+  checkMoversInEveryFormat(Motion::Moved, "movers", 0.8);
   const Comparison unmoved = compare(DepthFormat::D24, DepthConvention::Standard,
                                      cpu::Resolution::Full, {}, 12, Motion::DrawnUnmoved);
   EXPECT_GT(unmoved.nearer, 0u) << "drawn without their transforms, never nearer than GL";
@@ -216,25 +223,7 @@ TEST(OcclusionBufferGlMovers, NeverNearerThanGl) {
 // every format and convention, which the recentred objects above do not show.
 TEST(OcclusionBufferGlMovers, NeverNearerThanGlFarFromTheirOwnOrigin) {
   LOGRID_REQUIRE_GL();
-  for (DepthFormat f : {DepthFormat::D16, DepthFormat::D24, DepthFormat::D32F}) {
-    for (DepthConvention c : {DepthConvention::Standard, DepthConvention::Reversed}) {
-      for (cpu::Representation m : {cpu::Representation::PerPixel, cpu::Representation::Masked}) {
-        cpu::OcclusionBufferDesc desc;
-        desc.representation = m;
-        const cpu::Resolution r =
-            m == cpu::Representation::Masked ? cpu::Resolution::Half : cpu::Resolution::Full;
-        const Comparison got = compare(f, c, r, desc, 12, Motion::MovedFar);
-        EXPECT_EQ(got.nearer, 0u) << toString(f) << " " << toString(c) << " " << cpu::toString(m)
-                                  << ": " << got.first;
-        const double share =
-            double(got.covered) / double(std::max<std::uint64_t>(1, got.gl_covered));
-        std::printf("[ cpu ] movers far from their origin %s %s %s %s: covers %.1f%% of GL's "
-                    "pixels\n",
-                    toString(f), toString(c), cpu::toString(r), cpu::toString(m), 100 * share);
-        EXPECT_GT(share, r == cpu::Resolution::Full ? 0.6 : 0.3);
-      }
-    }
-  }
+  checkMoversInEveryFormat(Motion::MovedFar, "movers far from their origin", 0.6);
 }
 
 // Each conservative rule is needed on GL too: without the coverage slack the buffer

@@ -44,6 +44,22 @@ bool contains(const Aabb& outer, const Aabb& inner) {
          inner.max.x <= outer.max.x && inner.max.y <= outer.max.y && inner.max.z <= outer.max.z;
 }
 
+// The scene `make` builds, prepared whole and in clusters of at most `triangles`.
+struct WholeAndClustered {
+  PreparedScene whole, clustered;
+};
+template <typename Make>
+WholeAndClustered prepareBoth(const Make& make, std::uint32_t triangles) {
+  Scene plain = make();
+  const bvh::BuildArgs args = defaultBuildArgs(plain);
+  WholeAndClustered out;
+  out.whole = prepareScene(std::move(plain), args);
+  ClusterOptions options;
+  options.triangles = triangles;
+  out.clustered = prepareScene(make(), args, options);
+  return out;
+}
+
 TEST(Clusters, KeepEveryTriangleWithItsWindingWithinTheLimits) {
   const Scene forest = makeForest({0.02, 3, TreeParts::Whole});
   for (const auto& [size, method] :
@@ -91,12 +107,8 @@ TEST(Clusters, AClusteredSceneDrawsTheWholeScenesTrianglesOneIdPerCluster) {
       addMovers(s, 3, 1);
       return s;
     };
-    Scene plain_scene = make();
-    const bvh::BuildArgs args = defaultBuildArgs(plain_scene);
-    const PreparedScene whole = prepareScene(std::move(plain_scene), args);
-    ClusterOptions options;
-    options.triangles = 64;
-    const PreparedScene clustered = prepareScene(make(), args, options);
+    const WholeAndClustered both = prepareBoth(make, 64);
+    const PreparedScene &whole = both.whole, &clustered = both.clustered;
 
     ASSERT_TRUE(clustered.clustered());
     EXPECT_FALSE(whole.clustered());
@@ -406,12 +418,8 @@ TEST(Clusters, ObjectsThatShareTrianglesEachGetThemAll) {
     s.occluder_models.resize(s.objects.size());
     return s;
   };
-  Scene plain = make();
-  const bvh::BuildArgs args = defaultBuildArgs(plain);
-  const PreparedScene whole = prepareScene(std::move(plain), args);
-  ClusterOptions options;
-  options.triangles = 64;
-  const PreparedScene clustered = prepareScene(make(), args, options);
+  const WholeAndClustered both = prepareBoth(make, 64);
+  const PreparedScene &whole = both.whole, &clustered = both.clustered;
   ASSERT_EQ(clustered.objectCount(), whole.objectCount());
   ASSERT_GT(clustered.static_objects, whole.static_objects);
   for (std::uint32_t o = 0; o < whole.objectCount(); ++o) {
