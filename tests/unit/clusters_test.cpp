@@ -166,15 +166,21 @@ TEST(Clusters, AClusteredSceneDrawsTheWholeScenesTrianglesOneIdPerCluster) {
   }
 }
 
-// A moving cluster is said to face away only where its triangles, turned and moved as the
-// renderer draws them at that time, all face away from the eye: checked from eyes all
-// around the city's vehicles at several times (and it must be said of some).
-TEST(Clusters, AMovingClusterFacesAwayOnlyWhereItsMovedTrianglesDo) {
+// A small city with six vehicles, everything in clusters of at most 16 triangles.
+PreparedScene cityWithClusteredVehicles() {
   Scene city = makeCity({0.01, 1});
   addMovers(city, 6, 3);
   ClusterOptions options;
   options.triangles = 16;
-  const PreparedScene p = prepareScene(std::move(city), defaultBuildArgs(city), options);
+  const bvh::BuildArgs args = defaultBuildArgs(city);
+  return prepareScene(std::move(city), args, options);
+}
+
+// A moving cluster is said to face away only where its triangles, turned and moved as the
+// renderer draws them at that time, all face away from the eye: checked from eyes all
+// around the city's vehicles at several times (and it must be said of some).
+TEST(Clusters, AMovingClusterFacesAwayOnlyWhereItsMovedTrianglesDo) {
+  const PreparedScene p = cityWithClusteredVehicles();
   const gl::RenderMesh& mesh = p.mesh;
   auto vertex = [&](const gl::RenderMesh::Draw& d, std::uint32_t i, const RigidTransform& t) {
     const std::uint32_t local = mesh.indices16.empty() ? mesh.indices32[i] : mesh.indices16[i];
@@ -230,11 +236,7 @@ TEST(Clusters, AMovingClusterFacesAwayOnlyWhereItsMovedTrianglesDo) {
 // projection.hpp covers. Fails when a part gets another cluster's box (no other unit
 // test does); Movers.BoxesHoldEveryVertexAsAFloatRendererPlacesIt shows the pad.
 TEST(Clusters, AMovingClustersBoxHoldsItsVerticesAsTheRendererDrawsThem) {
-  Scene city = makeCity({0.01, 1});
-  addMovers(city, 6, 3);
-  ClusterOptions options;
-  options.triangles = 16;
-  const PreparedScene p = prepareScene(std::move(city), defaultBuildArgs(city), options);
+  const PreparedScene p = cityWithClusteredVehicles();
   const gl::RenderMesh& mesh = p.mesh;
   constexpr double kU = 1.0 / 16777216.0;
   MotionFrame frame;
