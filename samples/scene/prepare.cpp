@@ -487,9 +487,9 @@ bool drawsNothingWithBackFacesCulled(const gl::RenderMesh& mesh, const gl::Rende
 
 // The cone first (cheap, and it turns most clusters down); a moving cluster's cone is in
 // its mesh's coordinates, the eye taken there through the inverse of the rigid transform
-// it is drawn with. Then every triangle where GL puts it (drawsNothingWithBackFacesCulled): the
-// cone's margin bounds angles, not GL's snapping of small or thin triangles to its sub-pixel grid,
-// which can turn a triangle seen from behind to face the eye.
+// it is drawn with. Then every triangle where GL puts it (drawsNothingWithBackFacesCulled):
+// the cone's margin bounds angles, not GL's snapping of small or thin triangles to its
+// sub-pixel grid, which can turn a triangle seen from behind to face the eye.
 bool clusterFacesAway(const PreparedScene& scene, const MotionFrame& motion, ObjectId id,
                       const Camera& camera, const DVec3& eye, double snap_step) {
   const RigidTransform* t =
