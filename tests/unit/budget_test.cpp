@@ -239,14 +239,16 @@ TEST(BudgetCuller, AReportedFrameClockTakesTheApplicationsTimes) {
   CullerDesc d;
   d.method = Method::LogState;
   d.tile_size = 8;
-  d.budget_ms = 50;  // the culled pass of the box world takes far less
+  // The culled pass of the box world takes milliseconds; the budget is far above what
+  // it could take on a loaded machine (the own-clock part below reads the wall clock).
+  d.budget_ms = 2000;
   d.frame_clock = FrameClock::ReportedFrame;
-  // Whole frames of 200 ms (say, a slow present): over the budget, so it approximates,
+  // Whole frames of 5 s (say, a slow present): over the budget, so it approximates,
   // though the culled pass alone is well within it.
   Culler reported(d);
   for (int i = 0; i < 3; ++i) {
     boxFrame(reported);
-    reported.reportFrameTime(0.2);
+    reported.reportFrameTime(5.0);
   }
   EXPECT_FALSE(boxFrame(reported).setting.approximation.exact());
   // The culled pass's own clock with the same reports: they are ignored, it stays exact.
@@ -254,7 +256,7 @@ TEST(BudgetCuller, AReportedFrameClockTakesTheApplicationsTimes) {
   Culler own(d);
   for (int i = 0; i < 3; ++i) {
     boxFrame(own);
-    own.reportFrameTime(0.2);
+    own.reportFrameTime(5.0);
   }
   EXPECT_TRUE(boxFrame(own).setting.approximation.exact());
   // Bad times are refused, naming the call.
