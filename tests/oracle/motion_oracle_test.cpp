@@ -144,19 +144,24 @@ std::string boxObj(const std::string& name, DVec3 lo, DVec3 hi, std::size_t& ver
   return out.str();
 }
 
-TEST(AnimatedFile, NoVisibleMeshIsMissed) {
-  LOGRID_REQUIRE_GL();
-  if (!samples::sceneFilesSupported()) GTEST_SKIP() << "built without assimp";
+// A wall (mesh 0) and eight crates side by side behind it (meshes 1-8), as an OBJ.
+std::string wallAndCrates() {
   std::size_t vertices = 0;
-  // No ground: it would straddle every plane and share the root's third child with the
-  // wall, whose box (the ground's) is then drawn last in the two-list order and hides
-  // nothing from log-state or pq.
   std::string obj = boxObj("wall", {-20, 0, -2}, {20, 10, 2}, vertices);
   for (int k = 0; k < 8; ++k) {
     obj += boxObj("crate" + std::to_string(k), {-16.0 + 4 * k, 0, -10}, {-14.0 + 4 * k, 2, -8},
                   vertices);
   }
-  const std::string model = writeFile("logrid_animated.obj", obj);
+  return obj;
+}
+
+TEST(AnimatedFile, NoVisibleMeshIsMissed) {
+  LOGRID_REQUIRE_GL();
+  if (!samples::sceneFilesSupported()) GTEST_SKIP() << "built without assimp";
+  // No ground: it would straddle every plane and share the root's third child with the
+  // wall, whose box (the ground's) is then drawn last in the two-list order and hides
+  // nothing from log-state or pq.
+  const std::string model = writeFile("logrid_animated.obj", wallAndCrates());
   const std::string motion = writeFile("logrid_animated.json", R"({"objects": [
     {"mesh": 1, "path": [[0, 0, 0], [0, 0, 40]], "speed": 8},
     {"mesh": 2, "path": [[0, 0, 0], [40, 0, 0]], "speed": 5, "move_seconds": 3, "stop_seconds": 2},
@@ -258,13 +263,7 @@ TEST(CpuReaderWithMovers, NoVisibleObjectIsMissed) {
 TEST(CpuReaderWithMovers, AMovingWallHidesWhatIsBehindIt) {
   LOGRID_REQUIRE_GL();
   if (!samples::sceneFilesSupported()) GTEST_SKIP() << "built without assimp";
-  std::size_t vertices = 0;
-  std::string obj = boxObj("wall", {-20, 0, -2}, {20, 10, 2}, vertices);
-  for (int k = 0; k < 8; ++k) {
-    obj += boxObj("crate" + std::to_string(k), {-16.0 + 4 * k, 0, -10}, {-14.0 + 4 * k, 2, -8},
-                  vertices);
-  }
-  const std::string model = writeFile("logrid_moving_wall.obj", obj);
+  const std::string model = writeFile("logrid_moving_wall.obj", wallAndCrates());
   const std::string motion = writeFile("logrid_moving_wall.json", R"({"objects": [
     {"mesh": 0, "path": [[0, 0, 0], [3, 0, 0]], "speed": 1}]})");
   samples::Scene s = samples::loadSceneFile(model);
