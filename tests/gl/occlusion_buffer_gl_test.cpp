@@ -62,8 +62,7 @@ Comparison compare(DepthFormat format, DepthConvention convention, cpu::Resoluti
     const ClipDepthRange range = convention == DepthConvention::Reversed || s % 2
                                      ? ClipDepthRange::ZeroToOne
                                      : ClipDepthRange::NegativeOneToOne;
-    Camera cam =
-        test::randomCamera(std::uint32_t(s) * 13 + 5, w, h, convention, range, format);
+    Camera cam = test::randomCamera(std::uint32_t(s) * 13 + 5, w, h, convention, range, format);
     std::vector<TestMesh> scene = test::randomScene(std::uint32_t(s) + 900);
     std::vector<cpu::ObjectTransform> transforms;
     if (motion != Motion::Still) {

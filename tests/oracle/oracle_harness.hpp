@@ -76,9 +76,9 @@ struct SceneKey {
   std::string name;  // forest, city, office or office-file
   double scale = kForestScale;
   Offset offset = Offset::None;
-  double distance = 0;       // added to x, y and z (world units)
-  std::uint32_t movers = 0;  // moving objects (samples/scene/movers.hpp, seed 1)
-  bool ddo = false;          // with its DDO octree (ddoOptions(), built in memory)
+  double distance = 0;        // added to x, y and z (world units)
+  std::uint32_t movers = 0;   // moving objects (samples/scene/movers.hpp, seed 1)
+  bool ddo = false;           // with its DDO octree (ddoOptions(), built in memory)
   std::uint32_t cluster = 0;  // triangles per cluster (samples/scene/clusters.hpp); 0: whole
 
   std::string id() const {
@@ -93,7 +93,7 @@ struct SceneKey {
 inline SceneKey sceneKey(const std::string& name, std::uint32_t movers = 0, bool ddo = false) {
   SceneKey k;
   k.name = name;
-  k.scale = name == "city"                                ? kCityScale
+  k.scale = name == "city"                              ? kCityScale
             : name == "office" || name == "office-file" ? kOfficeScale
                                                         : kForestScale;
   k.movers = movers;
@@ -283,12 +283,12 @@ struct WalkTotals {
   std::size_t frames = 0;
   std::uint64_t visible = 0;
   std::uint64_t missed = 0;
-  std::uint64_t artifacts = 0;  // objects shown only by depth-extrapolated fragments
-  std::uint64_t drawn = 0;      // objects drawn (draw callbacks)
-  std::uint64_t occluded = 0;   // boxes found occluded
-  std::uint64_t tested = 0;     // occlusion tests
-  std::uint64_t invalid = 0;    // boxes the culler found NaN or inverted
-  std::uint64_t occluders = 0;  // DDO occluders drawn or entered into the map
+  std::uint64_t artifacts = 0;       // objects shown only by depth-extrapolated fragments
+  std::uint64_t drawn = 0;           // objects drawn (draw callbacks)
+  std::uint64_t occluded = 0;        // boxes found occluded
+  std::uint64_t tested = 0;          // occlusion tests
+  std::uint64_t invalid = 0;         // boxes the culler found NaN or inverted
+  std::uint64_t occluders = 0;       // DDO occluders drawn or entered into the map
   std::uint64_t occluder_tiles = 0;  // ddo+log: tiles recorded full from their coverage
   std::uint64_t backfacing = 0;      // clusters not drawn for facing away
   std::uint64_t cpu_moved = 0;       // --reader cpu: moving objects drawn into its buffer

@@ -185,8 +185,7 @@ struct MovedScene {
   std::vector<TestMesh> placed;
 };
 
-inline MovedScene moveScene(const std::vector<TestMesh>& scene, std::mt19937& rng,
-                            double far = 0) {
+inline MovedScene moveScene(const std::vector<TestMesh>& scene, std::mt19937& rng, double far = 0) {
   MovedScene out;
   std::normal_distribution<double> n(0, 1);
   for (std::size_t i = 0; i < scene.size(); ++i) {
