@@ -75,24 +75,50 @@ FrameSetting AutoPolicy::beginFrame(const Hierarchy& hierarchy) {
   frame_ = current_;
   frame_.probe = false;
   ++since_probe_;
-  if (have_base_ && since_probe_ >= probe_period_) {
+  if (const std::optional<std::uint32_t> which = dueProbe()) {
     since_probe_ = 0;
-    // The next neighbour that differs from the current setting (K at the ladder's end
-    // has one neighbour fewer).
-    for (std::uint32_t tries = 0; tries < 4; ++tries) {
-      const FrameSetting n = neighbour(next_neighbour_++);
-      if (n.lookahead != current_.lookahead || n.method != current_.method ||
-          n.temporal_coherence != current_.temporal_coherence) {
-        frame_ = n;
-        frame_.probe = true;
-        break;
-      }
-    }
+    probed_ = *which;
+    frame_ = neighbour(*which);
+    frame_.probe = true;
   }
   return frame_;
 }
 
+std::optional<std::uint32_t> AutoPolicy::dueProbe() {
+  if (!have_base_) return std::nullopt;
+  // K at the ladder's end has one neighbour fewer.
+  const auto differs = [this](std::uint32_t which) {
+    const FrameSetting n = neighbour(which);
+    return n.lookahead != current_.lookahead || n.method != current_.method ||
+           n.temporal_coherence != current_.temporal_coherence;
+  };
+  // Out of turn: once a frame has run the current setting since the last probe (the
+  // frame after a probe judges it).
+  if (out_of_turn_ && since_probe_ >= 2) {
+    const std::uint32_t which = *out_of_turn_;
+    out_of_turn_.reset();
+    if (differs(which)) return which;
+  }
+  if (since_probe_ < probe_period_) return std::nullopt;
+  for (std::uint32_t tries = 0; tries < kNeighbours; ++tries) {
+    const std::uint32_t which = next_neighbour_++ % kNeighbours;
+    if (differs(which)) return which;
+  }
+  return std::nullopt;
+}
+
+void AutoPolicy::noteViews(const FrameStats& stats) {
+  const bool first = !seen_frame_;
+  seen_frame_ = true;
+  // Under coherence last frame's nodes are drawn first and their own tests then find them
+  // visible: the share says nothing about the views there.
+  if (first || stats.setting.temporal_coherence || stats.visible_leaves == 0) return;
+  const double kept = double(stats.visible_kept) / double(stats.visible_leaves);
+  kept_share_ = kept_share_ < 0 ? kept : kept_share_ + kOutlookRate * (kept - kept_share_);
+}
+
 void AutoPolicy::endFrame(const FrameStats& stats, const CullerCosts& costs) {
+  noteViews(stats);
   const double w = outlook_seen_ ? kOutlookRate : 1.0;
   if (stats.boxes_tested > 0) {
     const double flushes = double(stats.flushes) / double(stats.boxes_tested);
@@ -119,11 +145,15 @@ void AutoPolicy::endFrame(const FrameStats& stats, const CullerCosts& costs) {
                                ? observed_triangle_s_ + kOutlookRate * (now - observed_triangle_s_)
                                : now;
   }
-  // Frames are compared by their counts under one set of costs, the latest: a frame is
-  // not judged by costs that its own time (a probe's first coherent frame, a hitch) has
-  // just moved while the frame it is compared with was judged by the older ones. (Not
-  // with effective()'s triangle cost: what it adds, the frame's fixed cost spread over
-  // its triangles, would charge coherence on the city for triangles it does not pay.)
+  // Frames are compared by their counts under one set of costs: a frame is not judged by
+  // costs that its own time (a probe's first coherent frame, a hitch) has just moved
+  // while the frame it is compared with was judged by the older ones. A probe and the
+  // frames on both sides of it are all modelled with the costs as they stood at the
+  // probe (the estimate does not learn from probes; it does from the frame after, whose
+  // own time would otherwise judge it: on the loaded 2-core VM one such frame moved the
+  // city's modelled frame by a fifth). (Not with effective()'s triangle cost: what it
+  // adds, the frame's fixed cost spread over its triangles, would charge coherence on the
+  // city for triangles it does not pay.)
   const double seconds = modelledSeconds(costs, stats);
   if (frame_.probe) {
     // A candidate if it models cheaper than the frame before it; adopted only if it is
@@ -134,13 +164,16 @@ void AutoPolicy::endFrame(const FrameStats& stats, const CullerCosts& costs) {
       candidate_ = frame_;
       candidate_->probe = false;
       candidate_frame_ = stats;
+      candidate_neighbour_ = probed_;
+      candidate_costs_ = costs;
     } else {
       probeLost();
     }
     return;
   }
   if (candidate_) {
-    const bool wins = modelledSeconds(costs, candidate_frame_) < (1.0 - kSwitchMargin) * seconds;
+    const bool wins = modelledSeconds(candidate_costs_, candidate_frame_) <
+                      (1.0 - kSwitchMargin) * modelledSeconds(candidate_costs_, stats);
     const FrameSetting candidate = *candidate_;
     candidate_.reset();
     if (wins) {
@@ -149,9 +182,21 @@ void AutoPolicy::endFrame(const FrameStats& stats, const CullerCosts& costs) {
       base_frame_ = candidate_frame_;
       probe_period_ = kProbePeriod;
       lost_probes_ = 0;
+      // A step of K that won: the next step the same way, out of turn; coherence may be
+      // offered again at the new setting.
+      const bool k_step =
+          candidate_neighbour_ == kLookaheadUp || candidate_neighbour_ == kLookaheadDown;
+      out_of_turn_.reset();
+      if (k_step) out_of_turn_ = candidate_neighbour_;
+      coherence_offered_ = false;
       return;
     }
     probeLost();
+  }
+  if (!current_.temporal_coherence && !coherence_offered_ && !out_of_turn_ &&
+      kept_share_ >= kCoherentViews) {
+    out_of_turn_ = kCoherence;  // the views are coherent: try drawing last frame's first
+    coherence_offered_ = true;
   }
   base_frame_ = stats;
   have_base_ = true;

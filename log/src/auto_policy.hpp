@@ -13,13 +13,20 @@
 // while it models cheapest; one frame in a probe period tries one neighbouring setting
 // (K x4 or /4, coherence flipped, the other grid variant), and the neighbour is adopted
 // when its frame models at least kSwitchMargin cheaper than the frames before and after
-// it, all three modelled with the latest costs (the hysteresis that keeps settings from
-// flickering, and from following a view that happened to be cheaper). The period
+// it, all three modelled with the costs as they stood at the probe (the hysteresis that keeps
+// settings from flickering, and from following a view that happened to be cheaper). The period
 // starts at kProbePeriod and doubles, up to kMaxProbePeriod, each time every neighbour
 // in turn has lost (the setting is a local optimum and a probe is a frame paid for
 // nothing); it starts again at kProbePeriod when a probe wins or when the frames'
 // modelled time moves by more than kSceneChange from where the period last doubled (the
 // scene changed: look around again).
+//
+// Two probes come out of turn, as soon as a frame has run the current setting since the
+// last probe (the climb to a distant optimum takes a few frames instead of a few probe
+// periods): after a step of K won, the next step the same way (K x4 won, so K x16 may
+// too); and while coherence is off, coherence once the views are seen to be coherent:
+// at least kCoherentViews of the visible nodes with objects were visible the frame before
+// too (what temporal coherence draws first without waiting). Again after each win.
 #pragma once
 
 #include <cstdint>
@@ -68,6 +75,9 @@ class AutoPolicy {
   static constexpr std::uint32_t kNeighbours = 4;
   static constexpr double kSceneChange = 1.5;
   static constexpr double kSwitchMargin = 0.10;
+  static constexpr double kCoherentViews = 0.8;
+  // The neighbours, in the order probed in turn.
+  enum Neighbour : std::uint32_t { kLookaheadUp, kLookaheadDown, kCoherence, kVariant };
   // The lookaheads auto chooses among.
   static constexpr std::uint32_t kLookaheads[] = {1, 4, 16, 64, 256};
 
@@ -97,11 +107,17 @@ class AutoPolicy {
   double observedTriangleSeconds() const { return observed_triangle_s_; }
   const FrameSetting& current() const { return current_; }
   std::uint32_t probePeriod() const { return probe_period_; }
+  // The share of the visible nodes with objects that were visible the frame before, as
+  // the recent frames without coherence show it (negative before any such frame).
+  double keptShare() const { return kept_share_; }
   NodeLoad load(NodeId node) const;
 
  private:
   FrameSetting neighbour(std::uint32_t which) const;
+  // The neighbour of the next probe, if one is due (nullopt: none, or none differs).
+  std::optional<std::uint32_t> dueProbe();
   void probeLost();
+  void noteViews(const FrameStats& stats);
   // `costs` with the larger of its and the observed triangle cost (the per-node test's).
   CullerCosts effective(const CullerCosts& costs) const;
   void loadSubtrees(const Hierarchy& hierarchy);
@@ -113,11 +129,18 @@ class AutoPolicy {
   std::uint32_t lost_probes_ = 0;  // in a row
   FrameStats settled_frame_;       // the base frame when the period last doubled
   std::uint32_t next_neighbour_ = 0;
+  std::uint32_t probed_ = 0;                  // this frame's neighbour, if a probe
+  std::optional<std::uint32_t> out_of_turn_;  // probed as soon as a base frame has run
+  bool coherence_offered_ = false;            // out of turn, since the last win
+  double kept_share_ = -1;
+  bool seen_frame_ = false;  // a frame has ended (its visible set is next frame's last)
   bool have_base_ = false;
   FrameStats base_frame_;  // the last non-probe frame (or the adopted probe)
   // A probe that beat the frame before it, until the frame after it has run.
   std::optional<FrameSetting> candidate_;
   FrameStats candidate_frame_;
+  std::uint32_t candidate_neighbour_ = 0;
+  CullerCosts candidate_costs_;  // as they stood at the probe: the frame after is judged by them
   TestOutlook outlook_;
   // This frame's noteAnswer()s.
   double rect_pixels_ = 0;

@@ -409,6 +409,8 @@ Result<FrameStats> Culler::tryEndFrame() {
   }
   // Next frame's coherent set: the nodes with objects this frame found visible.
   if (record_visible_) {
+    stats_.visible_leaves = visible_drawn_.size();
+    stats_.visible_kept = countKept();
     coherent_.swap(visible_drawn_);
     coherent_hierarchy_ = hierarchy_;
     coherent_revision_ = hierarchy_->revision();
@@ -839,6 +841,19 @@ void Culler::drawCoherent() {
     if (observer_) observer_->onDrawn(node, p);
   }
   std::sort(drawn_first_.begin(), drawn_first_.end());
+}
+
+std::uint64_t Culler::countKept() {
+  if (coherent_hierarchy_ != hierarchy_ || coherent_revision_ != hierarchy_->revision()) {
+    return 0;
+  }
+  kept_scratch_.assign(coherent_.begin(), coherent_.end());
+  std::sort(kept_scratch_.begin(), kept_scratch_.end());
+  std::uint64_t kept = 0;
+  for (NodeId node : visible_drawn_) {
+    kept += std::binary_search(kept_scratch_.begin(), kept_scratch_.end(), node);
+  }
+  return kept;
 }
 
 void Culler::noteDrawnWith(const DrawnArea& area, bool ordered) {

@@ -146,6 +146,8 @@ nlohmann::json frameJson(const FrameRecord& r) {
                       {"state_queries", s.state_queries},
                       {"draw_batches", s.draw_batches},
                       {"coherent_leaves", s.coherent_leaves},
+                      {"visible_leaves", s.visible_leaves},
+                      {"visible_kept", s.visible_kept},
                       {"read_ms", s.read_seconds * 1e3},
                       {"cull_ms", s.seconds * 1e3},
                       {"order_fallbacks", s.order_fallbacks},

@@ -305,6 +305,97 @@ TEST(AutoFrameChoice, ProbesBackOffAtALocalOptimumAndComeBackWhenTheSceneChanges
   EXPECT_EQ(policy.probePeriod(), AutoPolicy::kProbePeriod);
 }
 
+// The frame `s` of the scripted scene with its visible set: `kept` of 100 visible nodes
+// with objects were visible the frame before.
+FrameStats framedViews(const FrameSetting& s, double triangles_per_k, std::uint64_t kept) {
+  FrameStats f = scriptedFrame(s, triangles_per_k);
+  f.visible_leaves = 100;
+  f.visible_kept = kept;
+  return f;
+}
+
+// The frames on which the policy probed, and with what, over `frames` frames.
+std::vector<std::pair<int, FrameSetting>> probesOver(AutoPolicy& policy, int frames,
+                                                     std::uint64_t kept, const CullerCosts& c) {
+  OneLeaf h;
+  std::vector<std::pair<int, FrameSetting>> probes;
+  for (int frame = 0; frame < frames; ++frame) {
+    const FrameSetting s = policy.beginFrame(h);
+    if (s.probe) probes.emplace_back(frame, s);
+    policy.endFrame(framedViews(s, 1.0, kept), c);
+  }
+  return probes;
+}
+
+TEST(AutoFrameChoice, CoherentViewsTryCoherenceAtOnce) {
+  // 95 of 100 visible nodes were visible the frame before: coherence is probed as soon
+  // as the second frame has shown it (the third frame), not on the kProbePeriod-th, and
+  // with dear flushes (coherence halves them) it is adopted at once.
+  CullerCosts c = scripted();
+  c.flush_s = 1e-3;
+  AutoPolicy coherent;
+  const auto probes = probesOver(coherent, 4, 95, c);
+  ASSERT_EQ(probes.size(), 1u);
+  EXPECT_EQ(probes[0].first, 2);
+  EXPECT_TRUE(probes[0].second.temporal_coherence);
+  EXPECT_TRUE(coherent.current().temporal_coherence);
+  EXPECT_NEAR(coherent.keptShare(), 0.95, 1e-9);
+  // Views that change (20 of 100 kept): nothing out of turn; the first probe is K's, on
+  // the kProbePeriod-th frame.
+  AutoPolicy incoherent;
+  const auto turns = probesOver(incoherent, int(AutoPolicy::kProbePeriod), 20, c);
+  ASSERT_EQ(turns.size(), 1u);
+  EXPECT_EQ(turns[0].first, int(AutoPolicy::kProbePeriod) - 1);
+  EXPECT_FALSE(turns[0].second.temporal_coherence);
+  EXPECT_FALSE(incoherent.current().temporal_coherence);
+}
+
+TEST(AutoFrameChoice, AStepOfKThatWonIsTriedAgainAtOnce) {
+  // Flushes dear, views not coherent: K = 64 wins on the kProbePeriod-th frame, and
+  // K = 256 is probed on the second frame after the one that adopted it, not a probe
+  // period later.
+  CullerCosts c = scripted();
+  c.flush_s = 1e-3;
+  AutoPolicy policy;
+  const int first = int(AutoPolicy::kProbePeriod) - 1;
+  const auto probes = probesOver(policy, first + 4, 0, c);
+  ASSERT_EQ(probes.size(), 2u);
+  EXPECT_EQ(probes[0].first, first);
+  EXPECT_EQ(probes[0].second.lookahead, 64u);
+  EXPECT_EQ(probes[1].first, first + 2);
+  EXPECT_EQ(probes[1].second.lookahead, 256u);
+  EXPECT_EQ(policy.current().lookahead, 256u);
+}
+
+TEST(AutoFrameChoice, TheFrameAfterAProbeIsJudgedUnderTheProbesCosts) {
+  // Flushes dear (1 ms) at the probe: K = 64 models far cheaper than K = 16. The frame
+  // after it moves the estimate so that flushes look nearly free (as one slow frame on
+  // a loaded machine did); it is judged with the probe under the costs of the probe, and
+  // the probe is adopted.
+  CullerCosts dear_flush = scripted();
+  dear_flush.flush_s = 1e-3;
+  CullerCosts cheap_flush = dear_flush;
+  cheap_flush.flush_s = 1e-7;
+  OneLeaf h;
+  AutoPolicy policy;
+  FrameSetting k64 = policy.current();
+  k64.lookahead = 64;
+  // Under the costs the frame after would bring, the probe would lose.
+  ASSERT_GE(scriptedSeconds(k64, 1.0, cheap_flush),
+            (1 - AutoPolicy::kSwitchMargin) * scriptedSeconds(policy.current(), 1.0, cheap_flush));
+  const FrameSetting start = policy.current();
+  for (int frame = 0; frame < 64; ++frame) {
+    const FrameSetting s = policy.beginFrame(h);
+    policy.endFrame(scriptedFrame(s, 1.0), dear_flush);
+    if (!s.probe) continue;
+    ASSERT_EQ(s.lookahead, 64u);
+    policy.beginFrame(h);  // the frame after the probe, at the current setting
+    policy.endFrame(scriptedFrame(start, 1.0), cheap_flush);
+    break;
+  }
+  EXPECT_EQ(policy.current().lookahead, 64u);
+}
+
 TEST(AutoFrameChoice, FreeVisibleAnswersDoNotDragTheOccludedFractionDown) {
   // A frame's counts say 1000 tests and nothing occluded, but most were answered visible
   // on tiles nothing was drawn on; of the answers that were evidence, half were occluded.
@@ -534,6 +625,35 @@ TEST(AutoCuller, NoVisibleBoxIsCulledWhateverItChooses) {
         EXPECT_GT(probes, 0u);
         EXPECT_EQ(culler.costEstimate().frames(), 24u - probes);
       }
+    }
+  }
+}
+
+TEST(AutoCuller, CountsTheVisibleNodesTheFrameBeforeSawToo) {
+  // The same view twice: every visible node with objects is kept; a first frame keeps
+  // none; a method that keeps no visible set counts nothing.
+  const test::BoxWorld world = test::makeBoxWorld(3);
+  const Camera cam = test::boxCamera(160, 120, DepthConvention::Standard, 0.1);
+  for (Method method : {Method::Auto, Method::LogState}) {
+    SCOPED_TRACE(toString(method));
+    CullerDesc d;
+    d.method = method;
+    d.tile_size = 8;
+    Culler culler(d);
+    std::vector<FrameStats> frames;
+    for (int frame = 0; frame < 2; ++frame) {
+      cpu::SoftwareDepthBuffer depth(cam.width, cam.height, DepthConvention::Standard);
+      frames.push_back(
+          test::cullBoxes(culler, world, cam, depth, test::SourceKind::Software).stats);
+    }
+    EXPECT_EQ(frames[0].visible_kept, 0u);
+    if (method == Method::Auto) {
+      EXPECT_GT(frames[0].visible_leaves, 0u);
+      EXPECT_EQ(frames[1].visible_kept, frames[1].visible_leaves);
+      EXPECT_EQ(frames[1].visible_leaves, frames[0].visible_leaves);
+    } else {
+      EXPECT_EQ(frames[1].visible_leaves, 0u);
+      EXPECT_EQ(frames[1].visible_kept, 0u);
     }
   }
 }

@@ -397,6 +397,8 @@ class Culler {
   void batchObjects(NodeId node);
   void drawEntry(const Entry& entry);
   void drawCoherent();
+  // How many of this frame's visible nodes with objects last frame found visible too.
+  std::uint64_t countKept();
   // `ordered`: drawn in two-list order (in front of every box still to be tested, up to
   // rounding); else remembered in unordered_.
   void noteDrawnWith(const DrawnArea& area, bool ordered);
@@ -459,6 +461,7 @@ class Culler {
   std::vector<NodeId> coherent_;
   std::vector<NodeId> visible_drawn_;  // this frame's
   std::vector<NodeId> drawn_first_;    // sorted: nodes drawn from coherent_
+  std::vector<NodeId> kept_scratch_;   // countKept()'s sorted copy of coherent_
   const Hierarchy* coherent_hierarchy_ = nullptr;
   std::uint64_t coherent_revision_ = 0;
   // Query methods: the schedule and its frame count, for which hierarchy; mid-frame

@@ -69,6 +69,11 @@ struct FrameStats {
   std::uint64_t leaves_drawn = 0;     // nodes whose objects were drawn
   std::uint64_t objects_drawn = 0;    // draw callbacks made
   std::uint64_t coherent_leaves = 0;  // nodes with objects drawn first from last frame's set
+  std::uint64_t visible_leaves = 0;   // nodes with objects found visible (recorded where
+                                      // the culler keeps its visible set: temporal
+                                      // coherence, auto)
+  std::uint64_t visible_kept = 0;     // of those, the ones last frame found visible too
+                                      // (0 on a first frame or a changed hierarchy)
   std::uint64_t draw_batches = 0;     // non-empty batches handed out (Culler::nextBatch)
   std::uint64_t occluders = 0;        // selected by the occluder pre-pass (ddo: faces in
                                       // its map; ddo+log: quads drawn)
