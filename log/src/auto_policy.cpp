@@ -85,7 +85,7 @@ FrameSetting AutoPolicy::beginFrame(const Hierarchy& hierarchy) {
 }
 
 std::optional<std::uint32_t> AutoPolicy::dueProbe() {
-  if (!have_base_) return std::nullopt;
+  if (!have_base_ || trial_) return std::nullopt;
   // K at the ladder's end has one neighbour fewer.
   const auto differs = [this](std::uint32_t which) {
     const FrameSetting n = neighbour(which);
@@ -108,8 +108,7 @@ std::optional<std::uint32_t> AutoPolicy::dueProbe() {
 }
 
 void AutoPolicy::noteViews(const FrameStats& stats) {
-  const bool first = !seen_frame_;
-  seen_frame_ = true;
+  const bool first = frames_ == 1;
   // Under coherence last frame's nodes are drawn first and their own tests then find them
   // visible: the share says nothing about the views there.
   if (first || stats.setting.temporal_coherence || stats.visible_leaves == 0) return;
@@ -118,6 +117,7 @@ void AutoPolicy::noteViews(const FrameStats& stats) {
 }
 
 void AutoPolicy::endFrame(const FrameStats& stats, const CullerCosts& costs) {
+  ++frames_;
   noteViews(stats);
   const double w = outlook_seen_ ? kOutlookRate : 1.0;
   if (stats.boxes_tested > 0) {
@@ -171,28 +171,19 @@ void AutoPolicy::endFrame(const FrameStats& stats, const CullerCosts& costs) {
     }
     return;
   }
+  if (frames_ > 1) noteMeasured(stats.seconds);  // a culler's first frame sets up
   if (candidate_) {
     const bool wins = modelledSeconds(candidate_costs_, candidate_frame_) <
                       (1.0 - kSwitchMargin) * modelledSeconds(candidate_costs_, stats);
     const FrameSetting candidate = *candidate_;
     candidate_.reset();
     if (wins) {
-      current_ = candidate;
-      next_neighbour_ = 0;
-      base_frame_ = candidate_frame_;
-      probe_period_ = kProbePeriod;
-      lost_probes_ = 0;
-      // A step of K that won: the next step the same way, out of turn; coherence may be
-      // offered again at the new setting.
-      const bool k_step =
-          candidate_neighbour_ == kLookaheadUp || candidate_neighbour_ == kLookaheadDown;
-      out_of_turn_.reset();
-      if (k_step) out_of_turn_ = candidate_neighbour_;
-      coherence_offered_ = false;
+      adopt(candidate);
       return;
     }
     probeLost();
   }
+  if (trial_) judgeTrial(stats.seconds);
   if (!current_.temporal_coherence && !coherence_offered_ && !out_of_turn_ &&
       kept_share_ >= kCoherentViews) {
     out_of_turn_ = kCoherence;  // the views are coherent: try drawing last frame's first
@@ -206,6 +197,57 @@ void AutoPolicy::endFrame(const FrameStats& stats, const CullerCosts& costs) {
     probe_period_ = kProbePeriod;  // the scene changed since the setting settled
     lost_probes_ = 0;
   }
+}
+
+void AutoPolicy::adopt(const FrameSetting& next) {
+  const FrameSetting previous = current_;
+  current_ = next;
+  next_neighbour_ = 0;
+  base_frame_ = candidate_frame_;
+  probe_period_ = kProbePeriod;
+  lost_probes_ = 0;
+  // A step of K that won: the next step the same way, out of turn; coherence may be
+  // offered again at the new setting.
+  const bool k_step =
+      candidate_neighbour_ == kLookaheadUp || candidate_neighbour_ == kLookaheadDown;
+  out_of_turn_.reset();
+  if (k_step) out_of_turn_ = candidate_neighbour_;
+  coherence_offered_ = false;
+  // Where the views are coherent, the frames' own time before and after the switch
+  // compares the settings on much the same view: a trial.
+  trial_.reset();
+  if (kept_share_ >= kCoherentViews && measured_count_ >= kTrialBase) {
+    const std::size_t n = std::min<std::size_t>(measured_count_, measured_.size());
+    double sum = 0;
+    for (std::size_t i = 0; i < n; ++i) sum += measured_[i];
+    if (sum > 0) trial_ = Trial{previous, candidate_neighbour_, sum / double(n)};
+  }
+  measured_count_ = 0;
+}
+
+void AutoPolicy::noteMeasured(double seconds) {
+  measured_[measured_count_++ % measured_.size()] = seconds;
+}
+
+void AutoPolicy::judgeTrial(double seconds) {
+  Trial& t = *trial_;
+  if (t.skipped < kTrialSkip) {  // a setting's first frames may pay once (coherence's set)
+    ++t.skipped;
+    return;
+  }
+  t.sum_s += seconds;
+  if (++t.frames < kTrialFrames) return;
+  const Trial done = t;
+  trial_.reset();
+  if (done.sum_s / double(done.frames) <= (1.0 + kSwitchMargin) * done.before_s) return;
+  // The frames' own time does not bear the model out: back to the setting before.
+  current_ = done.previous;
+  measured_count_ = 0;
+  since_probe_ = 0;
+  out_of_turn_.reset();
+  if (done.neighbour == kCoherence) coherence_offered_ = true;
+  ++reverts_;
+  probeLost();
 }
 
 void AutoPolicy::probeLost() {

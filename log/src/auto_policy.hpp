@@ -27,8 +27,19 @@
 // too); and while coherence is off, coherence once the views are seen to be coherent:
 // at least kCoherentViews of the visible nodes with objects were visible the frame before
 // too (what temporal coherence draws first without waiting). Again after each win.
+//
+// The model judges by counts; where the views are coherent the frames' own time can
+// check it, since frames before and after a switch see much the same. After a switch
+// there, no probe runs for a trial of kTrialFrames frames (after kTrialSkip, which may
+// pay once for the switch); if they took on average more than (1 + kSwitchMargin) times
+// the frames before the probe (up to kTrialFrames of them, at least kTrialBase), the
+// setting goes back and the switch counts as a lost probe. (On the loaded 2-core VM the
+// city's coherent settings ran 1.2x log-zfar:16's frame time while modelling cheaper;
+// on a quiet one 0.6x.)
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <unordered_map>
@@ -76,6 +87,9 @@ class AutoPolicy {
   static constexpr double kSceneChange = 1.5;
   static constexpr double kSwitchMargin = 0.10;
   static constexpr double kCoherentViews = 0.8;
+  static constexpr std::uint32_t kTrialFrames = 6;
+  static constexpr std::uint32_t kTrialSkip = 1;
+  static constexpr std::uint32_t kTrialBase = 2;
   // The neighbours, in the order probed in turn.
   enum Neighbour : std::uint32_t { kLookaheadUp, kLookaheadDown, kCoherence, kVariant };
   // The lookaheads auto chooses among.
@@ -110,6 +124,8 @@ class AutoPolicy {
   // The share of the visible nodes with objects that were visible the frame before, as
   // the recent frames without coherence show it (negative before any such frame).
   double keptShare() const { return kept_share_; }
+  // Switches the frames' own time did not bear out, taken back (see above).
+  std::uint32_t reverts() const { return reverts_; }
   NodeLoad load(NodeId node) const;
 
  private:
@@ -118,6 +134,9 @@ class AutoPolicy {
   std::optional<std::uint32_t> dueProbe();
   void probeLost();
   void noteViews(const FrameStats& stats);
+  void adopt(const FrameSetting& next);
+  void noteMeasured(double seconds);
+  void judgeTrial(double seconds);
   // `costs` with the larger of its and the observed triangle cost (the per-node test's).
   CullerCosts effective(const CullerCosts& costs) const;
   void loadSubtrees(const Hierarchy& hierarchy);
@@ -133,7 +152,20 @@ class AutoPolicy {
   std::optional<std::uint32_t> out_of_turn_;  // probed as soon as a base frame has run
   bool coherence_offered_ = false;            // out of turn, since the last win
   double kept_share_ = -1;
-  bool seen_frame_ = false;  // a frame has ended (its visible set is next frame's last)
+  // The measured seconds of the last frames at the current setting (not probes).
+  std::array<double, kTrialFrames> measured_{};
+  std::size_t measured_count_ = 0;
+  struct Trial {
+    FrameSetting previous;
+    std::uint32_t neighbour = 0;  // what the switch changed
+    double before_s = 0;          // mean measured seconds of the frames before it
+    double sum_s = 0;
+    std::uint32_t frames = 0;
+    std::uint32_t skipped = 0;
+  };
+  std::optional<Trial> trial_;
+  std::uint32_t reverts_ = 0;
+  std::uint64_t frames_ = 0;  // ended
   bool have_base_ = false;
   FrameStats base_frame_;  // the last non-probe frame (or the adopted probe)
   // A probe that beat the frame before it, until the frame after it has run.

@@ -367,6 +367,66 @@ TEST(AutoFrameChoice, AStepOfKThatWonIsTriedAgainAtOnce) {
   EXPECT_EQ(policy.current().lookahead, 256u);
 }
 
+// Runs `frames` frames of the scripted scene with flushes dear (coherence models half
+// as dear), `kept` of 100 visible nodes kept from frame to frame, each frame taking
+// `plain_s` seconds without coherence and `coherent_s` with it. Returns the settings run.
+std::vector<FrameSetting> timedFrames(AutoPolicy& policy, int frames, std::uint64_t kept,
+                                      double plain_s, double coherent_s) {
+  CullerCosts c = scripted();
+  c.flush_s = 1e-3;
+  OneLeaf h;
+  std::vector<FrameSetting> run;
+  for (int frame = 0; frame < frames; ++frame) {
+    const FrameSetting s = policy.beginFrame(h);
+    run.push_back(s);
+    FrameStats f = framedViews(s, 1.0, kept);
+    f.seconds = s.temporal_coherence ? coherent_s : plain_s;
+    policy.endFrame(f, c);
+  }
+  return run;
+}
+
+TEST(AutoFrameChoice, ASwitchTheFramesOwnTimeDoesNotBearOutIsTakenBack) {
+  // Coherent views: coherence, probed on the third frame, models cheaper and runs from the
+  // fifth (the fourth judges the probe), but its frames take 1.4x as long (as on a loaded
+  // machine): after the trial it is taken back.
+  const int trial_end = 4 + int(AutoPolicy::kTrialSkip + AutoPolicy::kTrialFrames);
+  AutoPolicy slower;
+  const std::vector<FrameSetting> run = timedFrames(slower, trial_end + 1, 95, 0.050, 0.070);
+  EXPECT_TRUE(run[2].temporal_coherence && run[2].probe);
+  EXPECT_TRUE(run[4].temporal_coherence);
+  EXPECT_TRUE(run[std::size_t(trial_end) - 1].temporal_coherence);
+  EXPECT_FALSE(run[std::size_t(trial_end)].temporal_coherence);
+  EXPECT_FALSE(slower.current().temporal_coherence);
+  EXPECT_EQ(slower.reverts(), 1u);
+  // No probe during the trial.
+  for (int f = 4; f < trial_end; ++f) EXPECT_FALSE(run[std::size_t(f)].probe) << f;
+  // Its frames as fast as the model says, or within the margin: kept.
+  for (double coherent_s : {0.030, 0.054}) {
+    AutoPolicy kept;
+    timedFrames(kept, trial_end + 1, 95, 0.050, coherent_s);
+    EXPECT_TRUE(kept.current().temporal_coherence) << coherent_s;
+    EXPECT_EQ(kept.reverts(), 0u);
+  }
+}
+
+TEST(AutoFrameChoice, WhereTheViewsChangeTheModelAloneJudges) {
+  // 20 of 100 kept: frames far apart differ by their views more than by their settings;
+  // K = 64 wins by the model and stays though its frames took longer.
+  AutoPolicy policy;
+  CullerCosts c = scripted();
+  c.flush_s = 1e-3;
+  OneLeaf h;
+  for (int frame = 0; frame < 40; ++frame) {
+    const FrameSetting s = policy.beginFrame(h);
+    FrameStats f = framedViews(s, 1.0, 20);
+    f.seconds = s.lookahead > 16 ? 0.070 : 0.050;
+    policy.endFrame(f, c);
+  }
+  EXPECT_GT(policy.current().lookahead, 16u);
+  EXPECT_EQ(policy.reverts(), 0u);
+}
+
 TEST(AutoFrameChoice, TheFrameAfterAProbeIsJudgedUnderTheProbesCosts) {
   // Flushes dear (1 ms) at the probe: K = 64 models far cheaper than K = 16. The frame
   // after it moves the estimate so that flushes look nearly free (as one slow frame on
