@@ -457,10 +457,11 @@ TEST(OcclusionBufferTest, EveryKernelWritesTheSameBuffer) {
 }
 
 TEST(OcclusionBufferTest, WorkerThreadsWriteTheSameBuffer) {
-  // One and three workers, one buffer over several frames (tiles left from the frame
-  // before must be cleared), a request between draws: every key as the lazy caller's.
+  // One, two and three workers, one buffer over several frames (tiles left from the
+  // frame before must be cleared), a request between draws: every key as the lazy
+  // caller's.
   std::mt19937 rng(11);
-  for (std::uint32_t threads : {1u, 3u}) {
+  for (std::uint32_t threads : {1u, 2u, 3u}) {
     std::size_t covered = 0;  // keys in front of the clear one (the comparison is not vacuous)
     for (int s = 0; s < 8; ++s) {
       const OccluderMeshes meshes = meshesOf(test::randomScene(std::uint32_t(s) + 40));
