@@ -207,8 +207,9 @@ struct OcclusionBuffer::Impl {
   Impl(const OccluderMeshes& m, const OcclusionBufferDesc& d) : meshes(m), desc(d) {
     isa = d.isa == Isa::Auto ? detail::bestIsa() : d.isa;
     kernels = detail::kernels(isa);
+    // N threads: the caller (worker N - 1 of the pool's tasks) and N - 1 started.
     workers.resize(d.threads);
-    if (d.threads > 0) pool = std::make_unique<detail::WorkerPool>(d.threads);
+    if (d.threads > 0) pool = std::make_unique<detail::WorkerPool>(d.threads - 1);
   }
   ~Impl() { pool.reset(); }  // finishes the tasks queued (they use the workers' stores)
 
@@ -242,9 +243,10 @@ struct OcclusionBuffer::Impl {
   detail::TriangleSetup setup;
 
   // Workers (desc.threads > 0): drawObject() posts each object to the pool to be set up
-  // and binned (setUpTask); drain() waits for that and then rasterises every bin with
-  // triangles waiting, one bin per task (rasterTask). The caller reads keys only after
-  // drain(), when no task runs. Declared after what the tasks use, destroyed before it.
+  // and binned (setUpTask); drain() waits for that and then rasterises the requested
+  // bins with triangles waiting, one bin per task (rasterTask). The caller reads keys
+  // only after drain(), when no task runs. Declared after what the tasks use, destroyed
+  // before it.
   std::vector<Worker> workers;
   std::deque<Handed> handed;         // this frame's objects, in draw order
   std::vector<std::uint32_t> dirty;  // bins the raster tasks take, by index
@@ -254,9 +256,9 @@ struct OcclusionBuffer::Impl {
   static void rasterTask(void* impl, std::uint32_t worker, std::size_t i);
   void setUpOn(Worker& w, const Handed& h);
   void rasterizeBinOn(Worker& w, std::uint32_t index);
-  // Waits for the workers' set-ups; with `raster`, then rasterises every bin they left
-  // triangles in. Adds what the workers counted to `stats`.
-  void drain(bool raster);
+  // Waits for the workers' set-ups; with `rect` (buffer pixels), then rasterises the bins
+  // under it that they left triangles in. Adds what the workers counted to `stats`.
+  void drain(const PixelRect* rect);
   void clearBinIfStale(Bin& b, std::int32_t bx, std::int32_t by);
 
   Status begin(const Camera& camera);
@@ -295,7 +297,7 @@ struct OcclusionBuffer::Impl {
 };
 
 Status OcclusionBuffer::Impl::begin(const Camera& camera) {
-  drain(false);  // workers leave the buffer alone from here
+  drain(nullptr);  // workers leave the buffer alone from here
   Result<Projector> checked = Projector::create(camera, desc.projection);  // the camera
   if (!checked) return checked.status();
   projector.emplace(std::move(checked).value());
@@ -509,17 +511,20 @@ void OcclusionBuffer::Impl::rasterizeBinOn(Worker& w, std::uint32_t index) {
   ++w.counted.tiles_rasterized;
 }
 
-void OcclusionBuffer::Impl::drain(bool raster) {
+void OcclusionBuffer::Impl::drain(const PixelRect* rect) {
   if (!pool) return;
   const auto start = Clock::now();
   pool->wait();
-  if (raster) {
+  if (rect) {
     dirty.clear();
-    for (std::uint32_t i = 0; i < std::uint32_t(bins.size()); ++i) {
-      for (const Worker& w : workers) {
-        if (!w.bin_entries[i].empty()) {
-          dirty.push_back(i);
-          break;
+    for (std::int32_t by = rect->y0 / bin; by <= (rect->y1 - 1) / bin; ++by) {
+      for (std::int32_t bx = rect->x0 / bin; bx <= (rect->x1 - 1) / bin; ++bx) {
+        const std::uint32_t i = std::uint32_t(by * bins_x + bx);
+        for (const Worker& w : workers) {
+          if (!w.bin_entries[i].empty()) {
+            dirty.push_back(i);
+            break;
+          }
         }
       }
     }
@@ -612,7 +617,8 @@ void OcclusionBuffer::Impl::rasterizeBin(std::int32_t bx, std::int32_t by) {
 }
 
 void OcclusionBuffer::Impl::ensure(const PixelRect& rect) {
-  drain(true);
+  const PixelRect buffer_rect = bufferRect(rect);
+  drain(&buffer_rect);
   // In the order drawn (roughly front to back): a masked block's keys depend on the order
   // triangles land in, and near triangles first let the kernels skip more of the rest.
   std::size_t kept = 0;
@@ -753,7 +759,7 @@ Status OcclusionBuffer::beginFrame(const Camera& camera) {
 }
 
 Status OcclusionBuffer::endFrame() {
-  impl_->drain(false);  // the workers' counts belong to this frame
+  impl_->drain(nullptr);  // the workers' counts belong to this frame
   impl_->in_frame = false;
   return {};
 }

@@ -39,7 +39,7 @@ void WorkerPool::claim(void* pool, std::uint32_t worker, std::size_t) {
 }
 
 void WorkerPool::forEach(std::size_t count, TaskFunction run, void* context) {
-  if (count == 0 || threads_.empty()) {
+  if (count == 0) {
     wait();
     return;
   }
@@ -50,16 +50,25 @@ void WorkerPool::forEach(std::size_t count, TaskFunction run, void* context) {
     range_context_ = context;
     range_count_ = count;
     range_next_.store(0, std::memory_order_relaxed);
-    const std::size_t tasks = std::min<std::size_t>(count, threads_.size());
+    const std::size_t tasks = std::min<std::size_t>(count - 1, threads_.size());
     for (std::size_t t = 0; t < tasks; ++t) queue_.push_back({&WorkerPool::claim, this, 0});
     posted_ += tasks;
+    if (tasks > 0) work_cv_.notify_all();
   }
-  work_cv_.notify_all();
+  claim(this, size(), 0);
   wait();
 }
 
 void WorkerPool::wait() {
   std::unique_lock<std::mutex> lock(mutex_);
+  while (!queue_.empty()) {
+    const Task task = queue_.front();
+    queue_.pop_front();
+    lock.unlock();
+    task.run(task.context, size(), task.index);
+    lock.lock();
+    ++finished_;
+  }
   done_cv_.wait(lock, [&] { return finished_ == posted_; });
 }
 

@@ -457,7 +457,7 @@ TEST(OcclusionBufferTest, EveryKernelWritesTheSameBuffer) {
 }
 
 TEST(OcclusionBufferTest, WorkerThreadsWriteTheSameBuffer) {
-  // One, two and three workers, one buffer over several frames (tiles left from the
+  // One, two and three threads, one buffer over several frames (tiles left from the
   // frame before must be cleared), a request between draws: every key as the lazy
   // caller's.
   std::mt19937 rng(11);
@@ -495,7 +495,6 @@ TEST(OcclusionBufferTest, WorkerThreadsWriteTheSameBuffer) {
       }
       EXPECT_EQ(buffer.stats().objects_set_up,
                 buffer.stats().objects_drawn - buffer.stats().objects_skipped);
-      EXPECT_GT(buffer.stats().worker_seconds, 0.0);
     }
     EXPECT_GT(covered, 0u);
   }
