@@ -249,6 +249,7 @@ struct OcclusionBuffer::Impl {
   // before it.
   std::vector<Worker> workers;
   std::deque<Handed> handed;         // this frame's objects, in draw order
+  bool posted = false;               // set-ups posted since the pool's last wait()
   std::vector<std::uint32_t> dirty;  // bins the raster tasks take, by index
   std::unique_ptr<detail::WorkerPool> pool;
 
@@ -446,6 +447,7 @@ void OcclusionBuffer::Impl::draw(std::uint32_t id, const ObjectTransform* transf
   }
   handed.push_back({this, po, std::uint32_t(handed.size())});
   pool->post(&Impl::setUpTask, &handed.back(), 0);
+  posted = true;
 }
 
 void OcclusionBuffer::Impl::setUpTask(void* handed_object, std::uint32_t worker, std::size_t) {
@@ -514,7 +516,12 @@ void OcclusionBuffer::Impl::rasterizeBinOn(Worker& w, std::uint32_t index) {
 void OcclusionBuffer::Impl::drain(const PixelRect* rect) {
   if (!pool) return;
   const auto start = Clock::now();
-  pool->wait();
+  // Most requests come with nothing to do (the grid asks hundreds of times a frame):
+  // those take neither the pool's lock nor a worker.
+  if (posted) {
+    pool->wait();
+    posted = false;
+  }
   if (rect) {
     dirty.clear();
     for (std::int32_t by = rect->y0 / bin; by <= (rect->y1 - 1) / bin; ++by) {
@@ -528,7 +535,11 @@ void OcclusionBuffer::Impl::drain(const PixelRect* rect) {
         }
       }
     }
-    pool->forEach(dirty.size(), &Impl::rasterTask, this);
+    if (dirty.size() == 1) {
+      rasterTask(this, pool->size(), 0);  // in the caller's slot: no task is running
+    } else if (dirty.size() > 1) {
+      pool->forEach(dirty.size(), &Impl::rasterTask, this);
+    }
   }
   for (Worker& w : workers) {
     stats.objects_set_up += w.counted.objects_set_up;
