@@ -7,6 +7,10 @@
 //   logrid_cpu_cull [forest|city] [scale] [frames] [log-zfar|log-state] [mesh|model]
 //                   [full|half|quarter] [threads] [repeats] [isa] [per-pixel|masked]
 //                   [min pixels per occluder triangle] [occluder triangle budget]
+//
+// threads: OcclusionBufferDesc::threads (0 lazy in the caller, 1 binned in the caller,
+// N the caller and N - 1 started threads). Each repetition prints the CPU time of the
+// calling thread and of every thread of the process beside the wall time.
 #include <time.h>
 
 #include <chrono>
