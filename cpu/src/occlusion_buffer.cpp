@@ -4,19 +4,18 @@
 #include <bitset>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
 #include <deque>
 #include <iterator>
-#include <mutex>
+#include <limits>
 #include <optional>
 #include <sstream>
-#include <thread>
 #include <utility>
 
 #include "logrid/elapsed.hpp"
 #include "logrid/error.hpp"
 #include "raster/raster_triangle.hpp"
 #include "triangle_setup.hpp"
+#include "worker_pool.hpp"
 
 namespace logrid::cpu {
 
@@ -178,32 +177,41 @@ struct OcclusionBuffer::Impl {
     PixelRect rect;  // viewport pixels the object may cover
   };
 
-  // A worker thread: sets up each object it takes from the queue with its own set-up
-  // and triangle store, and rasterises it at once into the bins it touches (each bin
-  // under its lock). What it counted is added to `stats` when the caller drains.
+  // Binned rasterisation on workers (desc.threads > 0; the header, "Threads"). A
+  // triangle set up by a worker, in that worker's store: `seq` is its object's place in
+  // the frame's draw order, `tri` its index in the store.
+  struct Entry {
+    std::uint32_t seq, tri;
+  };
+  // What one worker thread of the pool owns: written only by the task running on it
+  // (set-up or raster), read by others only across the pool's wait().
   struct Worker {
     detail::TriangleSetup setup;
-    std::vector<detail::RasterTriangle> tris;
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> bin_tris;  // (bin, triangle)
-    std::vector<std::uint32_t> list;
-    OcclusionBufferStats counted;
-    std::thread thread;
+    std::vector<detail::RasterTriangle> tris;  // [0, tri_count): set up by this worker this frame
+    std::size_t tri_count = 0;
+    // Per bin, the triangles this worker set up that are not yet rasterised, in the order
+    // set up (the worker takes objects in draw order, so ascending seq).
+    std::vector<std::vector<Entry>> bin_entries;
+    std::vector<std::uint32_t> list;  // raster scratch: one run of triangles for the kernel
+    std::vector<std::size_t> cursor;  // raster scratch: per worker, entries of a bin merged
+    OcclusionBufferStats counted;     // added to `stats` by the caller after the pool's wait()
+  };
+  // An object handed to the set-up workers (kept in a deque: its address stays valid
+  // while the caller hands over more).
+  struct Handed {
+    Impl* impl;
+    PendingObject object;
+    std::uint32_t seq;
   };
 
   Impl(const OccluderMeshes& m, const OcclusionBufferDesc& d) : meshes(m), desc(d) {
     isa = d.isa == Isa::Auto ? detail::bestIsa() : d.isa;
     kernels = detail::kernels(isa);
+    // N threads: the caller (worker N - 1 of the pool's tasks) and N - 1 started.
     workers.resize(d.threads);
-    for (Worker& w : workers) w.thread = std::thread([this, &w] { work(w); });
+    if (d.threads > 0) pool = std::make_unique<detail::WorkerPool>(d.threads - 1);
   }
-  ~Impl() {
-    {
-      std::lock_guard<std::mutex> lock(queue_mutex);
-      stop = true;
-    }
-    queue_cv.notify_all();
-    for (Worker& w : workers) w.thread.join();
-  }
+  ~Impl() { pool.reset(); }  // finishes the tasks queued (they use the workers' stores)
 
   const OccluderMeshes& meshes;
   OcclusionBufferDesc desc;
@@ -234,20 +242,24 @@ struct OcclusionBuffer::Impl {
   std::size_t tri_count = 0;
   detail::TriangleSetup setup;
 
-  // Workers (desc.threads > 0): objects wait in `queue`; `queued` counts those handed
-  // over, `finished` those done. The caller reads keys only after drain(), when every
-  // object handed over is done and no worker touches the buffer.
+  // Workers (desc.threads > 0): drawObject() posts each object to the pool to be set up
+  // and binned (setUpTask); drain() waits for that and then rasterises the requested
+  // bins with triangles waiting, one bin per task (rasterTask). The caller reads keys
+  // only after drain(), when no task runs. Declared after what the tasks use, destroyed
+  // before it.
   std::vector<Worker> workers;
-  std::unique_ptr<std::mutex[]> bin_locks;
-  std::mutex queue_mutex;
-  std::condition_variable queue_cv, done_cv;
-  std::deque<PendingObject> queue;
-  std::uint64_t queued = 0, finished = 0;
-  bool stop = false;
+  std::deque<Handed> handed;         // this frame's objects, in draw order
+  bool posted = false;               // set-ups posted since the pool's last wait()
+  std::vector<std::uint32_t> dirty;  // bins the raster tasks take, by index
+  std::unique_ptr<detail::WorkerPool> pool;
 
-  void work(Worker& w);
-  void rasterizeObject(Worker& w, const PendingObject& p);
-  void drain();
+  static void setUpTask(void* handed_object, std::uint32_t worker, std::size_t);
+  static void rasterTask(void* impl, std::uint32_t worker, std::size_t i);
+  void setUpOn(Worker& w, const Handed& h);
+  void rasterizeBinOn(Worker& w, std::uint32_t index);
+  // Waits for the workers' set-ups; with `rect` (buffer pixels), then rasterises the bins
+  // under it that they left triangles in. Adds what the workers counted to `stats`.
+  void drain(const PixelRect* rect);
   void clearBinIfStale(Bin& b, std::int32_t bx, std::int32_t by);
 
   Status begin(const Camera& camera);
@@ -286,7 +298,7 @@ struct OcclusionBuffer::Impl {
 };
 
 Status OcclusionBuffer::Impl::begin(const Camera& camera) {
-  drain();  // workers leave the buffer alone from here
+  drain(nullptr);  // workers leave the buffer alone from here
   Result<Projector> checked = Projector::create(camera, desc.projection);  // the camera
   if (!checked) return checked.status();
   projector.emplace(std::move(checked).value());
@@ -351,7 +363,7 @@ Status OcclusionBuffer::Impl::begin(const Camera& camera) {
       keys.assign(stride * std::size_t(bins_y) * std::size_t(bin), clear_key);
     }
     bins.assign(std::size_t(bins_x) * std::size_t(bins_y), Bin{});
-    if (!workers.empty()) bin_locks.reset(new std::mutex[bins.size()]);
+    for (Worker& w : workers) w.bin_entries.assign(bins.size(), {});
     stamp = 0;
   }
   frame.buffer_w = bw;
@@ -363,6 +375,11 @@ Status OcclusionBuffer::Impl::begin(const Camera& camera) {
   }
   for (Bin& b : bins) b.pending.clear();
   pending.clear();
+  handed.clear();
+  for (Worker& w : workers) {
+    w.tri_count = 0;
+    for (std::vector<Entry>& e : w.bin_entries) e.clear();
+  }
   tri_count = 0;
   frame_triangles = 0;
   in_frame = true;
@@ -424,77 +441,114 @@ void OcclusionBuffer::Impl::draw(std::uint32_t id, const ObjectTransform* transf
     po.object.margin = p.margin;
   }
   po.rect = p.rect;
-  if (workers.empty()) {
+  if (!pool) {
     pending.push_back(po);
     return;
   }
-  {
-    std::lock_guard<std::mutex> lock(queue_mutex);
-    queue.push_back(po);
-    ++queued;
-  }
-  queue_cv.notify_one();
+  handed.push_back({this, po, std::uint32_t(handed.size())});
+  pool->post(&Impl::setUpTask, &handed.back(), 0);
+  posted = true;
 }
 
-void OcclusionBuffer::Impl::work(Worker& w) {
-  std::unique_lock<std::mutex> lock(queue_mutex);
-  for (;;) {
-    queue_cv.wait(lock, [&] { return stop || !queue.empty(); });
-    if (queue.empty()) return;  // stopping, nothing left
-    const PendingObject p = queue.front();
-    queue.pop_front();
-    lock.unlock();
-    const auto start = Clock::now();
-    rasterizeObject(w, p);
-    w.counted.worker_seconds += secondsSince(start);
-    lock.lock();
-    if (++finished == queued) done_cv.notify_all();
-  }
+void OcclusionBuffer::Impl::setUpTask(void* handed_object, std::uint32_t worker, std::size_t) {
+  const Handed& h = *static_cast<const Handed*>(handed_object);
+  h.impl->setUpOn(h.impl->workers[worker], h);
 }
 
-void OcclusionBuffer::Impl::rasterizeObject(Worker& w, const PendingObject& p) {
-  std::size_t n = 0;  // the worker's store holds one object at a time
-  w.counted.triangles_set_up += w.setup.run(frame, meshes, p.object, w.tris, n);
+void OcclusionBuffer::Impl::setUpOn(Worker& w, const Handed& h) {
+  const std::size_t first = w.tri_count;
+  w.counted.triangles_set_up += w.setup.run(frame, meshes, h.object.object, w.tris, w.tri_count);
   ++w.counted.objects_set_up;
-  w.bin_tris.clear();
-  for (std::size_t t = 0; t < n; ++t) {
+  for (std::size_t t = first; t < w.tri_count; ++t) {
     const detail::RasterTriangle& rt = w.tris[t];
     for (std::int32_t by = rt.y0 / bin; by <= (rt.y1 - 1) / bin; ++by) {
       for (std::int32_t bx = rt.x0 / bin; bx <= (rt.x1 - 1) / bin; ++bx) {
-        w.bin_tris.emplace_back(std::uint32_t(by * bins_x + bx), std::uint32_t(t));
+        w.bin_entries[std::size_t(by) * std::size_t(bins_x) + std::size_t(bx)].push_back(
+            {h.seq, std::uint32_t(t)});
       }
     }
   }
-  std::sort(w.bin_tris.begin(), w.bin_tris.end());
-  for (std::size_t i = 0; i < w.bin_tris.size();) {
-    const std::uint32_t index = w.bin_tris[i].first;
-    w.list.clear();
-    for (; i < w.bin_tris.size() && w.bin_tris[i].first == index; ++i) {
-      w.list.push_back(w.bin_tris[i].second);
-    }
-    const std::int32_t bx = std::int32_t(index) % bins_x, by = std::int32_t(index) / bins_x;
-    std::lock_guard<std::mutex> lock(bin_locks[index]);
-    Bin& b = bins[index];
-    clearBinIfStale(b, bx, by);
-    rasterizeList(w.tris.data(), w.list.data(), w.list.size(), b, bx, by);
-    w.counted.triangles_rasterized += w.list.size();
-    ++w.counted.tiles_rasterized;
-  }
 }
 
-void OcclusionBuffer::Impl::drain() {
-  if (workers.empty()) return;
+void OcclusionBuffer::Impl::rasterTask(void* impl, std::uint32_t worker, std::size_t i) {
+  Impl& m = *static_cast<Impl*>(impl);
+  m.rasterizeBinOn(m.workers[worker], m.dirty[i]);
+}
+
+void OcclusionBuffer::Impl::rasterizeBinOn(Worker& w, std::uint32_t index) {
+  const std::int32_t bx = std::int32_t(index) % bins_x, by = std::int32_t(index) / bins_x;
+  Bin& b = bins[index];
+  clearBinIfStale(b, bx, by);
+  // The workers' entries for this bin merged in draw order (each worker's are ascending):
+  // every worker count lands the same triangles on the bin in the same order, so the
+  // masked blocks, whose keys depend on it, come out the same too.
+  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  w.cursor.assign(workers.size(), 0);
+  for (;;) {
+    std::size_t first = workers.size();
+    std::uint32_t first_seq = kNone, next_seq = kNone;
+    for (std::size_t k = 0; k < workers.size(); ++k) {
+      const std::vector<Entry>& e = workers[k].bin_entries[index];
+      if (w.cursor[k] == e.size()) continue;
+      const std::uint32_t s = e[w.cursor[k]].seq;
+      if (s < first_seq) {
+        next_seq = first_seq;
+        first_seq = s;
+        first = k;
+      } else if (s < next_seq) {
+        next_seq = s;
+      }
+    }
+    if (first == workers.size()) break;
+    // The run of that worker's entries drawn before any other worker's next.
+    const std::vector<Entry>& e = workers[first].bin_entries[index];
+    w.list.clear();
+    for (std::size_t& c = w.cursor[first]; c < e.size() && e[c].seq < next_seq; ++c) {
+      w.list.push_back(e[c].tri);
+    }
+    rasterizeList(workers[first].tris.data(), w.list.data(), w.list.size(), b, bx, by);
+    w.counted.triangles_rasterized += w.list.size();
+  }
+  for (Worker& k : workers) k.bin_entries[index].clear();
+  ++w.counted.tiles_rasterized;
+}
+
+void OcclusionBuffer::Impl::drain(const PixelRect* rect) {
+  if (!pool) return;
   const auto start = Clock::now();
-  std::unique_lock<std::mutex> lock(queue_mutex);
-  done_cv.wait(lock, [&] { return finished == queued; });
+  // Most requests come with nothing to do (the grid asks hundreds of times a frame):
+  // those take neither the pool's lock nor a worker.
+  if (posted) {
+    pool->wait();
+    posted = false;
+  }
+  if (rect) {
+    dirty.clear();
+    for (std::int32_t by = rect->y0 / bin; by <= (rect->y1 - 1) / bin; ++by) {
+      for (std::int32_t bx = rect->x0 / bin; bx <= (rect->x1 - 1) / bin; ++bx) {
+        const std::uint32_t i = std::uint32_t(by * bins_x + bx);
+        for (const Worker& w : workers) {
+          if (!w.bin_entries[i].empty()) {
+            dirty.push_back(i);
+            break;
+          }
+        }
+      }
+    }
+    if (dirty.size() == 1) {
+      rasterTask(this, pool->size(), 0);  // in the caller's slot: no task is running
+    } else if (dirty.size() > 1) {
+      pool->forEach(dirty.size(), &Impl::rasterTask, this);
+    }
+  }
   for (Worker& w : workers) {
     stats.objects_set_up += w.counted.objects_set_up;
     stats.triangles_set_up += w.counted.triangles_set_up;
     stats.triangles_rasterized += w.counted.triangles_rasterized;
     stats.tiles_rasterized += w.counted.tiles_rasterized;
-    stats.worker_seconds += w.counted.worker_seconds;
     w.counted = OcclusionBufferStats{};
   }
+  stats.worker_seconds = pool->busySeconds();
   stats.wait_seconds += secondsSince(start);
 }
 
@@ -574,7 +628,8 @@ void OcclusionBuffer::Impl::rasterizeBin(std::int32_t bx, std::int32_t by) {
 }
 
 void OcclusionBuffer::Impl::ensure(const PixelRect& rect) {
-  drain();
+  const PixelRect buffer_rect = bufferRect(rect);
+  drain(&buffer_rect);
   // In the order drawn (roughly front to back): a masked block's keys depend on the order
   // triangles land in, and near triangles first let the kernels skip more of the rest.
   std::size_t kept = 0;
@@ -715,7 +770,7 @@ Status OcclusionBuffer::beginFrame(const Camera& camera) {
 }
 
 Status OcclusionBuffer::endFrame() {
-  impl_->drain();  // the workers' counts belong to this frame
+  impl_->drain(nullptr);  // the workers' counts belong to this frame
   impl_->in_frame = false;
   return {};
 }

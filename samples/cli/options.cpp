@@ -103,7 +103,8 @@ void addViewOptions(CLI::App& app, WalkOptions& o) {
             "--reader cpu: occluder triangles rasterised per frame at most, in the order drawn "
             "(0: no budget)");
   addNumber(app, "--cpu-threads", o.cpu_threads, closed(0u, kMaxCpuThreads),
-            "--reader cpu: worker threads (0: none)");
+            "--reader cpu: threads that set up and rasterise, the caller among them (0: "
+            "lazily in the caller; 1: binned in the caller; N: the caller and N - 1 workers)");
   app.add_option("--cpu-isa", o.cpu_isa, "--reader cpu: kernel auto, scalar, sse4.1 or avx2");
   app.add_option("--depth-format", o.depth_format, "depth buffer: 16, 24 or 32f");
   app.add_option("--depth-convention", o.depth_convention, "standard or reversed");

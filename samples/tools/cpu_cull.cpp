@@ -7,6 +7,10 @@
 //   logrid_cpu_cull [forest|city] [scale] [frames] [log-zfar|log-state] [mesh|model]
 //                   [full|half|quarter] [threads] [repeats] [isa] [per-pixel|masked]
 //                   [min pixels per occluder triangle] [occluder triangle budget]
+//
+// threads: OcclusionBufferDesc::threads (0 lazy in the caller, 1 binned in the caller,
+// N the caller and N - 1 started threads). Each repetition prints the CPU time of the
+// calling thread and of every thread of the process beside the wall time.
 #include <time.h>
 
 #include <chrono>
@@ -26,11 +30,14 @@ namespace {
 
 // CPU time of the calling thread: on a shared machine it counts what this thread ran,
 // not the time it waited for a core.
-double threadCpuMs() {
+double cpuMs(clockid_t clock) {
   timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  clock_gettime(clock, &ts);
   return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
 }
+double threadCpuMs() { return cpuMs(CLOCK_THREAD_CPUTIME_ID); }
+// CPU time of every thread of the process: the caller and the buffer's workers.
+double processCpuMs() { return cpuMs(CLOCK_PROCESS_CPUTIME_ID); }
 
 }  // namespace
 
@@ -84,17 +91,18 @@ int main(int argc, char** argv) {
         cpu::toString(buffer.isa()), frames, desc.min_pixels_per_triangle, desc.triangle_budget);
     for (int rep = 0; rep < repeats; ++rep) {
       const cpu::OcclusionBufferStats before = buffer.stats();
-      double ms = 0, cpu_ms = 0, objects = 0, boxes_tested = 0, boxes_occluded = 0;
+      double ms = 0, cpu_ms = 0, process_ms = 0, objects = 0, boxes_tested = 0, boxes_occluded = 0;
       for (std::size_t f = 0; f < frames; ++f) {
         const Camera cam =
             samples::makeCamera(prepared.path.frame(f, frames), prepared.origin, view);
-        const double cpu_start = threadCpuMs();
+        const double cpu_start = threadCpuMs(), process_start = processCpuMs();
         const auto start = std::chrono::steady_clock::now();
         const FrameStats s = culler.cullFrame(cam, prepared.hierarchy, buffer,
                                               [&](ObjectId id) { buffer.drawObject(id); });
         ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
                   .count();
         cpu_ms += threadCpuMs() - cpu_start;
+        process_ms += processCpuMs() - process_start;
         objects += double(s.objects_drawn);
         boxes_tested += double(s.boxes_tested);
         boxes_occluded += double(s.boxes_occluded);
@@ -102,11 +110,12 @@ int main(int argc, char** argv) {
       const cpu::OcclusionBufferStats& after = buffer.stats();
       const double n = double(frames);
       std::printf(
-          "  cull %.3f ms/frame wall, %.3f ms CPU of this thread (buffer %.3f wall, waiting "
+          "  cull %.3f ms/frame wall, %.3f ms CPU of this thread, %.3f of all threads (buffer "
+          "%.3f wall, waiting "
           "%.3f, workers %.3f), %.1f objects, %.0f triangles set up, %.0f triangle-tiles in "
           "%.0f tiles; %.1f occluders left out (%.0f triangles selected); %.1f boxes tested, "
           "%.1f found occluded\n",
-          ms / n, cpu_ms / n, (after.seconds - before.seconds) * 1e3 / n,
+          ms / n, cpu_ms / n, process_ms / n, (after.seconds - before.seconds) * 1e3 / n,
           (after.wait_seconds - before.wait_seconds) * 1e3 / n,
           (after.worker_seconds - before.worker_seconds) * 1e3 / n, objects / n,
           double(after.triangles_set_up - before.triangles_set_up) / n,

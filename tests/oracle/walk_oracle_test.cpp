@@ -149,16 +149,19 @@ std::vector<OracleCase> cpuCases() {
     std::uint32_t threads;
     cpu::Representation representation = cpu::Representation::PerPixel;
   };
-  // The masked representation: full resolution with models and a worker, half with meshes.
+  // Threads (OcclusionBufferDesc::threads): 0 lazy, 1 binned in the caller, 2 binned on
+  // the caller and a started thread.
+  // The masked representation: full resolution with models and two threads, half with
+  // meshes.
   const Variant masked_variants[] = {
-      {DepthConvention::Standard, DepthFormat::D24, cpu::Resolution::Full, OccluderChoice::Model, 1,
+      {DepthConvention::Standard, DepthFormat::D24, cpu::Resolution::Full, OccluderChoice::Model, 2,
        cpu::Representation::Masked},
       {DepthConvention::Reversed, DepthFormat::D32F, cpu::Resolution::Half, OccluderChoice::Mesh, 0,
        cpu::Representation::Masked},
   };
   const Variant variants[] = {
       {DepthConvention::Standard, DepthFormat::D32F, cpu::Resolution::Full, OccluderChoice::Model,
-       1},
+       2},
       {DepthConvention::Reversed, DepthFormat::D24, cpu::Resolution::Full, OccluderChoice::Mesh, 0},
       {DepthConvention::Reversed, DepthFormat::D32F, cpu::Resolution::Half, OccluderChoice::Mesh,
        0},

@@ -457,10 +457,11 @@ TEST(OcclusionBufferTest, EveryKernelWritesTheSameBuffer) {
 }
 
 TEST(OcclusionBufferTest, WorkerThreadsWriteTheSameBuffer) {
-  // One and three workers, one buffer over several frames (tiles left from the frame
-  // before must be cleared), a request between draws: every key as the lazy caller's.
+  // One, two and three threads, one buffer over several frames (tiles left from the
+  // frame before must be cleared), a request between draws: every key as the lazy
+  // caller's.
   std::mt19937 rng(11);
-  for (std::uint32_t threads : {1u, 3u}) {
+  for (std::uint32_t threads : {1u, 2u, 3u}) {
     std::size_t covered = 0;  // keys in front of the clear one (the comparison is not vacuous)
     for (int s = 0; s < 8; ++s) {
       const OccluderMeshes meshes = meshesOf(test::randomScene(std::uint32_t(s) + 40));
@@ -494,7 +495,6 @@ TEST(OcclusionBufferTest, WorkerThreadsWriteTheSameBuffer) {
       }
       EXPECT_EQ(buffer.stats().objects_set_up,
                 buffer.stats().objects_drawn - buffer.stats().objects_skipped);
-      EXPECT_GT(buffer.stats().worker_seconds, 0.0);
     }
     EXPECT_GT(covered, 0u);
   }

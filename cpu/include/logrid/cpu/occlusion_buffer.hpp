@@ -123,13 +123,23 @@
 // the back-face rule follows it, and a singular one (determinant 0) rasterises every
 // triangle.
 //
-// Threads: with OcclusionBufferDesc::threads > 0, drawObject() hands the object to worker
-// threads, which set up each object and rasterise it at once into every tile it touches
-// (each tile under its own lock) while the application goes on drawing; a request (and
-// beginFrame, endFrame) first waits until every object handed over is done (the time it
-// waits is counted as wait_seconds). Without workers, everything runs lazily inside the
-// requests: objects are set up only when a request touches their rectangle, and only
-// the requested tiles are rasterised.
+// Threads: with OcclusionBufferDesc::threads = N > 0, the buffer runs binned rasterisation
+// on N threads: the caller and a pool of N - 1 started threads that knows nothing of the
+// buffer (cpu/src/worker_pool.hpp). drawObject() numbers the object in draw order and
+// posts it to the pool; a thread sets it up into its own triangle store and bins each
+// triangle into the tiles (bins) its bounds touch, in its own per-bin lists, while the
+// application goes on drawing. A request first finishes the set-ups (the caller takes
+// those not yet started), then has the threads rasterise the requested bins that have
+// triangles waiting, each bin taken whole by one thread: no two threads ever write one
+// tile, and there are no per-tile locks. A bin's triangles are merged from the threads'
+// lists in draw order (object, then triangle), so every bin sees the same triangles in
+// the same order for any N: the keys are bit-identical for every thread count, masked
+// blocks (which depend on the order) included, and per pixel they equal the lazy
+// caller's (a key is the minimum of its bounds, whatever the order). Every drawn object
+// is set up; only requested tiles are rasterised. The time the caller spends in requests
+// finishing set-ups and rasterising is counted as wait_seconds. Without threads
+// (N = 0), everything runs lazily inside the requests: objects are set up only when a
+// request touches their rectangle, and only the requested tiles are rasterised.
 //
 // One frame: beginFrame(camera) after the application cleared its depth buffer;
 // drawObject(id) for every object drawn (Culler: from the draw callback); requests
@@ -173,7 +183,9 @@ struct OcclusionBufferDesc {
   Resolution resolution = Resolution::Full;
   Representation representation = Representation::PerPixel;
   Isa isa = Isa::Auto;
-  std::uint32_t threads = 0;  // worker threads (0: everything in the caller, lazily)
+  // Threads that set up and rasterise, the caller among them (0: everything in the
+  // caller, lazily; 1: binned, in the caller alone; see "Threads").
+  std::uint32_t threads = 0;
   // The same settings the culler projects boxes with: sub-pixel bits (coverage slack),
   // render error and quantisation (depth margins). The defaults are the safe ones.
   ProjectionSettings projection;
@@ -225,8 +237,8 @@ struct OcclusionBufferStats {
   std::uint64_t triangles_rasterized = 0;  // triangle-tile pairs rasterised
   std::uint64_t tiles_rasterized = 0;      // tiles brought up to date
   double seconds = 0;         // CPU time of the caller inside the buffer (drawObject, requests)
-  double wait_seconds = 0;    // of which waiting for workers
-  double worker_seconds = 0;  // time the workers spent on objects (summed over workers)
+  double wait_seconds = 0;    // of which finishing the set-ups and rasterising (threads > 0)
+  double worker_seconds = 0;  // time the started threads spent on set-up and raster tasks
 };
 
 class OcclusionBuffer final : public DepthSource, public KeyReader {
