@@ -120,6 +120,7 @@ LoadedScene loadScene(const WalkOptions& o, bool upload, bool with_ddo) {
   if (o.leaf) args.max_leaf_size = o.leaf;
   ClusterOptions clusters;
   clusters.triangles = o.cluster;
+  clusters.method = parseClusterMethod(o.cluster_method);
   out.prepared = prepareScene(std::move(scene), args, clusters);
   out.prepare_peak_rss_bytes = peakRssBytes();
   if (with_ddo) {

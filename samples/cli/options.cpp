@@ -47,6 +47,10 @@ void addWalkthroughOptions(CLI::App& app, WalkOptions& o) {
   addNumber(app, "--cluster", o.cluster, closed(0u, 512u),
             "split every object into clusters of at most this many triangles (meshoptimizer; "
             "a multiple of 4, up to 512), each culled on its own box; 0: whole objects");
+  app.add_option("--cluster-method", o.cluster_method,
+                 "how --cluster groups an object's triangles: grow (compact clusters, the "
+                 "default) or scan (a spatial sort cut in order: several times cheaper to "
+                 "build, less compact; docs/CLUSTERS.md)");
   app.add_option("--tree-parts", o.tree_parts,
                  "forest: each tree one object (whole), trunk and crown apart (trunk-crown), or "
                  "the trunk and each crown tier apart (tiers)");

@@ -51,8 +51,9 @@ struct WalkOptions {
   std::uint32_t leaf = 0;  // 0: the scene's default
   std::string tree_parts = "whole";  // forest: whole, trunk-crown or tiers
   std::uint32_t cluster = 0;         // triangles per cluster (scene/clusters.hpp); 0: whole objects
-  GridApproximation approximation;   // off by default
-  double budget_ms = 0;              // CullerDesc::budget_ms (0: none)
+  std::string cluster_method = "grow";  // grow or scan (ClusterMethod)
+  GridApproximation approximation;      // off by default
+  double budget_ms = 0;                 // CullerDesc::budget_ms (0: none)
   // Motion (motion.hpp, movers.hpp).
   std::uint32_t movers = 0;        // moving objects added to the scene
   std::string motion_file;         // a scene from a file: its meshes' paths

@@ -68,6 +68,13 @@ TreeParts parseTreeParts(const std::string& text) {
               "tree parts '" + text + "' is unknown; use whole, trunk-crown or tiers");
 }
 
+ClusterMethod parseClusterMethod(const std::string& text) {
+  if (text == "grow") return ClusterMethod::Grow;
+  if (text == "scan") return ClusterMethod::Scan;
+  throw Error(ErrorCode::InvalidArgument,
+              "cluster method '" + text + "' is unknown; use grow or scan");
+}
+
 std::uint32_t parseLookahead(const std::string& text) {
   if (text == "all") return kUnlimitedLookahead;
   unsigned long k = 0;

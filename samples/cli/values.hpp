@@ -1,5 +1,5 @@
 // The values of text options: comma-separated lists, viewport sizes, depth set-ups, the
-// forest's tree parts and lookaheads. Each parse function throws logrid::Error
+// forest's tree parts, cluster methods and lookaheads. Each parse function throws logrid::Error
 // (InvalidArgument) with a message that names the text and what it may be.
 #pragma once
 
@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "logrid/types.hpp"
+#include "scene/clusters.hpp"
 #include "scene/generators.hpp"
 
 namespace logrid::samples {
@@ -24,6 +25,8 @@ std::string sizeForm();
 DepthFormat parseDepthFormat(const std::string& text);
 DepthConvention parseDepthConvention(const std::string& text);
 TreeParts parseTreeParts(const std::string& text);
+// "grow" or "scan".
+ClusterMethod parseClusterMethod(const std::string& text);
 
 // "1", "16", ... or "all" (kUnlimitedLookahead).
 std::uint32_t parseLookahead(const std::string& text);

@@ -136,6 +136,34 @@ TEST(CommandLine, ABadTileListIsAUsageErrorNamingTheItem) {
 // tune --auto sweeps in stages, says what the scene needed, and writes a configuration
 // that keeps only those parts and that walk then runs as written (method, lookahead,
 // coherence, tile, reader).
+TEST(CommandLine, ClustersBuiltByEitherMethodMissNothing) {
+  LOGRID_REQUIRE_GL();
+  // --cluster-method picks meshoptimizer's builder; the clusters differ, the walk stays
+  // exact. An unknown builder is refused naming the choices.
+  std::vector<std::uint64_t> clusters;
+  for (const char* method : {"grow", "scan"}) {
+    const fs::path json = scratch(std::string("walk_cluster_") + method + ".json");
+    ASSERT_EQ(runLogrid({"walk", "--scene", "forest", "--scale", "0.05", "--frames", "3", "--size",
+                         "160x120", "--cluster", "64", "--cluster-method", method, "--verify",
+                         "--json", json.string()}),
+              0)
+        << method;
+    const nlohmann::json report = readJson(json);
+    EXPECT_EQ(report["missed_visible_objects"].get<std::int64_t>(), 0) << method;
+    clusters.push_back(report["clusters"].get<std::uint64_t>());
+    EXPECT_GT(clusters.back(), report["source_objects"].get<std::uint64_t>()) << method;
+  }
+  // (main() prints the error and exits 2, as for any bad input.)
+  try {
+    runLogrid({"walk", "--scene", "forest", "--scale", "0.02", "--frames", "1", "--size", "64x48",
+               "--cluster", "64", "--cluster-method", "greedy"});
+    ADD_FAILURE() << "an unknown cluster method was taken";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::InvalidArgument);
+    EXPECT_STREQ(e.what(), "cluster method 'greedy' is unknown; use grow or scan");
+  }
+}
+
 TEST(CommandLine, TuneAutoWritesAConfigurationThatWalkRuns) {
   LOGRID_REQUIRE_GL();
   const fs::path config = scratch("auto_config.json");
