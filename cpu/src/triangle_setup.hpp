@@ -116,6 +116,11 @@ class TriangleSetup {
   // setUp() of four triangles wholly in front of the near plane and not facing away
   // (corners[3 l + k]: corner k of lane l), writing work[l] and ok[l] as setUp() writes
   // them and returns, bit for bit.
+  // transform() of a still object's vertices [0, 4 floor(count / 4)) into out, as it
+  // writes them wherever they are in front of the near plane (and the flags everywhere);
+  // returns how many it did.
+  static std::uint32_t transformGroupsAvx2(const SetupFrame& frame, const float* positions,
+                                           std::uint32_t count, Vertex* out);
   static void setUpGroupAvx2(const SetupFrame& frame, const SetupObject& object,
                              const Vertex* const* corners, Work* const* work, bool* ok);
 

@@ -75,6 +75,63 @@ struct Corner {
 
 }  // namespace
 
+std::uint32_t TriangleSetup::transformGroupsAvx2(const SetupFrame& f, const float* positions,
+                                                 std::uint32_t count, Vertex* out) {
+  static_assert(offsetof(Vertex, y) == offsetof(Vertex, x) + 8 &&
+                    offsetof(Vertex, w) == offsetof(Vertex, x) + 16 &&
+                    offsetof(Vertex, k) == offsetof(Vertex, x) + 24 &&
+                    offsetof(Vertex, sy) == offsetof(Vertex, sx) + 8 &&
+                    offsetof(Vertex, sz) == offsetof(Vertex, sx) + 16 &&
+                    offsetof(Vertex, sw) == offsetof(Vertex, sx) + 24,
+                "the vertex fields written four at a time");
+  D m[16], ra[16];
+  for (int i = 0; i < 16; ++i) m[i] = set1(f.m[i]), ra[i] = set1(f.render_abs[i]);
+  const D origin[3] = {set1(f.origin[0]), set1(f.origin[1]), set1(f.origin[2])};
+  const D half_w = set1(f.half_w), half_h = set1(f.half_h), key_scale = set1(f.key_scale),
+          key_offset = set1(f.key_offset), near_key = set1(f.near_key),
+          clear_key = set1(f.clear_key), depth_scale = abs(set1(f.key_scale)), zero = set1(0.0);
+  const std::uint32_t groups = count / 4 * 4;
+  for (std::uint32_t i = 0; i < groups; i += 4) {
+    const float* p = positions + std::size_t(i) * 3;
+    const D x = _mm256_cvtps_pd(_mm_setr_ps(p[0], p[3], p[6], p[9]));
+    const D y = _mm256_cvtps_pd(_mm_setr_ps(p[1], p[4], p[7], p[10]));
+    const D z = _mm256_cvtps_pd(_mm_setr_ps(p[2], p[5], p[8], p[11]));
+    const D q[3] = {abs(sub(x, origin[0])), abs(sub(y, origin[1])), abs(sub(z, origin[2]))};
+    D clip[4], mag[4];
+    for (int r = 0; r < 4; ++r) {
+      clip[r] = add(add(add(mul(m[r], x), mul(m[4 + r], y)), mul(m[8 + r], z)), m[12 + r]);
+      mag[r] =
+          add(add(add(mul(ra[r], q[0]), mul(ra[4 + r], q[1])), mul(ra[8 + r], q[2])), ra[12 + r]);
+    }
+    D vx = mul(add(clip[0], clip[3]), half_w), vy = mul(add(clip[1], clip[3]), half_h);
+    D vw = clip[3], vk = add(mul(key_scale, clip[2]), mul(key_offset, clip[3]));
+    const D front =
+        _mm256_and_pd(gt(vw, zero), _mm256_cmp_pd(sub(vk, mul(near_key, vw)), zero, _CMP_GE_OQ));
+    const D within_far = _mm256_cmp_pd(sub(mul(clear_key, vw), vk), zero, _CMP_GE_OQ);
+    const D inv_w = div(set1(1.0), vw);
+    D wx = mul(vx, inv_w), wy = mul(vy, inv_w), key = mul(vk, inv_w);
+    D ex = mul(mul(add(mag[0], mul(abs(mul(clip[0], inv_w)), mag[3])), inv_w), half_w);
+    D ey = mul(mul(add(mag[1], mul(abs(mul(clip[1], inv_w)), mag[3])), inv_w), half_h);
+    D ez = mul(mul(add(mag[2], mul(abs(mul(clip[2], inv_w)), mag[3])), inv_w), depth_scale);
+    D px = zero, py = zero;  // a still object's pad
+    char* v[4];
+    for (int l = 0; l < 4; ++l) v[l] = reinterpret_cast<char*>(out + i + std::uint32_t(l));
+    D sx = mag[0], sy = mag[1], sz = mag[2], sw = mag[3];
+    scatter4(v, offsetof(Vertex, x), vx, vy, vw, vk);
+    scatter4(v, offsetof(Vertex, sx), sx, sy, sz, sw);
+    scatter4(v, offsetof(Vertex, wx), wx, wy, key, ex);
+    scatter4(v, offsetof(Vertex, ey), ey, ez, px, py);
+    const int in_front = _mm256_movemask_pd(front), not_beyond = _mm256_movemask_pd(within_far);
+    for (int l = 0; l < 4; ++l) {
+      Vertex& o = out[i + std::uint32_t(l)];
+      o.front = (in_front >> l & 1) != 0;
+      o.beyond_far = (not_beyond >> l & 1) == 0;
+      o.pz = 0;
+    }
+  }
+  return groups;
+}
+
 void TriangleSetup::setUpGroupAvx2(const SetupFrame& f, const SetupObject& o,
                                    const Vertex* const* corners, Work* const* work, bool* ok_out) {
   static_assert(offsetof(Vertex, wy) == offsetof(Vertex, wx) + 8 &&
