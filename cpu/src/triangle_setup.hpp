@@ -59,9 +59,10 @@ struct SetupObject {
 
 class TriangleSetup {
  public:
-  // Set up the triangles wholly in front of the near plane four at a time (AVX2, where
-  // the CPU has it: triangle_setup_avx2.cpp), bit for bit as setUp() does one at a time;
-  // the rest one at a time. Off by default. Returns whether it is on.
+  // Transform a still object's vertices and set up the triangles wholly in front of the
+  // near plane four at a time (AVX2, where the CPU has it: triangle_setup_avx2.cpp), bit
+  // for bit as transform() and setUp() do one at a time; the rest one at a time. Off by
+  // default. Returns whether it is on.
   bool useGroups(bool on);
 
   // Writes the object's usable triangles to out[count, ...) (neighbours refer to indices

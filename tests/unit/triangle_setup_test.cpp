@@ -1,9 +1,10 @@
 // The CPU occlusion buffer's triangle set-up (cpu/src/triangle_setup.hpp) in groups of
-// four (AVX2) against the scalar set-up, one triangle at a time, which stays the
-// reference: on random and adversarial triangles — degenerate, sub-pixel, huge, behind
-// the eye, at and across the near plane, beyond the far plane, closed surfaces either
-// way round, still and moving objects — every triangle the two write must be the same,
-// bit for bit.
+// four (AVX2: a still object's vertices transformed and the triangles in front of the
+// near plane set up four at a time) against the scalar set-up, one vertex and one
+// triangle at a time, which stays the reference: on random and adversarial triangles
+// (degenerate, sub-pixel, huge, behind the eye, at and across the near plane, beyond the
+// far plane, closed surfaces either way round, still and moving objects) every triangle
+// the two write must be the same, bit for bit.
 #include <gtest/gtest.h>
 
 #include <cmath>
