@@ -137,6 +137,18 @@ OccluderMeshes adversarialMeshes(std::mt19937& rng) {
   add({0,  0, -5, 0,  0, -5, 1,  1, -5, 0,  0, -5,    1, 1,
        -5, 2, 2,  -5, 0, 0,  -5, 3, 0,  -5, 6, 1e-6f, -5},
       {0, 1, 2, 3, 4, 5, 6, 7, 8, 0, 2, 1, 3, 5, 4});
+  // On the far and near planes (z = -100, -0.1) and the view's axis planes.
+  for (const float z : {-100.0f, -0.1f}) {
+    std::vector<float> p;
+    std::vector<std::uint32_t> idx;
+    for (int t = 0; t < 40; ++t) {
+      const float s = -z * float(0.01 + 0.5 * u(rng)), x = -z * float(u(rng) - 0.5);
+      p.insert(p.end(), {x, 0, z, x + s, 0, z, x, s, z});
+      idx.insert(idx.end(),
+                 {std::uint32_t(3 * t), std::uint32_t(3 * t + 1), std::uint32_t(3 * t + 2)});
+    }
+    add(p, idx);
+  }
   // The edge of the view, and exactly on the pixel grid's half-pixel lines.
   soup(-0.7, 0.7, -0.5, 0.5, -1.01, -0.99, 0.4, 131);
   return meshes;
