@@ -209,6 +209,9 @@ struct OcclusionBuffer::Impl {
     kernels = detail::kernels(isa);
     // N threads: the caller (worker N - 1 of the pool's tasks) and N - 1 started.
     workers.resize(d.threads);
+    // The set-up in groups of four goes with the AVX2 kernels (both bit for bit as scalar).
+    setup.useGroups(isa == Isa::Avx2);
+    for (Worker& w : workers) w.setup.useGroups(isa == Isa::Avx2);
     if (d.threads > 0) pool = std::make_unique<detail::WorkerPool>(d.threads - 1);
   }
   ~Impl() { pool.reset(); }  // finishes the tasks queued (they use the workers' stores)

@@ -7,10 +7,6 @@
 namespace logrid::cpu::detail {
 namespace {
 
-constexpr double kU = 1.0 / 16777216.0;  // float unit roundoff, 2^-24
-// Window coordinates beyond this many pixels are too coarse in float for the kernels.
-constexpr double kGuardBand = 4194304.0;  // 2^22
-
 struct H {
   double x, y, w, k;      // homogeneous window x, y, clip w, homogeneous key
   double sx, sy, sz, sw;  // magnitudes of GL's terms (|.| of a convex combination is at
@@ -81,7 +77,12 @@ void TriangleSetup::transform(const SetupFrame& f, const SetupObject& o, const f
   const double depth_scale = std::fabs(f.key_scale);
   for (int r = 0; r < 4; ++r) pad_clip_[r] = o.moved ? o.pad * f.clip_abs[r] : 0.0;
   const double* rot = o.rotation;
-  for (std::uint32_t i = 0; i < count; ++i) {
+  std::uint32_t i = 0;
+#if LOGRID_CPU_X86
+  // A still object's vertices four at a time, the rest (and a moving object's) below.
+  if (groups_ && !o.moved) i = transformGroupsAvx2(f, positions, count, vertices_.data());
+#endif
+  for (; i < count; ++i) {
     double x = positions[i * 3], y = positions[i * 3 + 1], z = positions[i * 3 + 2];
     if (o.moved) {  // placed where the application draws it ("Moving objects")
       const double px = x, py = y, pz = z;
@@ -144,12 +145,9 @@ bool TriangleSetup::setUp(const SetupFrame& f, const SetupObject& o, const std::
   if (!t.clipped) {
     // Wholly in front of the near plane: plain window-space set-up.
     if (v[0]->beyond_far || v[1]->beyond_far || v[2]->beyond_far) return false;
-    const double area = (v[1]->wx - v[0]->wx) * (v[2]->wy - v[0]->wy) -
-                        (v[2]->wx - v[0]->wx) * (v[1]->wy - v[0]->wy);
+    const double area = windowArea(v);
     if (!(area != 0) || !std::isfinite(area)) return false;
-    // A closed surface's triangles that face the eye (counter-clockwise for a surface
-    // wound so from outside) cover all it covers.
-    if (closed != 0 && f.skip_closed_back_faces && (area < 0) == (closed == 1)) return false;
+    if (facingAway(f, area, closed)) return false;
     const double x_min = std::min({v[0]->wx, v[1]->wx, v[2]->wx});
     const double x_max = std::max({v[0]->wx, v[1]->wx, v[2]->wx});
     const double y_min = std::min({v[0]->wy, v[1]->wy, v[2]->wy});
@@ -317,6 +315,15 @@ void TriangleSetup::finish(const SetupFrame& f, Work& t) const {
   t.z_err = 24 * kU * (std::fabs(t.za) * dx + std::fabs(t.zb) * dy + std::fabs(t.zc));
 }
 
+bool TriangleSetup::useGroups(bool on) {
+#if LOGRID_CPU_X86
+  groups_ = on && __builtin_cpu_supports("avx2");
+#else
+  groups_ = false;
+#endif
+  return groups_;
+}
+
 std::size_t TriangleSetup::run(const SetupFrame& f, const OccluderMeshes& meshes,
                                const SetupObject& o, std::vector<RasterTriangle>& out,
                                std::size_t& count) {
@@ -326,7 +333,24 @@ std::size_t TriangleSetup::run(const SetupFrame& f, const OccluderMeshes& meshes
   if (work_.size() < obj.triangle_count) work_.resize(obj.triangle_count);
   const std::uint32_t* indices = meshes.indices().data() + std::size_t(obj.first_triangle) * 3;
   const std::uint8_t* closed = meshes.closed().data() + obj.first_triangle;
-  std::uint32_t next = std::uint32_t(count);
+  // Groups of four triangles wholly in front of the near plane (setUpGroupAvx2), the
+  // rest one at a time; w.out holds 0 for a usable triangle until numbered below.
+  const bool groups = groups_ && !f.exact_coverage;
+  const Vertex* lane_corners[12];
+  Work* lane_work[4];
+  bool lane_ok[4];
+  int lanes = 0;
+  const auto setUpLanes = [&] {
+    for (int l = lanes; l < 4; ++l) {  // the unused lanes repeat lane 0 into a spare
+      for (int k = 0; k < 3; ++k) lane_corners[3 * l + k] = lane_corners[k];
+      lane_work[l] = &spare_;
+    }
+#if LOGRID_CPU_X86
+    setUpGroupAvx2(f, o, lane_corners, lane_work, lane_ok);
+#endif
+    for (int l = 0; l < lanes; ++l) lane_work[l]->out = lane_ok[l] ? 0 : kNoNeighbour;
+    lanes = 0;
+  };
   for (std::uint32_t t = 0; t < obj.triangle_count; ++t) {
     Work& w = work_[t];
     // A mirroring transform turns a closed surface's winding round; a singular one
@@ -334,8 +358,30 @@ std::size_t TriangleSetup::run(const SetupFrame& f, const OccluderMeshes& meshes
     const std::uint8_t c = o.orientation == 0                    ? 0
                            : o.orientation < 0 && closed[t] != 0 ? std::uint8_t(3 - closed[t])
                                                                  : closed[t];
-    w.out =
-        setUp(f, o, indices + std::size_t(t) * 3, obj.first_vertex, c, w) ? next++ : kNoNeighbour;
+    const std::uint32_t* corners = indices + std::size_t(t) * 3;
+    if (groups) {
+      const Vertex* v[3];
+      for (int k = 0; k < 3; ++k) v[k] = &vertices_[corners[k] - obj.first_vertex];
+      if (v[0]->front && v[1]->front && v[2]->front &&
+          !(v[0]->beyond_far || v[1]->beyond_far || v[2]->beyond_far)) {
+        // Facing away: left out here as setUp() leaves it out, not set up in a lane.
+        if (facingAway(f, windowArea(v), c)) {
+          w.out = kNoNeighbour;
+          continue;
+        }
+        for (int k = 0; k < 3; ++k) lane_corners[3 * lanes + k] = v[k];
+        lane_work[lanes] = &w;
+        w.clipped = false;
+        if (++lanes == 4) setUpLanes();
+        continue;
+      }
+    }
+    w.out = setUp(f, o, corners, obj.first_vertex, c, w) ? 0 : kNoNeighbour;
+  }
+  if (lanes > 0) setUpLanes();
+  std::uint32_t next = std::uint32_t(count);
+  for (std::uint32_t t = 0; t < obj.triangle_count; ++t) {
+    if (work_[t].out != kNoNeighbour) work_[t].out = next++;
   }
 
   const std::uint32_t* adjacency = meshes.adjacency().data();

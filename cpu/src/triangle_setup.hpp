@@ -11,6 +11,10 @@
 
 namespace logrid::cpu::detail {
 
+inline constexpr double kU = 1.0 / 16777216.0;  // float unit roundoff, 2^-24
+// Window coordinates beyond this many pixels are too coarse in float for the kernels.
+inline constexpr double kGuardBand = 4194304.0;  // 2^22
+
 // What every object of a frame shares.
 struct SetupFrame {
   double m[16] = {};  // view_projection: local coordinates to clip space
@@ -55,6 +59,12 @@ struct SetupObject {
 
 class TriangleSetup {
  public:
+  // Transform a still object's vertices and set up the triangles wholly in front of the
+  // near plane four at a time (AVX2, where the CPU has it: triangle_setup_avx2.cpp), bit
+  // for bit as transform() and setUp() do one at a time; the rest one at a time. Off by
+  // default. Returns whether it is on.
+  bool useGroups(bool on);
+
   // Writes the object's usable triangles to out[count, ...) (neighbours refer to indices
   // in `out`), growing `out` where needed but never clearing it (a frame reuses it),
   // advances `count`, and returns how many triangles of the object it looked at.
@@ -94,11 +104,33 @@ class TriangleSetup {
   bool pixelBounds(const SetupFrame& frame, double x_min, double x_max, double y_min, double y_max,
                    Work& work) const;
   void finish(const SetupFrame& frame, Work& work) const;
+  // Twice the signed area of a triangle in window space.
+  static double windowArea(const Vertex* const* v) {
+    return (v[1]->wx - v[0]->wx) * (v[2]->wy - v[0]->wy) -
+           (v[2]->wx - v[0]->wx) * (v[1]->wy - v[0]->wy);
+  }
+  // A closed surface's triangles that face the eye (counter-clockwise for a surface wound
+  // so from outside) cover all it covers: the others are left out.
+  static bool facingAway(const SetupFrame& frame, double area, std::uint8_t closed) {
+    return closed != 0 && frame.skip_closed_back_faces && (area < 0) == (closed == 1);
+  }
+  // setUp() of four triangles wholly in front of the near plane and not facing away
+  // (corners[3 l + k]: corner k of lane l), writing work[l] and ok[l] as setUp() writes
+  // them and returns, bit for bit.
+  // transform() of a still object's vertices [0, 4 floor(count / 4)) into out, as it
+  // writes them wherever they are in front of the near plane (and the flags everywhere);
+  // returns how many it did.
+  static std::uint32_t transformGroupsAvx2(const SetupFrame& frame, const float* positions,
+                                           std::uint32_t count, Vertex* out);
+  static void setUpGroupAvx2(const SetupFrame& frame, const SetupObject& object,
+                             const Vertex* const* corners, Work* const* work, bool* ok);
 
   // The object's pad in clip coordinates (x, y, z, w): pad * SetupFrame::clip_abs.
   double pad_clip_[4] = {};
   std::vector<Vertex> vertices_;
   std::vector<Work> work_;
+  bool groups_ = false;
+  Work spare_;  // the unused lanes of a group
 };
 
 }  // namespace logrid::cpu::detail
