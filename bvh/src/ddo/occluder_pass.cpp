@@ -36,28 +36,20 @@ OccluderPass::OccluderPass(const Octree& octree, Drawer drawer, const SelectorSe
     : selector_(octree, settings), drawer_(std::move(drawer)), budget_(budget) {}
 
 Result<std::uint64_t> OccluderPass::beginFrame(const Camera& camera,
-                                               const ProjectionSettings& projection, bool draw,
+                                               const ProjectionSettings& projection, bool record,
                                                std::vector<DrawnArea>& drawn) {
-  if (draw && !drawer_) {
-    return Status(ErrorCode::InvalidArgument,
-                  "ddo::OccluderPass: asked to draw its occluders (ddo+log) but made without a "
-                  "drawer; pass one, e.g. gl::OccluderRenderer's draw into the frame's "
-                  "framebuffer");
-  }
   drawn_.clear();
   quads_.clear();
   pass_stats_ = {};
   if (Status s = selector_.trySelect(camera, {}, stats_, projection); !s) return s;
   pass_stats_.candidates = selector_.occluders().size();
-  if (!draw) return stats_.faces_selected;
+  if (!record) return stats_.faces_selected;
   choose(camera, projection);
-  if (!drawn_.empty()) {
+  if (drawer_ && !drawn_.empty()) {
     if (Status s = drawer_(drawn_, camera); !s) return s;
+    for (const Occluder& o : drawn_) drawn.push_back({o.rect, o.far_key});
   }
-  for (const Occluder& o : drawn_) {
-    drawn.push_back({o.rect, o.far_key});
-    quads_.push_back(quadOf(o));
-  }
+  for (const Occluder& o : drawn_) quads_.push_back(quadOf(o));
   pass_stats_.drawn = drawn_.size();
   return drawn_.size();
 }

@@ -1,9 +1,11 @@
 // Coverage the CPU knows: the pixels a convex quad drawn by the renderer is certain to
-// cover, so that the lazy occlusion grid can record the tiles it covers entirely as full,
-// with the quad's farthest key, without reading them (OcclusionGrid::recordCovered). The
-// occluder pre-pass of ddo+log uses it for its occluder quads (occluder_source.hpp).
+// cover, so that the lazy occlusion grid can record the cells (parts of tiles) it covers
+// entirely as hidden behind the quad's farthest key, without reading them
+// (OcclusionGrid::recordCovered). The occluder pre-pass of ddo+log uses it for its
+// occluder quads, which it does not draw: the scene geometry that makes them valid covers
+// every pixel GL would give them, at or in front of their keys (occluder_source.hpp).
 //
-// Why a recorded tile is conservative. The quad reaches the renderer as two triangles
+// Why a recorded cell (the `rect` below) is conservative. The quad reaches the renderer as two triangles
 // (0, 1, 2) and (0, 2, 3) of its corners in normalized device coordinates (float, w = 1),
 // drawn with a depth test that keeps the nearer fragment. A tile is recorded when every
 // sample point of every pixel of the tile (the pixel centre; with Camera::multisample any

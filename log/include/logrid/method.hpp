@@ -58,7 +58,8 @@ enum class TestSemantics : std::uint8_t {
 enum class OccluderUse : std::uint8_t {
   None,
   Map,    // the occluders' CPU map decides the tests; nothing is drawn or read (ddo)
-  Drawn,  // the occluders are drawn into the depth buffer before the traversal (ddo+log)
+  Recorded,  // the tiles the occluders cover are recorded hidden behind them, without a
+            // read or a draw (ddo+log; OcclusionGrid::recordCovered)
 };
 
 // What cullFrame() must be given for the method (CullSources).
