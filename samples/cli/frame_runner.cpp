@@ -259,6 +259,7 @@ FrameRunner::FrameRunner(const PreparedScene& scene, gl::MeshRenderer& renderer,
     // 0.42 against 0.07 ms a frame, city 0.1: 1.48 against 1.25 ms; docs/DDO.md).
     ddo::SelectorSettings selection;
     selection.occlusion_map = info.occluders == OccluderUse::Map;
+    if (info.occluders == OccluderUse::Recorded) selection.min_node_pixels = budget.tile_size;
     occluders_ = std::make_unique<ddo::OccluderPass>(*scene.ddo, ddo::OccluderPass::Drawer{},
                                                      selection, budget);
   }
