@@ -248,6 +248,7 @@ std::uint32_t OcclusionGrid::recordCovered(const DrawnQuad& quad, const Coverage
   if (box.empty()) return 0;
   // The cells it covers entirely. Keys only shrink within a frame: the nearer of two
   // bounds holds.
+  const QuadCoverage coverage(quad, rule);
   bool any = false;
   for (std::uint32_t cy = std::uint32_t(box.y0) / cell_; cy * cell_ < std::uint32_t(box.y1); ++cy) {
     for (std::uint32_t cx = std::uint32_t(box.x0) / cell_; cx * cell_ < std::uint32_t(box.x1);
@@ -255,7 +256,7 @@ std::uint32_t OcclusionGrid::recordCovered(const DrawnQuad& quad, const Coverage
       const PixelRect cell{std::int32_t(cx * cell_), std::int32_t(cy * cell_),
                            std::int32_t(std::min(desc_.width, (cx + 1) * cell_)),
                            std::int32_t(std::min(desc_.height, (cy + 1) * cell_))};
-      if (!coversRect(quad, cell, rule)) continue;
+      if (!coverage.covers(cell)) continue;
       float& key = cell_hidden_[std::size_t(cy) * cells_x_ + cx];
       key = std::min(key, quad.far_key);
       any = true;

@@ -17,13 +17,14 @@ DrawnQuad quadOf(const Occluder& o) {
 std::uint32_t tilesFilled(const DrawnQuad& q, const PixelRect& rect, std::uint32_t tile,
                           const Camera& camera, const CoverageRule& rule) {
   if (rect.empty() || tile == 0) return 0;
+  const QuadCoverage coverage(q, rule);
   std::uint32_t n = 0;
   const auto t = std::int32_t(tile);
   for (std::int32_t y = rect.y0 / t * t; y < rect.y1; y += t) {
     for (std::int32_t x = rect.x0 / t * t; x < rect.x1; x += t) {
       const PixelRect r{x, y, std::min(x + t, std::int32_t(camera.width)),
                         std::min(y + t, std::int32_t(camera.height))};
-      n += coversRect(q, r, rule) ? 1u : 0u;
+      n += coverage.covers(r) ? 1u : 0u;
     }
   }
   return n;

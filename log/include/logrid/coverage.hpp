@@ -85,4 +85,17 @@ CoverageRule coverageRule(const Camera& camera, const ProjectionSettings& settin
 // of `rect` (non-empty, inside the viewport) once it has drawn the quad?
 bool coversRect(const DrawnQuad& quad, const PixelRect& rect, const CoverageRule& rule);
 
+// coversRect() for one quad and many rectangles: the quad's checks and edges are worked
+// out once (OcclusionGrid::recordCovered asks it for every cell under the quad).
+class QuadCoverage {
+ public:
+  QuadCoverage(const DrawnQuad& quad, const CoverageRule& rule);
+  bool covers(const PixelRect& rect) const;
+
+ private:
+  bool usable_ = false;  // within the planes, finite, convex
+  double nx_[4] = {}, ny_[4] = {}, offset_[4] = {};
+  double inset_ = 0.5;
+};
+
 }  // namespace logrid
