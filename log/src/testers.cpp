@@ -122,8 +122,7 @@ class PyramidTester final : public BoxTester {
     pyramid_->reset(clear_key);
     return {};
   }
-  Visibility test(const PixelRect& rect, float threshold, float,
-                  GridTestCounts& counts) override {
+  Visibility test(const PixelRect& rect, float threshold, float, GridTestCounts& counts) override {
     return pyramid_->test(rect, threshold, counts.tiles_tested);
   }
   void noteDrawn(const PixelRect&) override {}
@@ -150,8 +149,7 @@ class RectCountTester final : public BoxTester {
     return {};
   }
   bool mayRead(const PixelRect&, float, float) override { return true; }
-  Visibility test(const PixelRect& rect, float threshold, float,
-                  GridTestCounts& counts) override {
+  Visibility test(const PixelRect& rect, float threshold, float, GridTestCounts& counts) override {
     std::uint32_t count = 0;
     source_->countAtOrBeyond(&rect, 1, threshold, &count);
     ++counts.tiles_tested;
@@ -195,8 +193,7 @@ class OccluderMapTester final : public BoxTester {
     assert(occluders_ && "OccluderMapTester: the culler checks that the occluders are given");
     return {};
   }
-  Visibility test(const PixelRect& rect, float threshold, float,
-                  GridTestCounts& counts) override {
+  Visibility test(const PixelRect& rect, float threshold, float, GridTestCounts& counts) override {
     ++counts.tiles_tested;
     return occluders_->occludes(rect, threshold) ? Visibility::Occluded : Visibility::Visible;
   }

@@ -84,7 +84,7 @@ Outcome drawAndCompare(const Camera& camera, const std::vector<std::vector<doubl
     out.recorded += grid.recordCovered(drawn, rule);
     for (std::uint32_t y = 0; y < kSide; ++y) {
       for (std::uint32_t x = 0; x < kSide; ++x) {
-        const float recorded = grid.hiddenAt(x, y);  // the key of the pixel's cell
+        const float recorded = grid.hiddenAt(x, y);          // the key of the pixel's cell
         if (!(recorded < clearKey(camera.depth))) continue;  // not recorded
         const float stored = depthKey(camera.depth.convention, depth[y * kSide + x]);
         out.beyond += stored > recorded;

@@ -1,7 +1,8 @@
 // The full-tile rule of CPU-known coverage (coverage.hpp, OcclusionGrid::recordCovered):
 // a quad records the cells (a quarter of a tile a side) whose every pixel sample lies
-// inside it by more than the renderer's edge error, at tile and viewport borders, near the near and far planes, and
-// never for a quad seen edge-on. tests/gl/coverage_gl_test.cpp checks it against GL.
+// inside it by more than the renderer's edge error, at tile and viewport borders, near the near and
+// far planes, and never for a quad seen edge-on. tests/gl/coverage_gl_test.cpp checks it against
+// GL.
 #include <gtest/gtest.h>
 
 #include <cmath>

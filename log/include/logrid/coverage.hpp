@@ -5,8 +5,8 @@
 // occluder quads, which it does not draw: the scene geometry that makes them valid covers
 // every pixel GL would give them, at or in front of their keys (occluder_source.hpp).
 //
-// Why a recorded cell (the `rect` below) is conservative. The quad reaches the renderer as two triangles
-// (0, 1, 2) and (0, 2, 3) of its corners in normalized device coordinates (float, w = 1),
+// Why a recorded cell (the `rect` below) is conservative. The quad reaches the renderer as two
+// triangles (0, 1, 2) and (0, 2, 3) of its corners in normalized device coordinates (float, w = 1),
 // drawn with a depth test that keeps the nearer fragment. A tile is recorded when every
 // sample point of every pixel of the tile (the pixel centre; with Camera::multisample any
 // point of the pixel) lies inside the quad at a distance greater than `edge` from each of

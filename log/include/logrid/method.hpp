@@ -57,9 +57,9 @@ enum class TestSemantics : std::uint8_t {
 // An occluder pre-pass (CullSources::occluders, occluder_source.hpp).
 enum class OccluderUse : std::uint8_t {
   None,
-  Map,    // the occluders' CPU map decides the tests; nothing is drawn or read (ddo)
+  Map,       // the occluders' CPU map decides the tests; nothing is drawn or read (ddo)
   Recorded,  // the tiles the occluders cover are recorded hidden behind them, without a
-            // read or a draw (ddo+log; OcclusionGrid::recordCovered)
+             // read or a draw (ddo+log; OcclusionGrid::recordCovered)
 };
 
 // What cullFrame() must be given for the method (CullSources).
