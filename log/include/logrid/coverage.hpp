@@ -7,8 +7,8 @@
 //
 // Why a recorded cell (the `rect` below) is conservative. The quad reaches the renderer as two
 // triangles (0, 1, 2) and (0, 2, 3) of its corners in normalized device coordinates (float, w = 1),
-// drawn with a depth test that keeps the nearer fragment. A tile is recorded when every
-// sample point of every pixel of the tile (the pixel centre; with Camera::multisample any
+// drawn with a depth test that keeps the nearer fragment. A cell is recorded when every
+// sample point of every pixel of the cell (the pixel centre; with Camera::multisample any
 // point of the pixel) lies inside the quad at a distance greater than `edge` from each of
 // its edge lines, where edge bounds how far the renderer may move a point of an edge:
 //   * a vertex's window position differs from the exact one computed here in double by
@@ -32,14 +32,14 @@
 // the rounding of drawing (the quad's near_key and far_key carry that margin: the
 // projection's quantisation step and render error, as DrawnArea::far_key does), and the
 // depth test only makes the stored key smaller, so after the draw every sample of the
-// tile holds a key <= far_key for the rest of the frame (until a clear). No fragment is
+// cell holds a key <= far_key for the rest of the frame (until a clear). No fragment is
 // clipped away: the rule asks near_key > the near plane's key and far_key < the clear key
 // (a quad that might reach either plane records nothing), and the renderer's x/y clipping
 // keeps every point inside the viewport.
 //
 // The quad must be convex (checked: a non-convex or degenerate outline, such as a quad
 // seen edge-on, covers nothing). A convex region holds the convex hull of any points it
-// holds, so it suffices to test the four corner samples of the tile against the region
+// holds, so it suffices to test the four corner samples of the cell against the region
 // {p : every edge's inward distance > edge}, itself convex.
 //
 // tests/unit/coverage_test.cpp tests the rule at tile borders, at the near plane and edge
@@ -47,7 +47,9 @@
 // the recorded key with the defaults, and shrinks the margins: without the edge widening
 // a snapped edge leaves a recorded pixel free, without the quantisation step a D16 key is
 // stored beyond the recorded one (the render error term is not shown apart on llvmpipe;
-// see that test).
+// see that test), and two quads with a gap along a column of pixel centres leave that
+// column's cells unrecorded (each cell is judged against one quad at a time; cells of
+// different quads hide a tile together in the grid).
 #pragma once
 
 #include "logrid/camera.hpp"
