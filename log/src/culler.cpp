@@ -321,17 +321,18 @@ void Culler::clearFrameState() {
 }
 
 Status Culler::beginOccluders(const Camera& camera) {
-  // Selected for this camera, drawn first where the method reads them from the depth
-  // buffer (out of order, like drawn_before).
+  // Selected for this camera. What a source draws of them is drawn out of order, like
+  // drawn_before.
   const OccluderUse use = method_->info.occluders;
   occluder_areas_.clear();
   Result<std::uint64_t> occluders = sources_.occluders->beginFrame(
-      camera, desc_.projection, use == OccluderUse::Drawn, occluder_areas_);
+      camera, desc_.projection, use == OccluderUse::Recorded, occluder_areas_);
   if (!occluders) return occluders.status();
   stats_.occluders = *occluders;
   for (const DrawnArea& area : occluder_areas_) noteDrawnWith(area, false);
-  // What the CPU knows of them: tiles a quad covers entirely are full, read or not.
-  if (use == OccluderUse::Drawn) {
+  // What the CPU knows of them: the cells a quad covers entirely are hidden behind it,
+  // drawn or not (grid.hpp, coverage.hpp).
+  if (use == OccluderUse::Recorded) {
     const CoverageRule rule = coverageRule(camera, desc_.projection);
     for (const DrawnQuad& quad : sources_.occluders->drawnQuads()) {
       stats_.occluder_tiles += tester_->recordCovered(quad, rule);
@@ -567,11 +568,12 @@ inline bool Culler::testHeld() {
   const Entry entry = *testing_;
   bool by_state = false;
   const float threshold = thresholdFor(entry, by_state);
-  if (!batch_.empty() && tester_->mayRead(entry.projection.rect, threshold)) return false;
+  const float hidden = entry.projection.occlusionThreshold();
+  if (!batch_.empty() && tester_->mayRead(entry.projection.rect, threshold, hidden)) return false;
   testing_.reset();
   countFallback(by_state);
   const std::uint64_t read_before = grid_counts_.tiles_read;
-  const Visibility v = tester_->test(entry.projection.rect, threshold, grid_counts_);
+  const Visibility v = tester_->test(entry.projection.rect, threshold, hidden, grid_counts_);
   decided(entry, v, v == Visibility::Occluded || grid_counts_.tiles_read > read_before);
   return true;
 }
@@ -641,7 +643,8 @@ inline void Culler::planTest(const Entry& entry) {
   countFallback(by_state);
   const bool holds_objects = hierarchy_->objectCount(entry.node) > 0;
   std::optional<Visibility> planned =
-      tester_->plan(entry.projection.rect, threshold, grid_counts_, holds_objects);
+      tester_->plan(entry.projection.rect, threshold, entry.projection.occlusionThreshold(),
+                    grid_counts_, holds_objects);
   if (!planned) {
     if (holds_objects) {
       pending_.push_back(entry);

@@ -66,6 +66,14 @@ OcclusionGrid::OcclusionGrid(Checked, const GridDesc& desc, const GridApproximat
   near_.assign(n, 1.0f);
   far_.assign(n, 1.0f);
   outdated_.assign(n, 0);
+  hidden_.assign(n, 1.0f);
+  hidden_some_.assign(n, 0);
+  // Cells a quarter of a tile a side, or whole tiles where that would make too many.
+  cell_ = std::max<std::uint32_t>(1, desc.tile_size / 4);
+  if (tileCount(desc.width, desc.height, cell_) > kMaxGridTiles) cell_ = desc.tile_size;
+  cells_x_ = static_cast<std::uint32_t>((desc.width + cell_ - 1) / cell_);
+  cells_y_ = static_cast<std::uint32_t>((desc.height + cell_ - 1) / cell_);
+  cell_hidden_.assign(std::size_t(cells_x_) * cells_y_, 1.0f);
   stamp_.assign(n, 0);
   planned_.assign(n, 0);
   pending_.reserve(n);
@@ -105,7 +113,7 @@ bool OcclusionGrid::insideViewport(const PixelRect& rect) const {
 TileRecord OcclusionGrid::tile(std::uint32_t tx, std::uint32_t ty) const {
   assert(tx < tiles_x_ && ty < tiles_y_ && "OcclusionGrid::tile: tile out of range");
   const std::size_t i = std::size_t(ty) * tiles_x_ + tx;
-  return {near_[i], far_[i], outdated_[i] != 0};
+  return {near_[i], far_[i], outdated_[i] != 0, hidden_[i]};
 }
 
 void OcclusionGrid::reset(float clear_key) {
@@ -117,6 +125,10 @@ void OcclusionGrid::fill(float key) {
   std::fill(near_.begin(), near_.end(), key);
   std::fill(far_.begin(), far_.end(), key);
   std::fill(outdated_.begin(), outdated_.end(), std::uint8_t{0});
+  // What was known hidden was hidden by what the clear took away.
+  std::fill(hidden_.begin(), hidden_.end(), key);
+  std::fill(hidden_some_.begin(), hidden_some_.end(), std::uint8_t{0});
+  std::fill(cell_hidden_.begin(), cell_hidden_.end(), key);
   for (std::uint32_t t : planned_tiles_) planned_[t] = 0;
   planned_tiles_.clear();
   ++epoch_;
@@ -234,25 +246,69 @@ std::uint32_t OcclusionGrid::recordCovered(const DrawnQuad& quad, const Coverage
   const PixelRect box{clampTo(std::floor(xlo), desc_.width), clampTo(std::floor(ylo), desc_.height),
                       clampTo(std::ceil(xhi), desc_.width), clampTo(std::ceil(yhi), desc_.height)};
   if (box.empty()) return 0;
+  // The cells it covers entirely. Keys only shrink within a frame: the nearer of two
+  // bounds holds.
+  const QuadCoverage coverage(quad, rule);
+  bool any = false;
+  for (std::uint32_t cy = std::uint32_t(box.y0) / cell_; cy * cell_ < std::uint32_t(box.y1); ++cy) {
+    for (std::uint32_t cx = std::uint32_t(box.x0) / cell_; cx * cell_ < std::uint32_t(box.x1);
+         ++cx) {
+      const PixelRect cell{std::int32_t(cx * cell_), std::int32_t(cy * cell_),
+                           std::int32_t(std::min(desc_.width, (cx + 1) * cell_)),
+                           std::int32_t(std::min(desc_.height, (cy + 1) * cell_))};
+      if (!coverage.covers(cell)) continue;
+      float& key = cell_hidden_[std::size_t(cy) * cells_x_ + cx];
+      key = std::min(key, quad.far_key);
+      any = true;
+    }
+  }
+  if (!any) return 0;
+  // The tiles' summaries.
   std::uint32_t recorded = 0;
-  bool drawn = false;
   forEachTile(tileSpan(box), [&](std::size_t i, bool) {
-    if (!coversRect(quad, tileRectOf(i), rule)) return false;
-    if (!drawn) ++draw_stamp_, drawn = true;
-    // Keys only shrink within a frame: the nearer of two bounds holds.
-    far_[i] = std::min(far_[i], quad.far_key);
-    outdated_[i] = 1;
-    stamp_[i] = draw_stamp_;
-    ++recorded;
+    const float whole = hiddenOfTile(i);
+    if (whole < hidden_[i]) ++recorded;
+    hidden_[i] = whole;
+    hidden_some_[i] = 1;
     return false;
   });
   return recorded;
 }
 
+float OcclusionGrid::hiddenAt(std::uint32_t x, std::uint32_t y) const {
+  assert(x < desc_.width && y < desc_.height && "OcclusionGrid::hiddenAt: pixel out of range");
+  return cell_hidden_[std::size_t(y / cell_) * cells_x_ + x / cell_];
+}
+
+float OcclusionGrid::hiddenOfTile(std::size_t index) const {
+  const PixelRect t = tileRectOf(index);
+  float largest = -std::numeric_limits<float>::infinity();
+  for (std::uint32_t cy = std::uint32_t(t.y0) / cell_; cy * cell_ < std::uint32_t(t.y1); ++cy) {
+    const float* row = cell_hidden_.data() + std::size_t(cy) * cells_x_;
+    for (std::uint32_t cx = std::uint32_t(t.x0) / cell_; cx * cell_ < std::uint32_t(t.x1); ++cx) {
+      largest = std::max(largest, row[cx]);
+    }
+  }
+  return largest;
+}
+
+float OcclusionGrid::hiddenUnder(std::size_t index) const {
+  const PixelRect t = intersect(tileRectOf(index), test_rect_);
+  if (t.empty()) return hidden_[index];
+  float largest = -std::numeric_limits<float>::infinity();
+  for (std::uint32_t cy = std::uint32_t(t.y0) / cell_; cy * cell_ < std::uint32_t(t.y1); ++cy) {
+    const float* row = cell_hidden_.data() + std::size_t(cy) * cells_x_;
+    for (std::uint32_t cx = std::uint32_t(t.x0) / cell_; cx * cell_ < std::uint32_t(t.x1); ++cx) {
+      largest = std::max(largest, row[cx]);
+      if (!(largest < hidden_threshold_)) return largest;
+    }
+  }
+  return largest;
+}
+
 OcclusionGrid::Decision OcclusionGrid::decideFromRecord(std::size_t i, bool internal,
                                                         float threshold) const {
-  // far_key bounds the tile even when outdated (keys only shrink within a frame).
-  if (far_[i] < threshold) return Decision::Occluded;
+  if (tileHides(i, threshold)) return Decision::Occluded;
   if (outdated_[i]) return Decision::Undecided;
   if (near_[i] >= threshold) return Decision::Visible;  // every pixel at or beyond
   // An exact record of an internal tile: its farthest pixel lies inside the box's area.
@@ -312,10 +368,12 @@ void OcclusionGrid::appendRead(const PixelRect& area, AreaAsk ask, float thresho
 }
 
 Visibility OcclusionGrid::test(const PixelRect& rect, float threshold, DepthSource& source,
-                               GridTestCounts& counts) {
+                               GridTestCounts& counts, float hidden_threshold) {
   assert(insideViewport(rect) &&
          "OcclusionGrid::test: rect must be non-empty and inside the viewport");
   exact_records_ = source.traits().reads_depth;
+  hidden_threshold_ = hidden_threshold;
+  test_rect_ = rect;
   if (approx_.visible_pixels > 0) return testCounting(rect, threshold, source, counts);
   const TileSpan s = tileSpan(rect);
   if (recordsShow(s, threshold, counts)) return Visibility::Visible;
@@ -357,8 +415,8 @@ bool OcclusionGrid::forEachUndecided(const TileSpan& s, bool internal, float thr
     if (!outdated_[i] && decideFromRecord(i, internal, threshold) != Decision::Undecided) {
       return false;  // decided in steps 1 and 2
     }
-    if (far_[i] < threshold) {
-      ++counts.tiles_tested;  // outdated, but its stale zfar is still in front
+    if (tileHides(i, threshold)) {
+      ++counts.tiles_tested;  // outdated, but its stale zfar (or hidden key) is in front
       return false;
     }
     return take(i);
@@ -464,7 +522,7 @@ Visibility OcclusionGrid::testCounting(const PixelRect& rect, float threshold, D
   std::uint64_t seen = 0;
   pending_.clear();
   const bool shown = forEachTile(s, [&](std::size_t i, bool) {
-    if (far_[i] < threshold) {
+    if (tileHides(i, threshold)) {
       ++counts.tiles_tested;  // nothing of this tile shows
       return false;
     }
@@ -513,9 +571,11 @@ std::optional<Visibility> OcclusionGrid::decideFromRecords(const PixelRect& rect
 }
 
 std::optional<Visibility> OcclusionGrid::decide(const PixelRect& rect, float threshold,
-                                                GridTestCounts& counts) {
+                                                GridTestCounts& counts, float hidden_threshold) {
   assert(insideViewport(rect) &&
          "OcclusionGrid::decide: rect must be non-empty and inside the viewport");
+  hidden_threshold_ = hidden_threshold;
+  test_rect_ = rect;
   return decideFromRecords(rect, threshold, counts, nullptr);
 }
 
@@ -525,12 +585,14 @@ std::optional<Visibility> OcclusionGrid::decide(const PixelRect& rect, float thr
 
 std::optional<Visibility> OcclusionGrid::plan(const PixelRect& rect, float threshold,
                                               const DepthSourceTraits& source, GridBatch* to,
-                                              GridTestCounts& counts) {
+                                              GridTestCounts& counts, float hidden_threshold) {
   assert(insideViewport(rect) &&
          "OcclusionGrid::plan: rect must be non-empty and inside the viewport");
   assert(approx_.visible_pixels == 0 && "OcclusionGrid::plan: counting tests are not batched");
   assert((!to || !to->submitted_) && "OcclusionGrid::plan: the batch was already submitted");
   exact_records_ = source.reads_depth;
+  hidden_threshold_ = hidden_threshold;
+  test_rect_ = rect;
   undecided_.clear();
   if (const auto decided = decideFromRecords(rect, threshold, counts, &undecided_)) {
     return decided;

@@ -11,7 +11,7 @@
 
 namespace logrid::detail {
 
-std::optional<Visibility> BoxTester::plan(const PixelRect&, float, GridTestCounts&, bool) {
+std::optional<Visibility> BoxTester::plan(const PixelRect&, float, float, GridTestCounts&, bool) {
   assert(false && "BoxTester::plan: this method does not batch its tests");
   return Visibility::Visible;
 }
@@ -49,17 +49,19 @@ class GridTester final : public BoxTester {
     desc_.approximation = a;
     grid_.reset();  // made again with the new knobs in beginFrame
   }
-  Visibility test(const PixelRect& rect, float threshold, GridTestCounts& counts) override {
-    return grid_->test(rect, threshold, *source_, counts);
+  Visibility test(const PixelRect& rect, float threshold, float hidden,
+                  GridTestCounts& counts) override {
+    return grid_->test(rect, threshold, *source_, counts, hidden);
   }
-  bool mayRead(const PixelRect& rect, float threshold) override {
+  bool mayRead(const PixelRect& rect, float threshold, float hidden) override {
     if (desc_.approximation.visible_pixels > 0) return true;  // counting tests read
     GridTestCounts scratch;  // what steps 1 and 2 of test() decide, without a read
-    return !grid_->plan(rect, threshold, source_->traits(), nullptr, scratch);
+    return !grid_->plan(rect, threshold, source_->traits(), nullptr, scratch, hidden);
   }
-  std::optional<Visibility> plan(const PixelRect& rect, float threshold, GridTestCounts& counts,
-                                 bool read) override {
-    return grid_->plan(rect, threshold, source_->traits(), read ? &batch_ : nullptr, counts);
+  std::optional<Visibility> plan(const PixelRect& rect, float threshold, float hidden,
+                                 GridTestCounts& counts, bool read) override {
+    return grid_->plan(rect, threshold, source_->traits(), read ? &batch_ : nullptr, counts,
+                       hidden);
   }
   void submitBatch() override { grid_->submit(batch_, *source_); }
   void applyBatch() override { grid_->apply(batch_); }
@@ -69,8 +71,7 @@ class GridTester final : public BoxTester {
     if (refresh_ == GridRefresh::Lazy) grid_->markOutdated(rect);
   }
   std::uint64_t recordCovered(const DrawnQuad& quad, const CoverageRule& rule) override {
-    // The busy grid reads what was drawn at once (afterDraw): nothing to record.
-    return refresh_ == GridRefresh::Lazy ? grid_->recordCovered(quad, rule) : 0;
+    return grid_->recordCovered(quad, rule);
   }
   bool readsAfterDraw() const override { return refresh_ == GridRefresh::Busy; }
   void afterDraw(const PixelRect& rect) override { grid_->refreshNow(rect, *source_); }
@@ -121,7 +122,7 @@ class PyramidTester final : public BoxTester {
     pyramid_->reset(clear_key);
     return {};
   }
-  Visibility test(const PixelRect& rect, float threshold, GridTestCounts& counts) override {
+  Visibility test(const PixelRect& rect, float threshold, float, GridTestCounts& counts) override {
     return pyramid_->test(rect, threshold, counts.tiles_tested);
   }
   void noteDrawn(const PixelRect&) override {}
@@ -147,15 +148,15 @@ class RectCountTester final : public BoxTester {
     clearBatch();
     return {};
   }
-  bool mayRead(const PixelRect&, float) override { return true; }
-  Visibility test(const PixelRect& rect, float threshold, GridTestCounts& counts) override {
+  bool mayRead(const PixelRect&, float, float) override { return true; }
+  Visibility test(const PixelRect& rect, float threshold, float, GridTestCounts& counts) override {
     std::uint32_t count = 0;
     source_->countAtOrBeyond(&rect, 1, threshold, &count);
     ++counts.tiles_tested;
     return shows(count);
   }
-  std::optional<Visibility> plan(const PixelRect& rect, float threshold, GridTestCounts& counts,
-                                 bool read) override {
+  std::optional<Visibility> plan(const PixelRect& rect, float threshold, float,
+                                 GridTestCounts& counts, bool read) override {
     if (!read) return std::nullopt;  // no records: every answer is a read
     requests_.push_back({rect, AreaAsk::Count, threshold});
     ++counts.tiles_tested;
@@ -192,7 +193,7 @@ class OccluderMapTester final : public BoxTester {
     assert(occluders_ && "OccluderMapTester: the culler checks that the occluders are given");
     return {};
   }
-  Visibility test(const PixelRect& rect, float threshold, GridTestCounts& counts) override {
+  Visibility test(const PixelRect& rect, float threshold, float, GridTestCounts& counts) override {
     ++counts.tiles_tested;
     return occluders_->occludes(rect, threshold) ? Visibility::Occluded : Visibility::Visible;
   }
@@ -207,7 +208,9 @@ class OccluderMapTester final : public BoxTester {
 class NoTester final : public BoxTester {
  public:
   Status beginFrame(const Camera&, float, const CullSources&) override { return {}; }
-  Visibility test(const PixelRect&, float, GridTestCounts&) override { return Visibility::Visible; }
+  Visibility test(const PixelRect&, float, float, GridTestCounts&) override {
+    return Visibility::Visible;
+  }
   void noteDrawn(const PixelRect&) override {}
   void noteCleared(float) override {}
 };

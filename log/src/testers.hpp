@@ -25,13 +25,17 @@ class BoxTester {
   // The approximate knobs of the next frames (CullerDesc::budget_ms); before beginFrame.
   // Only the grid's testers take them.
   virtual void setApproximation(const GridApproximation& approximation) { (void)approximation; }
-  // Is any pixel of `rect` at or beyond `threshold`? Tested on its own.
-  virtual Visibility test(const PixelRect& rect, float threshold, GridTestCounts& counts) = 0;
+  // Is any pixel of `rect` at or beyond `threshold`? Tested on its own. `hidden` is the
+  // box's depth threshold (BoxProjection::occlusionThreshold()), for the keys known
+  // hidden without a read (recordCovered()); testers that record none ignore it.
+  virtual Visibility test(const PixelRect& rect, float threshold, float hidden,
+                          GridTestCounts& counts) = 0;
   // Would test() read the depth source (then what was handed out to draw must be drawn
   // first)? Counts nothing.
-  virtual bool mayRead(const PixelRect& rect, float threshold) {
+  virtual bool mayRead(const PixelRect& rect, float threshold, float hidden) {
     (void)rect;
     (void)threshold;
+    (void)hidden;
     return false;
   }
 
@@ -39,7 +43,7 @@ class BoxTester {
   // no read, else (if `read`) adds the test to the batch; submitBatch(), the source's
   // collect(), applyBatch(), then resolve() for each planned test in order, and
   // clearBatch().
-  virtual std::optional<Visibility> plan(const PixelRect& rect, float threshold,
+  virtual std::optional<Visibility> plan(const PixelRect& rect, float threshold, float hidden,
                                          GridTestCounts& counts, bool read);
   virtual void submitBatch() {}
   virtual void applyBatch() {}
@@ -48,8 +52,9 @@ class BoxTester {
 
   // Something is drawn over `rect` (clipped to the viewport): bookkeeping at once.
   virtual void noteDrawn(const PixelRect& rect) = 0;
-  // A convex quad was drawn whose coverage the CPU knows (coverage.hpp): tiles it covers
-  // entirely may be recorded without a read. Returns the tiles recorded.
+  // A convex quad whose coverage the CPU knows (coverage.hpp), drawn or hidden by what
+  // the frame draws (OcclusionGrid::recordCovered()): tiles it covers entirely may be
+  // recorded hidden behind its far key without a read. Returns the tiles recorded.
   virtual std::uint64_t recordCovered(const DrawnQuad& quad, const CoverageRule& rule) {
     (void)quad;
     (void)rule;

@@ -105,7 +105,7 @@ struct Row {
   double flushes = 0;
   double state_queries = 0;   // GL state queries of the sources (the state guard's cost)
   double occluders = -1;      // DDO methods: occluders per frame
-  double occluder_tiles = 0;  // ddo+log: tiles recorded full from their coverage per frame
+  double occluder_tiles = 0;  // ddo+log: tiles recorded hidden by their coverage per frame
   bool box_queries = false;   // a hardware-query method (MethodNeeds::queries)
   double queries = 0, query_waits = 0, query_boxes = 0;
   std::int64_t missed = -1;
@@ -232,8 +232,8 @@ void writeOccluderLines(std::ostream& md, const std::vector<Row>& rows) {
          << r.label << ": " << formatFixed(r.occluders, 1)
          << (r.method == "ddo"
                  ? " octree faces entered into the occlusion map"
-                 : " occluder quads drawn before the grid, " + formatFixed(r.occluder_tiles, 1) +
-                       " grid tiles recorded full from them without a read")
+                 : " occluder quads recorded in the grid, " + formatFixed(r.occluder_tiles, 1) +
+                       " grid tiles recorded hidden by them without a read")
          << " per frame.\n";
     }
   }

@@ -27,7 +27,6 @@
 #include "logrid/gl/framebuffer.hpp"
 #include "logrid/gl/mesh_renderer.hpp"
 #include "logrid/gl/object_id_oracle.hpp"
-#include "logrid/gl/occluder_renderer.hpp"
 #include "scene/prepare.hpp"
 #include "scene/view.hpp"
 
@@ -240,7 +239,6 @@ class FrameRunner {
   std::unique_ptr<OcclusionQueries> queries_;  // query methods
   std::unique_ptr<Culler> culler_;
   std::unique_ptr<Culler> vfc_;                              // for the ID pass
-  std::unique_ptr<gl::OccluderRenderer> occluder_renderer_;  // OccluderUse::Drawn
   std::unique_ptr<ddo::OccluderPass> occluders_;             // MethodNeeds::occluders
   struct Observer;
   std::unique_ptr<Observer> observer_;

@@ -44,7 +44,7 @@ struct FrameAverages {
   double records_decided = 0;
   double colliding_waits = 0;
   std::optional<double> occluders;       // DDO methods: occluders per frame
-  std::optional<double> occluder_tiles;  // ddo+log: tiles recorded full from them per frame
+  std::optional<double> occluder_tiles;  // ddo+log: tiles recorded hidden by them per frame
   // The motion hierarchy (frame_runner.hpp): averages, and sums of its events.
   double moved = 0;
   double update_ms = 0;

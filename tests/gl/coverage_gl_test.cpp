@@ -54,7 +54,7 @@ struct Outcome {
 };
 
 // Draws each quad alone (corners in window coordinates, key = plane) and compares the
-// tiles recordCovered() records under `settings` with what GL stored.
+// cells recordCovered() records under `settings` with what GL stored.
 Outcome drawAndCompare(const Camera& camera, const std::vector<std::vector<double>>& quads,
                        const ProjectionSettings& settings) {
   gl::FramebufferDesc fd;
@@ -84,7 +84,7 @@ Outcome drawAndCompare(const Camera& camera, const std::vector<std::vector<doubl
     out.recorded += grid.recordCovered(drawn, rule);
     for (std::uint32_t y = 0; y < kSide; ++y) {
       for (std::uint32_t x = 0; x < kSide; ++x) {
-        const float recorded = grid.tile(x / kTile, y / kTile).far_key;
+        const float recorded = grid.hiddenAt(x, y);          // the key of the pixel's cell
         if (!(recorded < clearKey(camera.depth))) continue;  // not recorded
         const float stored = depthKey(camera.depth.convention, depth[y * kSide + x]);
         out.beyond += stored > recorded;
@@ -190,6 +190,97 @@ TEST(CoverageGl, WithoutTheQuantisationStepAD16KeyIsStoredBeyondTheRecordedKey) 
   const Outcome bad = drawAndCompare(camera, constantQuads(camera, 3), shrunk);
   EXPECT_GT(bad.beyond, 0u);
   EXPECT_EQ(drawAndCompare(camera, constantQuads(camera, 3), {}).beyond, 0u);
+}
+
+// Two quads drawn together, side by side at one constant key, meeting at x = `meet` on
+// the left one's right edge and the right one's left edge (`gap` pixels apart), over the
+// whole height. Returns the depth keys GL stored and, through `quads`, what was drawn.
+std::vector<float> drawPair(const Camera& camera, double meet, double gap,
+                            std::vector<DrawnQuad>& quads) {
+  const double key = 0.5 * (double(nearPlaneKey(camera.depth)) + double(clearKey(camera.depth)));
+  const double plane[3] = {key, 0, 0};
+  const double left[4][2] = {{0, 0}, {meet, 0}, {meet, kSide}, {0, kSide}};
+  const double right[4][2] = {
+      {meet + gap, 0}, {double(kSide), 0}, {double(kSide), kSide}, {meet + gap, kSide}};
+  std::vector<ddo::Occluder> occluders;
+  quads.clear();
+  for (const auto* w : {&left, &right}) {
+    const std::optional<ddo::Occluder> o = ddo::makeOccluder(*w, plane, 1, camera);
+    EXPECT_TRUE(o.has_value());
+    if (!o) continue;
+    occluders.push_back(*o);
+    DrawnQuad q;
+    for (int i = 0; i < 4; ++i) q.window[i][0] = (*w)[i][0], q.window[i][1] = (*w)[i][1];
+    q.near_key = o->near_key;
+    q.far_key = o->far_key;
+    quads.push_back(q);
+  }
+  gl::FramebufferDesc fd;
+  fd.width = fd.height = kSide;
+  fd.depth = camera.depth;
+  gl::Framebuffer framebuffer(fd);
+  gl::OccluderRenderer renderer;
+  test::setDefaultGlState(int(kSide), int(kSide));
+  framebuffer.bind();
+  framebuffer.clear(kBackground);
+  renderer.draw(occluders, camera, framebuffer.handle());
+  return framebuffer.readDepth();
+}
+
+// Adjacent quads hide a tile together cell by cell (the union, OcclusionGrid::
+// recordCovered), and no recorded cell holds a pixel beyond its key. A rule that took
+// the union at the tile's corner samples alone (each inside some quad) would record a
+// tile through whose middle a gap of 1/128 pixel runs along a column of pixel centres:
+// GL draws neither quad there, and a box behind the tile would be culled while it shows
+// through the gap.
+TEST(CoverageGl, AdjacentQuadsHideTheirCellsAndAGapBetweenThemIsNotHidden) {
+  LOGRID_REQUIRE_GL();
+  for (DepthConvention convention : {DepthConvention::Standard, DepthConvention::Reversed}) {
+    const Camera camera = cameraFor(convention, DepthFormat::D24);
+    const CoverageRule rule = coverageRule(camera, {});
+    const float clear = clearKey(camera.depth);
+    // Meeting on a cell border (x = 12, tiles of 8, cells of 2): every cell hidden.
+    std::vector<DrawnQuad> quads;
+    std::vector<float> depth = drawPair(camera, 12.0, 0.0, quads);
+    OcclusionGrid grid({kSide, kSide, kTile, GridVariant::OcclusionState});
+    grid.reset(clear);
+    for (const DrawnQuad& q : quads) grid.recordCovered(q, rule);
+    EXPECT_LT(grid.tile(1, 3).hidden_key, clear) << "tile 1 lies across the meeting edge";
+    std::uint64_t beyond = 0;
+    for (std::uint32_t i = 0; i < kSide * kSide; ++i) {
+      const float stored = depthKey(convention, depth[i]);
+      beyond += stored > grid.hiddenAt(i % kSide, i / kSide);
+    }
+    EXPECT_EQ(beyond, 0u);
+    // A gap along the centres of column 13 (x = 13.5): pixels GL leaves free.
+    const double gap = 2.0 / 256;  // both edges on llvmpipe's 1/256 sub-pixel grid
+    depth = drawPair(camera, 13.5 - gap / 2, gap, quads);
+    std::uint64_t free_in_column = 0;
+    for (std::uint32_t y = 0; y < kSide; ++y) {
+      free_in_column += !(depthKey(convention, depth[y * kSide + 13]) < clear);
+    }
+    ASSERT_EQ(free_in_column, kSide) << "GL drew into the gap: the test shows nothing";
+    OcclusionGrid gapped({kSide, kSide, kTile, GridVariant::OcclusionState});
+    gapped.reset(clear);
+    for (const DrawnQuad& q : quads) gapped.recordCovered(q, rule);
+    for (std::uint32_t y = 0; y < kSide; ++y) {
+      EXPECT_EQ(gapped.hiddenAt(13, y), clear) << "the gap's cell is hidden at row " << y;
+    }
+    EXPECT_EQ(gapped.tile(1, 3).hidden_key, clear);
+    // The union at the tile's corner samples (each in some quad by the edge margin):
+    // tile 1 (x in [8, 16)) counts as covered, and GL left a pixel of it free.
+    bool corners_covered = true;
+    for (const std::int32_t x : {8, 15}) {
+      for (const std::int32_t y : {24, 31}) {
+        bool some = false;
+        for (const DrawnQuad& q : quads) some = some || coversRect(q, {x, y, x + 1, y + 1}, rule);
+        corners_covered = corners_covered && some;
+      }
+    }
+    EXPECT_TRUE(corners_covered) << "the corner-sample union would not record the tile";
+    EXPECT_FALSE(depthKey(convention, depth[24 * kSide + 13]) < clear)
+        << "a pixel of that tile holds a key: the corner union would be safe here";
+  }
 }
 
 }  // namespace

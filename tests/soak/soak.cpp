@@ -169,7 +169,6 @@ Run randomRun(std::mt19937_64& rng) {
   std::vector<std::string> readers;
   for (const ReaderInfo& reader : readerTable()) {
     if (info.needs.depth_values && !reader.reads_depth) continue;  // refused up front
-    if (info.occluders == OccluderUse::Drawn && !reader.reads_framebuffer) continue;
     readers.push_back(reader.name);
   }
   r.reader = pickFrom(rng, readers);

@@ -1,7 +1,8 @@
 // The full-tile rule of CPU-known coverage (coverage.hpp, OcclusionGrid::recordCovered):
-// a quad records the tiles whose every pixel sample lies inside it by more than the
-// renderer's edge error, at tile and viewport borders, near the near and far planes, and
-// never for a quad seen edge-on. tests/gl/coverage_gl_test.cpp checks it against GL.
+// a quad records the cells (a quarter of a tile a side) whose every pixel sample lies
+// inside it by more than the renderer's edge error, at tile and viewport borders, near the near and
+// far planes, and never for a quad seen edge-on. tests/gl/coverage_gl_test.cpp checks it against
+// GL.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -139,7 +140,8 @@ TEST(CoverageRule, EitherOrientationCovers) {
   EXPECT_TRUE(coversRect(q, {0, 0, 32, 32}, rule));
 }
 
-// The grid records what the rule covers, and nothing else.
+// The grid records what the rule covers, and nothing else: cells a quarter of a tile a
+// side (8 pixels at 32), each covered entirely by the quad.
 TEST(RecordCovered, FullTilesAtTileAndViewportBordersAndPartialOnesLeftAlone) {
   const Camera camera = viewport();
   const CoverageRule rule = coverageRule(camera);
@@ -147,54 +149,105 @@ TEST(RecordCovered, FullTilesAtTileAndViewportBordersAndPartialOnesLeftAlone) {
   grid.reset(1.0f);
   ASSERT_EQ(grid.tilesX(), 4u);
   ASSERT_EQ(grid.tilesY(), 3u);
-  // From x = 30 (tile 0 partly) to beyond the viewport's right side (tile 3 is 4 wide),
-  // y from 0 to 64 exactly (tile rows 0 and 1).
+  ASSERT_EQ(grid.hiddenCell(), 8u);
+  // From x = 30 (tile 0 partly: its last cell, x from 24, partly too) to beyond the
+  // viewport's right side (tile 3 is 4 wide), y from 0 to 64 exactly (tile rows 0, 1).
   const DrawnQuad q = rectQuad(30, 0, 140, 64, 0.5f, 0.625f);
   grid.markOutdated({30, 0, 100, 64});
   EXPECT_EQ(grid.recordCovered(q, rule), 6u);
   for (std::uint32_t ty = 0; ty < 3; ++ty) {
     for (std::uint32_t tx = 0; tx < 4; ++tx) {
       const bool full = tx >= 1 && ty <= 1;
-      EXPECT_EQ(grid.tile(tx, ty).far_key, full ? 0.625f : 1.0f) << tx << ", " << ty;
+      EXPECT_EQ(grid.tile(tx, ty).hidden_key, full ? 0.625f : 1.0f) << tx << ", " << ty;
+      // The record of the depth buffer is not touched.
+      EXPECT_EQ(grid.tile(tx, ty).far_key, 1.0f) << tx << ", " << ty;
+    }
+  }
+  for (std::uint32_t y = 0; y < 80; ++y) {
+    for (std::uint32_t x = 0; x < 100; ++x) {
+      const bool hidden = x >= 32 && y < 64;
+      EXPECT_EQ(grid.hiddenAt(x, y), hidden ? 0.625f : 1.0f) << x << ", " << y;
     }
   }
   // A nearer quad tightens the bound, a farther one does not loosen it.
   EXPECT_EQ(grid.recordCovered(rectQuad(64, 0, 96, 32, 0.5f, 0.55f), rule), 1u);
-  EXPECT_EQ(grid.tile(2, 0).far_key, 0.55f);
-  EXPECT_EQ(grid.recordCovered(rectQuad(64, 0, 96, 32, 0.5f, 0.75f), rule), 1u);
-  EXPECT_EQ(grid.tile(2, 0).far_key, 0.55f);
+  EXPECT_EQ(grid.tile(2, 0).hidden_key, 0.55f);
+  EXPECT_EQ(grid.recordCovered(rectQuad(64, 0, 96, 32, 0.5f, 0.75f), rule), 0u);
+  EXPECT_EQ(grid.tile(2, 0).hidden_key, 0.55f);
   // Outside the viewport, or NaN: nothing.
   EXPECT_EQ(grid.recordCovered(rectQuad(200, 0, 300, 64), rule), 0u);
   EXPECT_EQ(grid.recordCovered(rectQuad(NAN, 0, 300, 64), rule), 0u);
+  // A clear forgets them (what hid the cells is gone).
+  grid.fill(1.0f);
+  EXPECT_EQ(grid.tile(2, 0).hidden_key, 1.0f);
+  EXPECT_EQ(grid.hiddenAt(70, 10), 1.0f);
 }
 
-TEST(RecordCovered, RecordedTilesDecideOcclusionStateTestsWithoutAReadAndDepthTestsByReading) {
+TEST(RecordCovered, HiddenCellsDecideEveryTestBehindThemWithoutARead) {
   const Camera camera = viewport();
   cpu::SoftwareDepthBuffer buffer(camera.width, camera.height, DepthConvention::Standard);
   OcclusionGrid grid({camera.width, camera.height, 32, GridVariant::OcclusionState});
   grid.reset(1.0f);
-  // What the quad stores (0.6 everywhere over x in [0, 70)), announced and recorded.
-  buffer.fillRect({0, 0, 70, 80}, 0.6f);
+  // Something drawn over the left tiles (0.3 over x in [0, 70)): they are outdated.
+  buffer.fillRect({0, 0, 70, 80}, 0.3f);
   grid.markOutdated({0, 0, 70, 80});
+  // An occluder hidden behind it, recorded without being drawn: cells x in [0, 64).
   const std::uint32_t recorded =
       grid.recordCovered(rectQuad(0, 0, 70, 80, 0.59f, 0.61f), coverageRule(camera));
-  EXPECT_EQ(recorded, 6u);
+  EXPECT_EQ(recorded, 6u);  // tile columns 0 and 1, every row (the last is 16 high)
   GridTestCounts counts;
-  // A box behind, anywhere over the two covered columns: occluded from the records.
-  EXPECT_EQ(grid.test({5, 5, 60, 75}, 1.0f, buffer, counts), Visibility::Occluded);
+  // A box behind (hidden threshold 0.7) over the two covered columns: occluded whatever
+  // the test's own threshold (occlusion state: the clear key), without a read.
+  EXPECT_EQ(grid.test({5, 5, 60, 75}, 1.0f, buffer, counts, 0.7f), Visibility::Occluded);
   EXPECT_EQ(buffer.counters().reads, 0u);
-  // A depth test beyond the recorded far key: occluded, still without a read.
-  EXPECT_EQ(grid.test({5, 5, 60, 75}, 0.7f, buffer, counts), Visibility::Occluded);
+  // The cells under a border tile's part of the box count, not the whole tile: x up to
+  // 64 lies in hidden cells, though tile 2 (x from 64) is not hidden as a whole.
+  EXPECT_EQ(grid.test({40, 5, 64, 75}, 1.0f, buffer, counts, 0.7f), Visibility::Occluded);
   EXPECT_EQ(buffer.counters().reads, 0u);
-  // One nearer than the bound must read (the tile is outdated, not exactly known).
-  EXPECT_EQ(grid.test({5, 5, 20, 20}, 0.605f, buffer, counts), Visibility::Occluded);
+  // One pixel into the next cell (x = 64, not hidden): the tile is read (and the box,
+  // behind what is drawn there, shows beyond x = 70 only: the read finds it occluded
+  // over [64, 65)).
+  EXPECT_EQ(grid.test({40, 5, 65, 75}, 1.0f, buffer, counts, 0.7f), Visibility::Occluded);
   EXPECT_GT(buffer.counters().reads, 0u);
-  // The partly covered column stays outdated and is read.
-  EXPECT_TRUE(grid.tile(2, 0).outdated);
-  EXPECT_EQ(grid.tile(2, 0).far_key, 1.0f);
+  // A box in front of the hidden key is not decided by it: the tiles are read.
   const std::uint64_t before = buffer.counters().reads;
-  EXPECT_EQ(grid.test({60, 5, 80, 20}, 1.0f, buffer, counts), Visibility::Visible);
+  EXPECT_EQ(grid.test({5, 5, 20, 20}, 0.2f, buffer, counts, 0.2f), Visibility::Visible);
   EXPECT_GT(buffer.counters().reads, before);
+  // Without a hidden threshold (log-state's tests) the cells decide nothing.
+  const std::uint64_t again = buffer.counters().reads;
+  OcclusionGrid plain({camera.width, camera.height, 32, GridVariant::OcclusionState});
+  plain.reset(1.0f);
+  plain.markOutdated({0, 0, 100, 80});
+  plain.recordCovered(rectQuad(0, 0, 70, 80, 0.59f, 0.61f), coverageRule(camera));
+  EXPECT_EQ(plain.test({75, 5, 95, 75}, 1.0f, buffer, counts), Visibility::Visible);
+  EXPECT_GT(buffer.counters().reads, again);
+}
+
+// Cells covered by different quads hide a tile together (the union of adjacent quads),
+// but a cell that no one quad covers entirely is not hidden, even where the quads leave
+// no pixel centre of it free: the rule looks at one quad at a time.
+TEST(RecordCovered, AdjacentQuadsHideTheTileTheyCoverTogether) {
+  const Camera camera = viewport();
+  const CoverageRule rule = coverageRule(camera);
+  OcclusionGrid grid({camera.width, camera.height, 32, GridVariant::OcclusionState});
+  grid.reset(1.0f);
+  // Tile (1, 0) is x in [32, 64): the left quad ends at x = 48 (a cell border), the right
+  // one starts there. Neither covers the tile alone.
+  EXPECT_EQ(grid.recordCovered(rectQuad(20, 0, 48, 40, 0.5f, 0.6f), rule), 0u);
+  EXPECT_EQ(grid.tile(1, 0).hidden_key, 1.0f);
+  EXPECT_EQ(grid.recordCovered(rectQuad(48, 0, 80, 40, 0.5f, 0.62f), rule), 1u);
+  EXPECT_EQ(grid.tile(1, 0).hidden_key, 0.62f);  // the farther of the two
+  EXPECT_EQ(grid.hiddenAt(40, 10), 0.6f);
+  EXPECT_EQ(grid.hiddenAt(50, 10), 0.62f);
+  // Meeting inside a cell (x = 44): that cell is hidden by neither, nor is the tile.
+  OcclusionGrid split({camera.width, camera.height, 32, GridVariant::OcclusionState});
+  split.reset(1.0f);
+  split.recordCovered(rectQuad(20, 0, 44, 40, 0.5f, 0.6f), rule);
+  split.recordCovered(rectQuad(44, 0, 80, 40, 0.5f, 0.6f), rule);
+  EXPECT_EQ(split.tile(1, 0).hidden_key, 1.0f);
+  EXPECT_EQ(split.hiddenAt(44, 10), 1.0f);
+  EXPECT_EQ(split.hiddenAt(39, 10), 0.6f);
+  EXPECT_EQ(split.hiddenAt(48, 10), 0.6f);
 }
 
 }  // namespace

@@ -58,7 +58,7 @@ TEST(MethodTable, CapabilitiesAreConsistent) {
       EXPECT_FALSE(m.takes.query_schedule);
     }
     EXPECT_EQ(m.occluders != OccluderUse::None, m.needs.occluders);
-    if (m.occluders == OccluderUse::Drawn) {
+    if (m.occluders == OccluderUse::Recorded) {
       EXPECT_TRUE(m.needs.depth);
     }
     if (m.needs.depth_values) {
@@ -191,9 +191,9 @@ TEST(OccluderMethods, DdoCullsWhatTheMapHidesAndReadsNothing) {
   EXPECT_GT(left, 0u) << "no box left of the split was culled: the map was not asked";
 }
 
-// ddo+log draws its occluders first (the source draws; the culler announces what it
-// drew): the grid finds their tiles outdated and reads them, and occlusion-state tests of
-// boxes they may lie behind go by depth. No visible box is missed.
+// ddo+log with a source that draws its occluders (the culler announces what it drew):
+// the grid finds their tiles outdated and reads them, and occlusion-state tests of boxes
+// they may lie behind go by depth. No visible box is missed.
 TEST(OccluderMethods, DdoLogAnnouncesTheOccludersItAskedToBeDrawn) {
   const test::BoxWorld world = test::makeBoxWorld(5);
   const Camera cam = test::boxCamera(160, 120, DepthConvention::Standard, 0.1);

@@ -17,13 +17,14 @@ DrawnQuad quadOf(const Occluder& o) {
 std::uint32_t tilesFilled(const DrawnQuad& q, const PixelRect& rect, std::uint32_t tile,
                           const Camera& camera, const CoverageRule& rule) {
   if (rect.empty() || tile == 0) return 0;
+  const QuadCoverage coverage(q, rule);
   std::uint32_t n = 0;
   const auto t = std::int32_t(tile);
   for (std::int32_t y = rect.y0 / t * t; y < rect.y1; y += t) {
     for (std::int32_t x = rect.x0 / t * t; x < rect.x1; x += t) {
       const PixelRect r{x, y, std::min(x + t, std::int32_t(camera.width)),
                         std::min(y + t, std::int32_t(camera.height))};
-      n += coversRect(q, r, rule) ? 1u : 0u;
+      n += coverage.covers(r) ? 1u : 0u;
     }
   }
   return n;
@@ -36,28 +37,20 @@ OccluderPass::OccluderPass(const Octree& octree, Drawer drawer, const SelectorSe
     : selector_(octree, settings), drawer_(std::move(drawer)), budget_(budget) {}
 
 Result<std::uint64_t> OccluderPass::beginFrame(const Camera& camera,
-                                               const ProjectionSettings& projection, bool draw,
+                                               const ProjectionSettings& projection, bool record,
                                                std::vector<DrawnArea>& drawn) {
-  if (draw && !drawer_) {
-    return Status(ErrorCode::InvalidArgument,
-                  "ddo::OccluderPass: asked to draw its occluders (ddo+log) but made without a "
-                  "drawer; pass one, e.g. gl::OccluderRenderer's draw into the frame's "
-                  "framebuffer");
-  }
   drawn_.clear();
   quads_.clear();
   pass_stats_ = {};
   if (Status s = selector_.trySelect(camera, {}, stats_, projection); !s) return s;
   pass_stats_.candidates = selector_.occluders().size();
-  if (!draw) return stats_.faces_selected;
+  if (!record) return stats_.faces_selected;
   choose(camera, projection);
-  if (!drawn_.empty()) {
+  if (drawer_ && !drawn_.empty()) {
     if (Status s = drawer_(drawn_, camera); !s) return s;
+    for (const Occluder& o : drawn_) drawn.push_back({o.rect, o.far_key});
   }
-  for (const Occluder& o : drawn_) {
-    drawn.push_back({o.rect, o.far_key});
-    quads_.push_back(quadOf(o));
-  }
+  for (const Occluder& o : drawn_) quads_.push_back(quadOf(o));
   pass_stats_.drawn = drawn_.size();
   return drawn_.size();
 }

@@ -264,6 +264,11 @@ void Selector::visit(std::uint32_t n, Frame& frame) {
     case ProjectionClass::CrossesNear: ++stats.nodes_near; break;
     case ProjectionClass::Invalid: break;
     case ProjectionClass::Inside:
+      if (p.rect.x1 - p.rect.x0 < std::int64_t{settings_.min_node_pixels} &&
+          p.rect.y1 - p.rect.y0 < std::int64_t{settings_.min_node_pixels}) {
+        ++stats.nodes_small;
+        return;
+      }
       if (settings_.occlusion_map) {
         ++stats.map_tests;
         if (map_.occludes(p.rect, p.near_key - p.margin)) {

@@ -1,12 +1,14 @@
 // Coverage the CPU knows: the pixels a convex quad drawn by the renderer is certain to
-// cover, so that the lazy occlusion grid can record the tiles it covers entirely as full,
-// with the quad's farthest key, without reading them (OcclusionGrid::recordCovered). The
-// occluder pre-pass of ddo+log uses it for its occluder quads (occluder_source.hpp).
+// cover, so that the lazy occlusion grid can record the cells (parts of tiles) it covers
+// entirely as hidden behind the quad's farthest key, without reading them
+// (OcclusionGrid::recordCovered). The occluder pre-pass of ddo+log uses it for its
+// occluder quads, which it does not draw: the scene geometry that makes them valid covers
+// every pixel GL would give them, at or in front of their keys (occluder_source.hpp).
 //
-// Why a recorded tile is conservative. The quad reaches the renderer as two triangles
-// (0, 1, 2) and (0, 2, 3) of its corners in normalized device coordinates (float, w = 1),
-// drawn with a depth test that keeps the nearer fragment. A tile is recorded when every
-// sample point of every pixel of the tile (the pixel centre; with Camera::multisample any
+// Why a recorded cell (the `rect` below) is conservative. The quad reaches the renderer as two
+// triangles (0, 1, 2) and (0, 2, 3) of its corners in normalized device coordinates (float, w = 1),
+// drawn with a depth test that keeps the nearer fragment. A cell is recorded when every
+// sample point of every pixel of the cell (the pixel centre; with Camera::multisample any
 // point of the pixel) lies inside the quad at a distance greater than `edge` from each of
 // its edge lines, where edge bounds how far the renderer may move a point of an edge:
 //   * a vertex's window position differs from the exact one computed here in double by
@@ -30,14 +32,14 @@
 // the rounding of drawing (the quad's near_key and far_key carry that margin: the
 // projection's quantisation step and render error, as DrawnArea::far_key does), and the
 // depth test only makes the stored key smaller, so after the draw every sample of the
-// tile holds a key <= far_key for the rest of the frame (until a clear). No fragment is
+// cell holds a key <= far_key for the rest of the frame (until a clear). No fragment is
 // clipped away: the rule asks near_key > the near plane's key and far_key < the clear key
 // (a quad that might reach either plane records nothing), and the renderer's x/y clipping
 // keeps every point inside the viewport.
 //
 // The quad must be convex (checked: a non-convex or degenerate outline, such as a quad
 // seen edge-on, covers nothing). A convex region holds the convex hull of any points it
-// holds, so it suffices to test the four corner samples of the tile against the region
+// holds, so it suffices to test the four corner samples of the cell against the region
 // {p : every edge's inward distance > edge}, itself convex.
 //
 // tests/unit/coverage_test.cpp tests the rule at tile borders, at the near plane and edge
@@ -45,7 +47,9 @@
 // the recorded key with the defaults, and shrinks the margins: without the edge widening
 // a snapped edge leaves a recorded pixel free, without the quantisation step a D16 key is
 // stored beyond the recorded one (the render error term is not shown apart on llvmpipe;
-// see that test).
+// see that test), and two quads with a gap along a column of pixel centres leave that
+// column's cells unrecorded (each cell is judged against one quad at a time; cells of
+// different quads hide a tile together in the grid).
 #pragma once
 
 #include "logrid/camera.hpp"
@@ -82,5 +86,18 @@ CoverageRule coverageRule(const Camera& camera, const ProjectionSettings& settin
 // Does the renderer certainly store a key <= quad.far_key at every sample of every pixel
 // of `rect` (non-empty, inside the viewport) once it has drawn the quad?
 bool coversRect(const DrawnQuad& quad, const PixelRect& rect, const CoverageRule& rule);
+
+// coversRect() for one quad and many rectangles: the quad's checks and edges are worked
+// out once (OcclusionGrid::recordCovered asks it for every cell under the quad).
+class QuadCoverage {
+ public:
+  QuadCoverage(const DrawnQuad& quad, const CoverageRule& rule);
+  bool covers(const PixelRect& rect) const;
+
+ private:
+  bool usable_ = false;  // within the planes, finite, convex
+  double nx_[4] = {}, ny_[4] = {}, offset_[4] = {};
+  double inset_ = 0.5;
+};
 
 }  // namespace logrid

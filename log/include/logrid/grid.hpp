@@ -37,6 +37,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -68,6 +69,7 @@ struct TileRecord {
   float near_key = 0;
   float far_key = 0;
   bool outdated = false;
+  float hidden_key = 0;  // OcclusionGrid::recordCovered(); the clear key where none
 };
 
 class OcclusionGrid;
@@ -109,6 +111,9 @@ class GridBatch {
 
 class OcclusionGrid {
  public:
+  // The hidden threshold of a test that no hidden key decides (test(), recordCovered()).
+  static constexpr float kNoHiddenThreshold = -std::numeric_limits<float>::infinity();
+
   // The result form (error.hpp): the grid, or validateGridDesc()'s problem
   // (ErrorCode::InvalidArgument).
   static Result<OcclusionGrid> create(const GridDesc& desc,
@@ -132,13 +137,21 @@ class OcclusionGrid {
 
   // Something was drawn over `rect`: its tiles become outdated. Reads nothing.
   void markOutdated(const PixelRect& rect);
-  // A convex quad was drawn (coverage.hpp): every tile it covers entirely by `rule`
-  // gets quad.far_key as its far key (where that is nearer than the record's), which
-  // makes it full for occlusion-state tests and bounds it for depth tests, without a
-  // read. The tiles stay (or become) outdated: the bound is no exact record, and a test
-  // it cannot decide reads the tile as before. Tiles the quad covers partly are left
-  // to markOutdated(). Returns the tiles recorded.
+  // A convex quad whose coverage the CPU knows (coverage.hpp): GL draws it, or it is a
+  // valid occluder (occluder_source.hpp) that the frame's own geometry covers, at or in
+  // front of its keys, wherever GL would draw it. Every cell of the hidden grid (a
+  // quarter of a tile a side, hiddenCell()) that it covers entirely by `rule` gets
+  // quad.far_key as its hidden key (where that is nearer than the cell's): a box whose
+  // hidden threshold (test(), plan(), decide()) lies beyond the hidden keys of every
+  // cell its rectangle meets in a tile is hidden there, whatever the test's own
+  // threshold, without a read. Cells covered by different quads count alike, so a tile
+  // may be hidden by several. Nothing else of the record changes: the quad is no draw
+  // (a drawn one is announced with markOutdated()). Returns the tiles this quad leaves
+  // hidden as a whole where they were not, or hidden nearer.
+  std::uint32_t hiddenCell() const { return cell_; }
   std::uint32_t recordCovered(const DrawnQuad& quad, const CoverageRule& rule);
+  // The hidden key of the cell that holds pixel (x, y) (inside the viewport).
+  float hiddenAt(std::uint32_t x, std::uint32_t y) const;
   // Every outdated tile, refreshed with one batch of whole-tile reads (submit and
   // collect). Used after drawing a known-visible set first (temporal coherence).
   void refreshOutdated(DepthSource& source, GridTestCounts& counts);
@@ -153,14 +166,18 @@ class OcclusionGrid {
   // Is any pixel of `rect` at or beyond `threshold`? Returns Visible at the first tile
   // that may show the box, Occluded if none does. `rect` must be non-empty and inside
   // the viewport. Reads only outdated or undecided tiles, in the order described above.
+  // A tile whose hidden key (recordCovered()) lies in front of `hidden_threshold` (the
+  // box's depth threshold, BoxProjection::occlusionThreshold()) hides the box there
+  // without a read; the default decides nothing so.
   Visibility test(const PixelRect& rect, float threshold, DepthSource& source,
-                  GridTestCounts& counts);
+                  GridTestCounts& counts, float hidden_threshold = kNoHiddenThreshold);
 
   // What the records alone decide (steps 1 and 2, and outdated tiles whose stale far key
   // is still in front of the threshold): Visible or Occluded, or nothing where a tile
   // would have to be read. Reads nothing; the grid as a pre-filter of hardware queries
   // (log+hwq).
-  std::optional<Visibility> decide(const PixelRect& rect, float threshold, GridTestCounts& counts);
+  std::optional<Visibility> decide(const PixelRect& rect, float threshold, GridTestCounts& counts,
+                                   float hidden_threshold = kNoHiddenThreshold);
 
   // Batched tests. plan() decides from the records what they can (Visible or Occluded,
   // returned at once), and otherwise adds the test to `batch` with the reads that decide
@@ -169,7 +186,8 @@ class OcclusionGrid {
   // tests (approximation.visible_pixels).
   std::optional<Visibility> plan(const PixelRect& rect, float threshold,
                                  const DepthSourceTraits& source, GridBatch* batch,
-                                 GridTestCounts& counts);
+                                 GridTestCounts& counts,
+                                 float hidden_threshold = kNoHiddenThreshold);
   // Submits the batch's reads to the source (the caller then calls source.collect()).
   void submit(GridBatch& batch, DepthSource& source);
   // After collect(): refreshes the records of the whole tiles read. A tile drawn over
@@ -185,6 +203,17 @@ class OcclusionGrid {
 
   enum class Decision : std::uint8_t { Occluded, Visible, Undecided };
   Decision decideFromRecord(std::size_t index, bool internal, float threshold) const;
+  // Is the tile in front of the test, by its far key (a bound even while outdated: keys
+  // only shrink within a frame), or by the hidden keys of its cells under the test's
+  // rectangle?
+  bool tileHides(std::size_t index, float threshold) const {
+    return far_[index] < threshold || hidden_[index] < hidden_threshold_ ||
+           (hidden_some_[index] && hiddenUnder(index) < hidden_threshold_);
+  }
+  // The largest hidden key of the tile's cells that meet test_rect_.
+  float hiddenUnder(std::size_t index) const;
+  // The largest hidden key of the tile's cells.
+  float hiddenOfTile(std::size_t index) const;
   // The tiles a pixel rectangle touches, and the internal ones (inside it whole).
   struct TileSpan;
   TileSpan tileSpan(const PixelRect& rect) const;
@@ -250,9 +279,21 @@ class OcclusionGrid {
   std::uint32_t tiles_y_ = 0;
   float clear_key_ = 1.0f;
   bool exact_records_ = true;  // records hold exact min/max (set per test from the source)
+  float hidden_threshold_ = kNoHiddenThreshold;  // the test's (set per test)
+  PixelRect test_rect_;                          // the test's rectangle (set per test)
   std::vector<float> near_;
   std::vector<float> far_;
   std::vector<std::uint8_t> outdated_;
+  // Per cell of cell_ pixels a side, a key behind which everything is hidden by what the
+  // frame draws (recordCovered()); the clear key where nothing is known. Per tile, the
+  // largest of its cells' and whether any of its cells is hidden. Not a record of the
+  // depth buffer: reads neither set nor need it, draws leave it.
+  std::uint32_t cell_ = 1;
+  std::uint32_t cells_x_ = 0;
+  std::uint32_t cells_y_ = 0;
+  std::vector<float> cell_hidden_;
+  std::vector<float> hidden_;
+  std::vector<std::uint8_t> hidden_some_;
   // Draw stamps: stamp_[tile] is the value of draw_stamp_ when the tile was last drawn
   // over, so that a batch's answers do not mark a tile drawn over since as up to date.
   std::vector<std::uint64_t> stamp_;

@@ -57,8 +57,9 @@ enum class TestSemantics : std::uint8_t {
 // An occluder pre-pass (CullSources::occluders, occluder_source.hpp).
 enum class OccluderUse : std::uint8_t {
   None,
-  Map,    // the occluders' CPU map decides the tests; nothing is drawn or read (ddo)
-  Drawn,  // the occluders are drawn into the depth buffer before the traversal (ddo+log)
+  Map,       // the occluders' CPU map decides the tests; nothing is drawn or read (ddo)
+  Recorded,  // the tiles the occluders cover are recorded hidden behind them, without a
+             // read or a draw (ddo+log; OcclusionGrid::recordCovered)
 };
 
 // What cullFrame() must be given for the method (CullSources).

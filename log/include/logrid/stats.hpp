@@ -76,9 +76,9 @@ struct FrameStats {
                                       // (0 on a first frame or a changed hierarchy)
   std::uint64_t draw_batches = 0;     // non-empty batches handed out (Culler::nextBatch)
   std::uint64_t occluders = 0;        // selected by the occluder pre-pass (ddo: faces in
-                                      // its map; ddo+log: quads drawn)
-  std::uint64_t occluder_tiles = 0;   // ddo+log: grid tiles recorded full from the drawn
-                                      // occluders' known coverage, without a read
+                                      // its map; ddo+log: quads recorded)
+  std::uint64_t occluder_tiles = 0;   // ddo+log: grid tiles the occluders' known coverage
+                                      // hid as a whole, without a read or a draw
   std::uint64_t triangles_drawn = 0;  // of the objects drawn (Hierarchy::objectTriangles;
                                       // 0 where the hierarchy does not know them)
   double seconds = 0;                 // wall time of the whole cullFrame(), draws included
