@@ -238,8 +238,8 @@ class FrameRunner {
   std::unique_ptr<FrameReader> reader_;
   std::unique_ptr<OcclusionQueries> queries_;  // query methods
   std::unique_ptr<Culler> culler_;
-  std::unique_ptr<Culler> vfc_;                              // for the ID pass
-  std::unique_ptr<ddo::OccluderPass> occluders_;             // MethodNeeds::occluders
+  std::unique_ptr<Culler> vfc_;                   // for the ID pass
+  std::unique_ptr<ddo::OccluderPass> occluders_;  // MethodNeeds::occluders
   struct Observer;
   std::unique_ptr<Observer> observer_;
   struct FanOut;

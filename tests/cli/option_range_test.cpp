@@ -22,8 +22,8 @@
 #include "cli/commands.hpp"
 #include "cli/option_checks.hpp"
 #include "logrid/cpu/occlusion_buffer.hpp"
-#include "logrid/ddo/build.hpp"
 #include "logrid/culler.hpp"
+#include "logrid/ddo/build.hpp"
 #include "logrid/error.hpp"
 #include "logrid/grid.hpp"
 #include "logrid/query_schedule.hpp"
@@ -34,41 +34,19 @@ namespace logrid::samples {
 namespace {
 
 // Text options that hold no number: names, choices and paths.
-const std::set<std::string> kTextOptions = {"--costs",
-                                            "--config",
-                                            "--write-config",
-                                            "--scene",
-                                            "--path",
-                                            "--tree-parts",
-                                            "--cluster-method",
-                                            "--animate",
-                                            "--platform",
-                                            "--ddo-file",
-                                            "--reader",
-                                            "--hierarchy",
-                                            "--cpu-resolution",
-                                            "--cpu-buffer",
-                                            "--occluders",
-                                            "--cpu-isa",
-                                            "--depth-format",
-                                            "--depth-convention",
-                                            "--query-schedule",
-                                            "--query-shape",
-                                            "--method",
-                                            "--json",
-                                            "--images",
-                                            "--markdown",
-                                            "--plots",
-                                            "--scenes",
-                                            "--methods",
-                                            "--readers",
-                                            "--hierarchies",
-                                            "--motion-method",
-                                            "--plot",
-                                            "--obj",
-                                            "--path-json",
-                                            "--script",
-                                            "--out"};
+const std::set<std::string> kTextOptions = {
+    "--costs",          "--config",       "--write-config",
+    "--scene",          "--path",         "--tree-parts",
+    "--cluster-method", "--animate",      "--platform",
+    "--ddo-file",       "--reader",       "--hierarchy",
+    "--cpu-resolution", "--cpu-buffer",   "--occluders",
+    "--cpu-isa",        "--depth-format", "--depth-convention",
+    "--query-schedule", "--query-shape",  "--method",
+    "--json",           "--images",       "--markdown",
+    "--plots",          "--scenes",       "--methods",
+    "--readers",        "--hierarchies",  "--motion-method",
+    "--plot",           "--obj",          "--path-json",
+    "--script",         "--out"};
 
 constexpr int kParsed = 99;  // what a subcommand's callback returns here instead of running
 
