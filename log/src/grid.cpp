@@ -280,30 +280,26 @@ float OcclusionGrid::hiddenAt(std::uint32_t x, std::uint32_t y) const {
   return cell_hidden_[std::size_t(y / cell_) * cells_x_ + x / cell_];
 }
 
-float OcclusionGrid::hiddenOfTile(std::size_t index) const {
-  const PixelRect t = tileRectOf(index);
+float OcclusionGrid::largestHidden(const PixelRect& r, float enough) const {
   float largest = -std::numeric_limits<float>::infinity();
-  for (std::uint32_t cy = std::uint32_t(t.y0) / cell_; cy * cell_ < std::uint32_t(t.y1); ++cy) {
+  for (std::uint32_t cy = std::uint32_t(r.y0) / cell_; cy * cell_ < std::uint32_t(r.y1); ++cy) {
     const float* row = cell_hidden_.data() + std::size_t(cy) * cells_x_;
-    for (std::uint32_t cx = std::uint32_t(t.x0) / cell_; cx * cell_ < std::uint32_t(t.x1); ++cx) {
+    for (std::uint32_t cx = std::uint32_t(r.x0) / cell_; cx * cell_ < std::uint32_t(r.x1); ++cx) {
       largest = std::max(largest, row[cx]);
+      if (!(largest < enough)) return largest;
     }
   }
   return largest;
 }
 
+float OcclusionGrid::hiddenOfTile(std::size_t index) const {
+  return largestHidden(tileRectOf(index), std::numeric_limits<float>::infinity());
+}
+
 float OcclusionGrid::hiddenUnder(std::size_t index) const {
   const PixelRect t = intersect(tileRectOf(index), test_rect_);
   if (t.empty()) return hidden_[index];
-  float largest = -std::numeric_limits<float>::infinity();
-  for (std::uint32_t cy = std::uint32_t(t.y0) / cell_; cy * cell_ < std::uint32_t(t.y1); ++cy) {
-    const float* row = cell_hidden_.data() + std::size_t(cy) * cells_x_;
-    for (std::uint32_t cx = std::uint32_t(t.x0) / cell_; cx * cell_ < std::uint32_t(t.x1); ++cx) {
-      largest = std::max(largest, row[cx]);
-      if (!(largest < hidden_threshold_)) return largest;
-    }
-  }
-  return largest;
+  return largestHidden(t, hidden_threshold_);
 }
 
 OcclusionGrid::Decision OcclusionGrid::decideFromRecord(std::size_t i, bool internal,

@@ -214,6 +214,9 @@ class OcclusionGrid {
   float hiddenUnder(std::size_t index) const;
   // The largest hidden key of the tile's cells.
   float hiddenOfTile(std::size_t index) const;
+  // The largest hidden key of the cells `r` meets, or the first one found not below
+  // `enough` (the answer is then only known to be at least that).
+  float largestHidden(const PixelRect& r, float enough) const;
   // The tiles a pixel rectangle touches, and the internal ones (inside it whole).
   struct TileSpan;
   TileSpan tileSpan(const PixelRect& rect) const;
