@@ -114,10 +114,6 @@ using Clock = std::chrono::steady_clock;
 // (a grid tile of the default size), never narrower than one 8-wide store.
 constexpr std::int32_t kBinViewport = 32;
 
-bool overlaps(const PixelRect& a, const PixelRect& b) {
-  return a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1;
-}
-
 constexpr double kU = 1.0 / 16777216.0;  // float unit roundoff, 2^-24
 
 // How far GL may put a vertex of an object inside `box` (its own coordinates) from where
@@ -637,7 +633,7 @@ void OcclusionBuffer::Impl::ensure(const PixelRect& rect) {
   // triangles land in, and near triangles first let the kernels skip more of the rest.
   std::size_t kept = 0;
   for (std::size_t i = 0; i < pending.size(); ++i) {
-    if (overlaps(pending[i].rect, rect)) {
+    if (pending[i].rect.meets(rect)) {
       setUpObject(pending[i]);
     } else {
       pending[kept++] = pending[i];

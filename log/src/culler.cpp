@@ -145,10 +145,6 @@ constexpr float kNothingDrawn = -std::numeric_limits<float>::infinity();
 // occluders or coherent nodes); further ones count for every box.
 constexpr std::size_t kMaxUnorderedAreas = 256;
 
-bool overlaps(const PixelRect& a, const PixelRect& b) {
-  return a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1;
-}
-
 // "culler: method M <what> ...; pass <how>" for a source the method needs.
 Status require(bool given, const MethodInfo& info, const char* what, const char* how) {
   if (given) return {};
@@ -313,6 +309,7 @@ void Culler::clearFrameState() {
   resolve_due_ = false;
   batch_.clear();
   batch_areas_.clear();
+  batch_rects_.clear();
   culled_undrawn_.clear();
   after_draw_.clear();
   visible_drawn_.clear();
@@ -381,6 +378,7 @@ Result<DrawBatch> Culler::tryNextBatch() {
   // The last batch is drawn: what waited for it can go on.
   batch_.clear();
   batch_areas_.clear();
+  batch_rects_.clear();
   culled_undrawn_.clear();
   SourceAccess access(sources_);
   if (query_frame_) query_frame_->flushDeferred();
@@ -388,7 +386,7 @@ Result<DrawBatch> Culler::tryNextBatch() {
   // A request that failed was answered as if nothing were drawn over it (visible), and
   // its source reports the error here.
   if (Status accessed = access.end(); !accessed) return failFrame(accessed);
-  if (!batch_.empty()) ++stats_.draw_batches;
+  if (!batch_.empty()) handOutBatch();
   return DrawBatch{batch_.data(), batch_.size()};
 }
 
@@ -541,7 +539,7 @@ bool Culler::traverse() {
     // that reads.
     if (!afterBatchDrawn()) return false;
     if (resolve_due_) {
-      if (!batch_.empty()) return false;
+      if (!batch_.empty() && tester_->batchReadsUnder(batch_rects_)) return false;
       resolve_due_ = false;
       resolvePending();
       continue;
@@ -569,7 +567,13 @@ inline bool Culler::testHeld() {
   bool by_state = false;
   const float threshold = thresholdFor(entry, by_state);
   const float hidden = entry.projection.occlusionThreshold();
-  if (!batch_.empty() && tester_->mayRead(entry.projection.rect, threshold, hidden)) return false;
+  // A test that reads where the batch may draw waits for it to be drawn. One that reads
+  // elsewhere reads now what it would read then, and the batch may grow: the renderer
+  // is waited for once for both.
+  if (!batch_.empty() &&
+      tester_->readsUnder(entry.projection.rect, threshold, hidden, batch_rects_)) {
+    return false;
+  }
   testing_.reset();
   countFallback(by_state);
   const std::uint64_t read_before = grid_counts_.tiles_read;
@@ -728,7 +732,7 @@ bool Culler::orderVouches(const Entry& entry) const {
     // NaN (unknown) is not in front; an area that shares no pixel with the box's
     // rectangle stores nothing the test looks at.
     const DrawnArea& a = unordered_[i];
-    in_front = a.far_key < entry.order || !overlaps(a.rect, entry.projection.rect);
+    in_front = a.far_key < entry.order || !a.rect.meets(entry.projection.rect);
   }
   return in_front;
 }
@@ -821,9 +825,8 @@ void Culler::drawEntry(const Entry& entry) {
     return;  // drawn before the traversal (temporal coherence)
   }
   batchObjects(entry.node);
-  noteDrawnWith({entry.projection.rect, entry.projection.far_key + entry.projection.margin}, true);
-  batch_areas_.push_back(
-      {{entry.projection.rect, entry.projection.far_key + entry.projection.margin}, true});
+  noteDrawnWith({entry.projection.rect, entry.projection.far_key + entry.projection.margin}, true,
+                true);
   if (observer_) observer_->onDrawn(entry.node, entry.projection);
 }
 
@@ -839,8 +842,7 @@ void Culler::drawCoherent() {
     ++stats_.coherent_leaves;
     drawn_first_.push_back(node);
     // Drawn out of order: later occlusion-state tests of boxes in front of it go by depth.
-    noteDrawnWith({p.rect, p.far_key + p.margin}, false);
-    batch_areas_.push_back({{p.rect, p.far_key + p.margin}, false});
+    noteDrawnWith({p.rect, p.far_key + p.margin}, false, true);
     if (observer_) observer_->onDrawn(node, p);
   }
   std::sort(drawn_first_.begin(), drawn_first_.end());
@@ -859,7 +861,7 @@ std::uint64_t Culler::countKept() {
   return kept;
 }
 
-void Culler::noteDrawnWith(const DrawnArea& area, bool ordered) {
+void Culler::noteDrawnWith(const DrawnArea& area, bool ordered, bool batched) {
   const PixelRect r{std::max(area.rect.x0, 0), std::max(area.rect.y0, 0),
                     std::min(area.rect.x1, std::int32_t(projector_->camera().width)),
                     std::min(area.rect.y1, std::int32_t(projector_->camera().height))};
@@ -871,11 +873,23 @@ void Culler::noteDrawnWith(const DrawnArea& area, bool ordered) {
                   : area.far_key < drawn_back_ ? drawn_back_
                                                : std::numeric_limits<float>::infinity();
   }
+  if (batched) batch_areas_.push_back({area, ordered});
   if (r.empty()) return;
-  if (sources_.depth) sources_.depth->noteDraw();
-  if (sources_.queries) sources_.queries->noteDraw();
+  if (batched) {
+    batch_rects_.push_back(r);
+  } else {
+    if (sources_.depth) sources_.depth->noteDraw();
+    if (sources_.queries) sources_.queries->noteDraw();
+  }
   tester_->noteDrawn(r);
   if (tester_->readsAfterDraw()) after_draw_.push_back(r);
+}
+
+void Culler::handOutBatch() {
+  ++stats_.draw_batches;
+  if (batch_rects_.empty()) return;  // draws no pixel
+  if (sources_.depth) sources_.depth->noteDraw();
+  if (sources_.queries) sources_.queries->noteDraw();
 }
 
 Status Culler::requireFrame(const char* who) const {
@@ -924,13 +938,16 @@ Status Culler::tryNoteDepthCleared(float window_depth) {
   unordered_.clear();
   // The batch being drawn may be drawn partly after the clear: it counts as drawn again.
   for (const BatchArea& b : batch_areas_) noteDrawnWith(b.area, b.ordered);
-  // What was found hidden while it waited to be drawn is placed after it: tested again.
+  // What was found hidden while it waited to be drawn is placed after it: tested again,
+  // also when the traversal had finished with the batch being drawn.
+  bool again = !culled_undrawn_.empty();
   for (const Entry& e : culled_undrawn_) {
     test_list_.push_back(e);
     std::push_heap(test_list_.begin(), test_list_.end(), LaterFirst{});
   }
   culled_undrawn_.clear();
-  if (query_frame_) query_frame_->reconsiderCulled(*schedule_);
+  if (query_frame_) again |= query_frame_->reconsiderCulled(*schedule_);
+  if (again && phase_ == Phase::Done) phase_ = schedule_ ? Phase::Schedule : Phase::Traverse;
   return {};
 }
 

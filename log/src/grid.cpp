@@ -575,6 +575,50 @@ std::optional<Visibility> OcclusionGrid::decide(const PixelRect& rect, float thr
   return decideFromRecords(rect, threshold, counts, nullptr);
 }
 
+namespace {
+
+bool meetsAny(const PixelRect& area, const PixelRect* rects, std::size_t count) {
+  for (std::size_t i = 0; i < count; ++i) {
+    if (area.meets(rects[i])) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+bool OcclusionGrid::readsUnder(const PixelRect& rect, float threshold,
+                               const DepthSourceTraits& source, float hidden_threshold,
+                               const PixelRect* undrawn, std::size_t count) {
+  assert(insideViewport(rect) &&
+         "OcclusionGrid::readsUnder: rect must be non-empty and inside the viewport");
+  if (approx_.visible_pixels > 0) {
+    // Counting tests read (parts of) any tile under the rectangle.
+    const TileSpan s = tileSpan(rect);
+    const PixelRect first = tileRect(s.x0, s.y0), last = tileRect(s.x1, s.y1);
+    return meetsAny({first.x0, first.y0, last.x1, last.y1}, undrawn, count);
+  }
+  exact_records_ = source.reads_depth;
+  hidden_threshold_ = hidden_threshold;
+  test_rect_ = rect;
+  undecided_.clear();
+  GridTestCounts scratch;
+  if (decideFromRecords(rect, threshold, scratch, &undecided_)) return false;
+  for (const std::uint32_t packed : undecided_) {
+    const PixelRect tile = tileRectOf(packed & ~kInternalBit);
+    const PixelRect area = (packed & kInternalBit) != 0 ? tile : intersect(tile, rect);
+    if (meetsAny(area, undrawn, count)) return true;
+  }
+  return false;
+}
+
+bool OcclusionGrid::readsUnder(const GridBatch& batch, const PixelRect* undrawn,
+                               std::size_t count) const {
+  for (const AreaRequest& request : batch.requests_) {
+    if (meetsAny(request.rect, undrawn, count)) return true;
+  }
+  return false;
+}
+
 // ---------------------------------------------------------------------------
 // Batched tests
 // ---------------------------------------------------------------------------

@@ -117,9 +117,11 @@ void QueryFrame::flushDeferred() {
   culled_undrawn_.clear();
 }
 
-void QueryFrame::reconsiderCulled(Schedule& schedule) {
+bool QueryFrame::reconsiderCulled(Schedule& schedule) {
+  const bool any = !culled_undrawn_.empty();
   for (QueryNode& n : culled_undrawn_) schedule.reconsider(*this, std::move(n));
   culled_undrawn_.clear();
+  return any;
 }
 
 bool QueryFrame::ready(QueryHandle local) {

@@ -130,7 +130,8 @@ class QueryFrame {
   void flushDeferred();
   // A depth clear while the objects handed out are drawn: the nodes log+hwq's records
   // found hidden while they waited go back to the schedule (Schedule::reconsider).
-  void reconsiderCulled(Schedule& schedule);
+  // Whether there were any.
+  bool reconsiderCulled(Schedule& schedule);
 
   // Draws the node's objects (culler: callback, statistics, drawn area).
   void draw(const QueryNode& n) { w_.draw(n); }

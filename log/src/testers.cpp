@@ -20,6 +20,13 @@ Visibility BoxTester::resolve(std::size_t) { return Visibility::Visible; }
 
 namespace {
 
+bool meetsAny(const PixelRect& rect, const std::vector<PixelRect>& rects) {
+  for (const PixelRect& r : rects) {
+    if (rect.meets(r)) return true;
+  }
+  return false;
+}
+
 // log-state, log-zfar, log+hwq, ddo+log (lazy: tiles marked outdated after a draw) and bog
 // (busy: tiles refreshed right after each draw, LOG §5).
 class GridTester final : public BoxTester {
@@ -53,10 +60,13 @@ class GridTester final : public BoxTester {
                   GridTestCounts& counts) override {
     return grid_->test(rect, threshold, *source_, counts, hidden);
   }
-  bool mayRead(const PixelRect& rect, float threshold, float hidden) override {
-    if (desc_.approximation.visible_pixels > 0) return true;  // counting tests read
-    GridTestCounts scratch;  // what steps 1 and 2 of test() decide, without a read
-    return !grid_->plan(rect, threshold, source_->traits(), nullptr, scratch, hidden);
+  bool readsUnder(const PixelRect& rect, float threshold, float hidden,
+                  const std::vector<PixelRect>& undrawn) override {
+    return grid_->readsUnder(rect, threshold, source_->traits(), hidden, undrawn.data(),
+                             undrawn.size());
+  }
+  bool batchReadsUnder(const std::vector<PixelRect>& undrawn) override {
+    return grid_->readsUnder(batch_, undrawn.data(), undrawn.size());
   }
   std::optional<Visibility> plan(const PixelRect& rect, float threshold, float hidden,
                                  GridTestCounts& counts, bool read) override {
@@ -148,7 +158,16 @@ class RectCountTester final : public BoxTester {
     clearBatch();
     return {};
   }
-  bool mayRead(const PixelRect&, float, float) override { return true; }
+  bool readsUnder(const PixelRect& rect, float, float,
+                  const std::vector<PixelRect>& undrawn) override {
+    return meetsAny(rect, undrawn);
+  }
+  bool batchReadsUnder(const std::vector<PixelRect>& undrawn) override {
+    for (const AreaRequest& request : requests_) {
+      if (meetsAny(request.rect, undrawn)) return true;
+    }
+    return false;
+  }
   Visibility test(const PixelRect& rect, float threshold, float, GridTestCounts& counts) override {
     std::uint32_t count = 0;
     source_->countAtOrBeyond(&rect, 1, threshold, &count);

@@ -30,12 +30,15 @@ class BoxTester {
   // hidden without a read (recordCovered()); testers that record none ignore it.
   virtual Visibility test(const PixelRect& rect, float threshold, float hidden,
                           GridTestCounts& counts) = 0;
-  // Would test() read the depth source (then what was handed out to draw must be drawn
-  // first)? Counts nothing.
-  virtual bool mayRead(const PixelRect& rect, float threshold, float hidden) {
+  // Would test() read pixels that `undrawn` (the rectangles of what is to be drawn but is
+  // not drawn yet) may cover? Then that must be drawn first; else the test may read now,
+  // and reads what it would read after. Counts nothing.
+  virtual bool readsUnder(const PixelRect& rect, float threshold, float hidden,
+                          const std::vector<PixelRect>& undrawn) {
     (void)rect;
     (void)threshold;
     (void)hidden;
+    (void)undrawn;
     return false;
   }
 
@@ -45,6 +48,11 @@ class BoxTester {
   // clearBatch().
   virtual std::optional<Visibility> plan(const PixelRect& rect, float threshold, float hidden,
                                          GridTestCounts& counts, bool read);
+  // Would the planned batch's reads cover pixels that `undrawn` may cover?
+  virtual bool batchReadsUnder(const std::vector<PixelRect>& undrawn) {
+    (void)undrawn;
+    return true;
+  }
   virtual void submitBatch() {}
   virtual void applyBatch() {}
   virtual Visibility resolve(std::size_t index);

@@ -190,6 +190,40 @@ TEST_P(GridTest, BusyRefreshReadsTilesThatAreNotFull) {
   EXPECT_EQ(reads(), 2u);
 }
 
+// What a test would read, against rectangles still to be drawn: the records decide
+// without a read; an undecided internal tile is read whole, a border tile where it meets
+// the box. A test that reads none of them may read before they are drawn.
+TEST_P(GridTest, ReadsUnderNamesWhatTheTestWouldReadOnly) {
+  OcclusionGrid grid = makeGrid(GridVariant::OcclusionState);
+  const DepthSourceTraits traits = buffer_.traits();
+  const float none = OcclusionGrid::kNoHiddenThreshold;
+  const auto under = [&](const PixelRect& box, const PixelRect& undrawn) {
+    return grid.readsUnder(box, clear(), traits, none, &undrawn, 1);
+  };
+  // Nothing drawn: every tile is up to date and free, decided without a read.
+  EXPECT_FALSE(under({4, 4, 8, 8}, {0, 0, 16, 12}));
+  draw(grid, {4, 4, 8, 8}, key(GetParam(), 0.5f));  // tile (1,1) outdated
+  // Internal tile (1,1) is read whole: anything drawn over it counts, even outside the box.
+  EXPECT_TRUE(under({4, 4, 8, 8}, {7, 7, 9, 9}));
+  EXPECT_FALSE(under({4, 4, 8, 8}, {8, 4, 16, 12}));  // beside it
+  // A border box in tile (1,1) reads only its part of the tile.
+  EXPECT_TRUE(under({5, 5, 7, 7}, {6, 6, 7, 7}));
+  EXPECT_FALSE(under({5, 5, 7, 7}, {7, 4, 8, 8}));  // same tile, beside the box
+  // Up-to-date free tile (0,0) shows the box first: no read, whatever is undrawn.
+  EXPECT_FALSE(under({2, 2, 8, 8}, {4, 4, 8, 8}));
+  // Several rectangles: any one the test reads under counts.
+  const PixelRect two[] = {{12, 0, 16, 4}, {4, 4, 5, 5}};
+  EXPECT_TRUE(grid.readsUnder({4, 4, 8, 8}, clear(), traits, none, two, 2));
+  EXPECT_FALSE(grid.readsUnder({4, 4, 8, 8}, clear(), traits, none, two, 1));
+  EXPECT_EQ(reads(), 0u);  // asking reads nothing
+  // The batch form: the reads planned, not the boxes.
+  GridBatch batch;
+  EXPECT_FALSE(grid.plan({4, 4, 8, 8}, clear(), traits, &batch, counts_).has_value());
+  const PixelRect beside{8, 4, 16, 12}, over{7, 7, 9, 9};
+  EXPECT_FALSE(grid.readsUnder(batch, &beside, 1));
+  EXPECT_TRUE(grid.readsUnder(batch, &over, 1));
+}
+
 INSTANTIATE_TEST_SUITE_P(Conventions, GridTest,
                          testing::Values(DepthConvention::Standard, DepthConvention::Reversed),
                          conventionName);

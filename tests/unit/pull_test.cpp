@@ -1,7 +1,8 @@
 // The pull form of a frame (Culler::beginFrame, nextBatch, endFrame): the same draws,
 // reads and statistics as the callback form for every method and traversal setting; no
-// read or query while a batch is held by the application; a batch drawn in any order;
-// clears and extra drawing announced between batches; misuse refused.
+// query while objects handed out (or about to be) are not drawn, and no read of pixels
+// they may cover; a batch drawn in any order; clears and extra drawing announced between
+// batches; misuse refused.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -29,18 +30,35 @@ class AnnouncingOccluders final : public OccluderSource {
   bool occludes(const PixelRect&, float) const override { return false; }
 };
 
-// Objects the culler handed out (its observer's onDrawn) and objects drawn: a read or a
-// query while they differ would miss what is still to be drawn.
+// Objects the culler handed out or put in the batch it hands out next (its observer's
+// onDrawn) and objects drawn: a query while they differ, or a read of pixels that the
+// undrawn ones may cover, would miss what is still to be drawn.
 struct Watch : CullObserver {
   const Hierarchy* hierarchy = nullptr;
   std::size_t handed = 0;
   std::size_t drawn = 0;
-  void onDrawn(NodeId node, const BoxProjection&) override {
+  std::vector<PixelRect> undrawn;  // the rectangles of the nodes handed and not drawn
+  std::size_t early_reads = 0;     // reads while some were undrawn (none under them)
+  void onDrawn(NodeId node, const BoxProjection& p) override {
     handed += hierarchy->objectCount(node);
+    undrawn.push_back(p.rect);
+  }
+  void addDrawn(std::size_t n) {
+    drawn += n;
+    if (drawn == handed) undrawn.clear();
   }
   void check(const char* what) const {
     EXPECT_EQ(handed, drawn) << what << " while " << handed - drawn
                              << " objects handed out are not drawn";
+  }
+  void checkRead(const PixelRect& rect) {
+    if (handed == drawn) return;
+    ++early_reads;
+    for (const PixelRect& r : undrawn) {
+      EXPECT_FALSE(rect.meets(r)) << "a read of " << rect.x0 << "," << rect.y0 << "," << rect.x1
+                                  << "," << rect.y1 << " under an object not drawn yet, at " << r.x0
+                                  << "," << r.y0 << "," << r.x1 << "," << r.y1;
+    }
   }
 };
 
@@ -67,33 +85,32 @@ class WatchedQueries final : public test::SoftwareQueries {
   const Watch& watch_;
 };
 
-// A depth source that fails the test when asked anything while objects handed out are
-// not drawn.
+// A depth source that fails the test when asked to read pixels that objects handed out
+// and not drawn yet may cover.
 class WatchedSource final : public DepthSource, public KeyReader {
  public:
-  WatchedSource(DepthSource& inner, const Watch& watch) : inner_(inner), watch_(watch) {}
+  WatchedSource(DepthSource& inner, Watch& watch) : inner_(inner), watch_(watch) {}
   DepthSourceTraits traits() const override { return inner_.traits(); }
   Status beginFrame(const Camera& camera) override { return inner_.beginFrame(camera); }
   Status endFrame() override { return inner_.endFrame(); }
   void noteDraw() override { inner_.noteDraw(); }
   void submit(const AreaRequest* r, std::size_t n, AreaAnswer* a) override {
-    watch_.check("a read");
+    for (std::size_t i = 0; i < n; ++i) watch_.checkRead(r[i].rect);
     inner_.submit(r, n, a);
     counters_ = inner_.counters();
   }
   void collect() override {
-    watch_.check("a wait for reads");
     inner_.collect();
     counters_ = inner_.counters();
   }
   void readKeys(const PixelRect& rect, float* keys) override {
-    watch_.check("a read");
+    watch_.checkRead(rect);
     dynamic_cast<KeyReader&>(inner_).readKeys(rect, keys);
   }
 
  private:
   DepthSource& inner_;
-  const Watch& watch_;
+  Watch& watch_;
 };
 
 struct Setting {
@@ -128,6 +145,7 @@ struct Walk {
   std::vector<std::vector<ObjectId>> drawn;  // per frame, in draw order
   std::vector<FrameStats> stats;
   std::vector<std::size_t> batches;  // per frame (pull form)
+  std::size_t early_reads = 0;       // reads while objects handed out were not drawn
 };
 
 // Four frames of the box world with `setting`, through the callback form or the pull form.
@@ -157,7 +175,7 @@ Walk walk(const Setting& setting, bool pull) {
     const auto draw = [&](ObjectId id) {
       test::drawBox(raster, world.boxes[id], id);
       drawn.push_back(id);
-      ++watch.drawn;
+      watch.addDrawn(1);
     };
     if (!pull) {
       run.stats.push_back(culler.cullFrame(cam, world.hierarchy, sources, draw));
@@ -172,7 +190,7 @@ Walk walk(const Setting& setting, bool pull) {
           test::drawBox(raster, world.boxes[*it], *it);
         }
         drawn.insert(drawn.end(), ids.begin(), ids.end());
-        watch.drawn += ids.size();
+        watch.addDrawn(ids.size());
       }
       run.stats.push_back(culler.endFrame());
       run.batches.push_back(batches);
@@ -185,6 +203,7 @@ Walk walk(const Setting& setting, bool pull) {
     }
     run.drawn.push_back(std::move(drawn));
   }
+  run.early_reads = watch.early_reads;
   return run;
 }
 
@@ -240,6 +259,18 @@ TEST(PullForm, LookaheadHandsOutFewerBatchesThanLeaves) {
   }
   EXPECT_LT(batches16 * 2, leaves) << batches16 << " batches for " << leaves << " leaves";
   EXPECT_LT(batches16, batches1);
+}
+
+// A test that reads none of the pixels the batch may cover reads before the batch is
+// handed out, so the batch grows and the renderer is waited for once for both: the
+// grid's methods read so at one box at a time and with lookahead (the reads of such
+// tests are checked above: none under an undrawn object).
+TEST(PullForm, TestsReadingAwayFromTheBatchReadBeforeItIsDrawn) {
+  for (const Setting& s :
+       {Setting{Method::LogState, 1, false}, Setting{Method::LogZfar, 1, false},
+        Setting{Method::DdoLog, 1, false}, Setting{Method::LogState, 16, false}}) {
+    EXPECT_GT(walk(s, true).early_reads, 0u) << name(s);
+  }
 }
 
 TEST(PullForm, MisuseIsRefusedAndTheNextFrameStartsAfresh) {

@@ -12,6 +12,7 @@
 
 #include "box_world.hpp"
 #include "logrid/error.hpp"
+#include "test_queries.hpp"
 
 namespace logrid {
 namespace {
@@ -262,6 +263,37 @@ INSTANTIATE_TEST_SUITE_P(
                     AnnounceCase{Method::LogZfar, false, DepthConvention::Reversed},
                     AnnounceCase{Method::Hzb, false, DepthConvention::Standard}),
     announceName);
+
+// The same frame with the query schedules of log+hwq: what the records found hidden
+// while box 2 waited to be drawn is tested again after the clear, also when the
+// schedule had nothing left to do.
+TEST(DepthClearTest, QueryScheduleRecordsFromBeforeAMidFrameClearAreNotTrusted) {
+  for (const char* schedule : {"hwq", "chc", "stat", "nohc"}) {
+    Stage s = makeStage({{{-2, -2, -6}, {2, 2, -5}},
+                         {{-1, -1, -31}, {1, 1, -30}},
+                         {{20, -1, -36}, {22, 1, -35}},
+                         {{-1, -1, -41}, {1, 1, -40}}},
+                        DepthConvention::Standard);
+    CullerDesc desc;
+    desc.method = Method::LogHwq;
+    desc.tile_size = 8;
+    desc.queries.schedule = *parseQuerySchedule(schedule);
+    desc.queries.hardware = {1e-6, 1e-9, 1e-10, 1e-6};  // nohc's costs
+    Culler culler(desc);
+    cpu::SoftwareDepthBuffer depth(64, 64, DepthConvention::Standard);
+    test::SoftwareQueries queries(depth);
+    cpu::SoftwareRasterizer raster(s.cam, depth, nullptr);
+    std::set<ObjectId> drawn;
+    culler.cullFrame(s.cam, s.hierarchy, {&depth, &queries}, [&](ObjectId id) {
+      test::drawBox(raster, s.boxes[id], id);
+      drawn.insert(id);
+      if (id != 2) return;
+      depth.clear();
+      culler.noteDepthCleared();
+    });
+    EXPECT_TRUE(drawn.count(3)) << schedule << ": box 3 is tested after the clear and is visible";
+  }
+}
 
 TEST(DepthClearTest, AClearToANearerValueIsTestedByDepth) {
   // glClearDepth(d) then glClear mid-frame, with d nearer than the far plane: every pixel

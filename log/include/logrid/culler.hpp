@@ -400,8 +400,11 @@ class Culler {
   // How many of this frame's visible nodes with objects last frame found visible too.
   std::uint64_t countKept();
   // `ordered`: drawn in two-list order (in front of every box still to be tested, up to
-  // rounding); else remembered in unordered_.
-  void noteDrawnWith(const DrawnArea& area, bool ordered);
+  // rounding); else remembered in unordered_. `batched`: drawn with the batch the culler
+  // hands out next, so its sources learn of the draw then (handOutBatch()); else drawn.
+  void noteDrawnWith(const DrawnArea& area, bool ordered, bool batched = false);
+  // The batch is handed out to be drawn: the sources' next read or query waits for it.
+  void handOutBatch();
   // An error (InvalidArgument, naming `who`) unless called during a frame.
   Status requireFrame(const char* who) const;
 
@@ -440,7 +443,10 @@ class Culler {
     bool ordered;
   };
   std::vector<BatchArea> batch_areas_;  // the batch's nodes, noted again after a clear
-  std::vector<PixelRect> after_draw_;   // drawn; the tester reads them once drawn (busy)
+  // Where the batch may draw, clipped to the viewport: a test or a batch of reads that
+  // reads none of it need not wait for the batch to be drawn.
+  std::vector<PixelRect> batch_rects_;
+  std::vector<PixelRect> after_draw_;  // drawn; the tester reads them once drawn (busy)
   float drawn_back_ = 0;  // farthest key + margin of what was drawn in order so far this
                           // frame (and of unordered areas beyond kMaxUnorderedAreas)
   std::vector<DrawnArea> unordered_;       // drawn out of order this frame (clipped rects)

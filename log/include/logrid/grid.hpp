@@ -179,6 +179,16 @@ class OcclusionGrid {
   std::optional<Visibility> decide(const PixelRect& rect, float threshold, GridTestCounts& counts,
                                    float hidden_threshold = kNoHiddenThreshold);
 
+  // Would test() of `rect` read pixels that any of `undrawn` (`count` rectangles of
+  // what is to be drawn but is not drawn yet) may cover? What the records decide reads
+  // nothing; an undecided internal tile is read whole, a border tile where it meets
+  // `rect`. Where it would not, the test may read before they are drawn: what it reads
+  // is what it would read after. Counts nothing.
+  bool readsUnder(const PixelRect& rect, float threshold, const DepthSourceTraits& source,
+                  float hidden_threshold, const PixelRect* undrawn, std::size_t count);
+  // The same for the reads of a planned batch (plan()).
+  bool readsUnder(const GridBatch& batch, const PixelRect* undrawn, std::size_t count) const;
+
   // Batched tests. plan() decides from the records what they can (Visible or Occluded,
   // returned at once), and otherwise adds the test to `batch` with the reads that decide
   // it (whole outdated internal tiles, shared between tests; intersections of border

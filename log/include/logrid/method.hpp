@@ -32,7 +32,7 @@ enum class Method : std::uint8_t {
   Nohc,      // near-optimal hierarchical culling (Guthe, Balázs, Klein 2006)
   LogHwq,    // the lazy grid's records decide what they can; the rest is queried
   Ddo,       // boxes tested against the CPU map of directional discretized occluders
-  DdoLog,    // those occluders drawn into the depth buffer first, then log-state
+  DdoLog,    // log-state, with the cells those occluders cover recorded hidden, unread
   Auto,      // chooses log-state or log-zfar, K and coherence per frame, and per node
              // whether a test pays, from measured costs (costs.hpp, docs/AUTO.md)
 };

@@ -78,6 +78,8 @@ struct PixelRect {
 
   bool empty() const { return x1 <= x0 || y1 <= y0; }
   std::int64_t area() const { return empty() ? 0 : std::int64_t{x1 - x0} * std::int64_t{y1 - y0}; }
+  // Do the two overlap? (Two non-empty ones: do they share a pixel.)
+  bool meets(const PixelRect& o) const { return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1; }
 };
 
 // Something drawn into the depth buffer besides the culler's own draws (Culler::noteDrawn,
