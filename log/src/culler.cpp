@@ -569,14 +569,22 @@ inline bool Culler::testHeld() {
   const float hidden = entry.projection.occlusionThreshold();
   // A test that reads where the batch may draw waits for it to be drawn. One that reads
   // elsewhere reads now what it would read then, and the batch may grow: the renderer
-  // is waited for once for both.
+  // is waited for once for both. One that reads both reads away from the batch first:
+  // a box shown there is visible without the wait.
+  const std::uint64_t read_before = grid_counts_.tiles_read;
   if (!batch_.empty() &&
       tester_->readsUnder(entry.projection.rect, threshold, hidden, batch_rects_)) {
-    return false;
+    if (!tester_->testAwayFrom(entry.projection.rect, threshold, hidden, grid_counts_,
+                               batch_rects_)) {
+      return false;
+    }
+    testing_.reset();
+    countFallback(by_state);
+    decided(entry, Visibility::Visible, grid_counts_.tiles_read > read_before);
+    return true;
   }
   testing_.reset();
   countFallback(by_state);
-  const std::uint64_t read_before = grid_counts_.tiles_read;
   const Visibility v = tester_->test(entry.projection.rect, threshold, hidden, grid_counts_);
   decided(entry, v, v == Visibility::Occluded || grid_counts_.tiles_read > read_before);
   return true;

@@ -611,6 +611,35 @@ bool OcclusionGrid::readsUnder(const PixelRect& rect, float threshold,
   return false;
 }
 
+std::optional<Visibility> OcclusionGrid::testAwayFrom(const PixelRect& rect, float threshold,
+                                                      DepthSource& source, GridTestCounts& counts,
+                                                      float hidden_threshold,
+                                                      const PixelRect* undrawn, std::size_t count) {
+  assert(insideViewport(rect) &&
+         "OcclusionGrid::testAwayFrom: rect must be non-empty and inside the viewport");
+  if (approx_.visible_pixels > 0) return std::nullopt;
+  exact_records_ = source.traits().reads_depth;
+  hidden_threshold_ = hidden_threshold;
+  test_rect_ = rect;
+  const TileSpan s = tileSpan(rect);
+  if (recordsShow(s, threshold, counts)) return Visibility::Visible;
+  for (const bool internal : kInternalFirst) {
+    pending_.clear();
+    forEachUndecided(s, internal, threshold, counts, [&](std::size_t i) {
+      const PixelRect tile = tileRectOf(i);
+      if (!meetsAny(internal ? tile : intersect(tile, rect), undrawn, count)) {
+        pending_.push_back(static_cast<std::uint32_t>(i));
+      }
+      return false;
+    });
+    if (!pending_.empty() &&
+        readPending(rect, threshold, internal, source, counts) == Visibility::Visible) {
+      return Visibility::Visible;
+    }
+  }
+  return std::nullopt;
+}
+
 bool OcclusionGrid::readsUnder(const GridBatch& batch, const PixelRect* undrawn,
                                std::size_t count) const {
   for (const AreaRequest& request : batch.requests_) {

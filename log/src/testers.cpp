@@ -68,6 +68,12 @@ class GridTester final : public BoxTester {
   bool batchReadsUnder(const std::vector<PixelRect>& undrawn) override {
     return grid_->readsUnder(batch_, undrawn.data(), undrawn.size());
   }
+  std::optional<Visibility> testAwayFrom(const PixelRect& rect, float threshold, float hidden,
+                                         GridTestCounts& counts,
+                                         const std::vector<PixelRect>& undrawn) override {
+    return grid_->testAwayFrom(rect, threshold, *source_, counts, hidden, undrawn.data(),
+                               undrawn.size());
+  }
   std::optional<Visibility> plan(const PixelRect& rect, float threshold, float hidden,
                                  GridTestCounts& counts, bool read) override {
     return grid_->plan(rect, threshold, source_->traits(), read ? &batch_ : nullptr, counts,

@@ -42,6 +42,19 @@ class BoxTester {
     return false;
   }
 
+  // test() over what it reads away from `undrawn`: Visible where that shows the box,
+  // else nothing (the rest must wait for `undrawn` to be drawn).
+  virtual std::optional<Visibility> testAwayFrom(const PixelRect& rect, float threshold,
+                                                 float hidden, GridTestCounts& counts,
+                                                 const std::vector<PixelRect>& undrawn) {
+    (void)rect;
+    (void)threshold;
+    (void)hidden;
+    (void)counts;
+    (void)undrawn;
+    return std::nullopt;
+  }
+
   // Batched tests, for methods that take a lookahead: plan() answers at once what needs
   // no read, else (if `read`) adds the test to the batch; submitBatch(), the source's
   // collect(), applyBatch(), then resolve() for each planned test in order, and

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <random>
 #include <set>
 
@@ -145,6 +146,45 @@ INSTANTIATE_TEST_SUITE_P(Conventions, DdoSelect,
                          [](const testing::TestParamInfo<DepthConvention>& p) {
                            return std::string(toString(p.param));
                          });
+
+// Without the map and a draw callback (ddo+log) the walk skips, unprojected, subtrees
+// that hold no face valid from any region: the same occluders as a walk that visits them.
+TEST(DdoSelect, AWalkForFacesAloneSkipsFacelessSubtreesAndSelectsTheSame) {
+  const TriangleScene s = streetScene(2);
+  ddo::BuildArgs args;
+  args.leaf_triangles = 24;
+  args.threads = 2;
+  const ddo::Octree octree = ddo::buildOctree(s.mesh(), args);
+  ddo::SelectorSettings settings;
+  settings.occlusion_map = false;
+  ddo::Selector faces_only(octree, settings), every_node(octree, settings);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> x(-9, 9), z(-12, 14), y(0.5, 5);
+  std::uint64_t skipped = 0, occluders = 0;
+  for (int view = 0; view < 24; ++view) {
+    const Camera camera =
+        cameraAt({x(rng), y(rng), z(rng)}, {x(rng), y(rng) * 0.5, z(rng)},
+                 view % 2 ? DepthConvention::Reversed : DepthConvention::Standard);
+    ddo::SelectionStats a, b;
+    faces_only.select(camera, {}, a);
+    every_node.select(
+        camera, [](ObjectId) {}, b);  // a callback: every node is visited
+    EXPECT_EQ(b.nodes_faceless, 0u);
+    EXPECT_LT(a.nodes_visited, b.nodes_visited) << "view " << view;
+    skipped += a.nodes_faceless;
+    ASSERT_EQ(faces_only.occluders().size(), every_node.occluders().size()) << "view " << view;
+    for (std::size_t i = 0; i < faces_only.occluders().size(); ++i) {
+      const ddo::Occluder& p = faces_only.occluders()[i];
+      const ddo::Occluder& q = every_node.occluders()[i];
+      EXPECT_EQ(std::memcmp(p.window, q.window, sizeof p.window), 0) << "view " << view;
+      EXPECT_EQ(p.far_key, q.far_key);
+      EXPECT_EQ(p.faces, q.faces);
+    }
+    occluders += faces_only.occluders().size();
+  }
+  EXPECT_GT(skipped, 0u);
+  EXPECT_GT(occluders, 20u) << "no occluder selected: the comparison is vacuous";
+}
 
 TEST(DdoSelectMap, OccludesOnlyWhenEveryPixelIsNearer) {
   ddo::OcclusionMap map;

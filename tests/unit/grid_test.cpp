@@ -224,6 +224,31 @@ TEST_P(GridTest, ReadsUnderNamesWhatTheTestWouldReadOnly) {
   EXPECT_TRUE(grid.readsUnder(batch, &over, 1));
 }
 
+// A test that reads both under and away from what is still to be drawn reads away from it
+// first: a tile there that shows the box decides it; else nothing, and nothing under the
+// undrawn rectangles was read.
+TEST_P(GridTest, TestAwayFromReadsOnlyTilesTheUndrawnCannotReach) {
+  OcclusionGrid grid = makeGrid(GridVariant::OcclusionState);
+  const float k = key(GetParam(), 0.5f);
+  draw(grid, {0, 0, 16, 4}, k);
+  draw(grid, {0, 8, 16, 12}, k);
+  draw(grid, {0, 4, 6, 8}, k);   // tile (1,1): its left half only
+  draw(grid, {8, 4, 16, 8}, k);  // tile (2,1): full
+  const float none = OcclusionGrid::kNoHiddenThreshold;
+  const PixelRect box{4, 4, 12, 8};  // internal tiles (1,1) and (2,1)
+  const PixelRect over_full{8, 4, 12, 8}, over_partial{4, 4, 8, 8};
+  // Tile (1,1) lies away from the undrawn rectangle and shows the box.
+  EXPECT_EQ(grid.testAwayFrom(box, clear(), buffer_, counts_, none, &over_full, 1),
+            Visibility::Visible);
+  EXPECT_EQ(reads(), 1u);
+  draw(grid, {0, 0, 16, 12}, k);  // everything outdated and full again
+  // Only tile (2,1) may be read now: full, so nothing is decided.
+  EXPECT_FALSE(grid.testAwayFrom(box, clear(), buffer_, counts_, none, &over_partial, 1));
+  EXPECT_EQ(reads(), 2u);
+  EXPECT_TRUE(grid.tile(1, 1).outdated);
+  EXPECT_FALSE(grid.tile(2, 1).outdated);
+}
+
 INSTANTIATE_TEST_SUITE_P(Conventions, GridTest,
                          testing::Values(DepthConvention::Standard, DepthConvention::Reversed),
                          conventionName);

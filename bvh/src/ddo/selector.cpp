@@ -102,6 +102,7 @@ struct Selector::Frame {
   Projector projector;
   const std::function<void(ObjectId)>* draw = nullptr;
   SelectionStats* stats = nullptr;
+  bool faces_only = false;  // neither a map nor a draw callback: nodes matter by their faces
   bool ortho = false;
   double eye[3] = {0, 0, 0};  // perspective eye, local coordinates
   double dir[3] = {0, 0, 0};  // orthographic: towards the viewer
@@ -192,6 +193,25 @@ Selector::Selector(const Octree& octree, const SelectorSettings& settings)
   ObjectId largest = 0;
   for (ObjectId id : octree.objects()) largest = std::max(largest, id);
   object_stamp_.assign(octree.objects().empty() ? 0 : std::size_t(largest) + 1, 0);
+  // Every node after its parent (breadth first from the root); then children before parents.
+  with_faces_.assign(octree.nodes().size(), 0);
+  if (octree.empty()) return;
+  std::vector<std::uint32_t> order{0};
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    for (int k = 0; k < 8; ++k) {
+      const std::uint32_t child = octree.child(order[i], k);
+      if (child != Octree::kNone) order.push_back(child);
+    }
+  }
+  for (auto it = order.rbegin(); it != order.rend(); ++it) {
+    std::uint8_t any = 0;
+    for (int f = 0; f < kFaces && !any; ++f) any = octree.mask(*it, f) != 0;
+    for (int k = 0; k < 8 && !any; ++k) {
+      const std::uint32_t child = octree.child(*it, k);
+      if (child != Octree::kNone) any = with_faces_[child];
+    }
+    with_faces_[*it] = any;
+  }
 }
 
 Status Selector::trySelect(const Camera& camera, const std::function<void(ObjectId)>& draw,
@@ -203,6 +223,7 @@ Status Selector::trySelect(const Camera& camera, const std::function<void(Object
   Frame frame(camera, std::move(projector).value(), projection);
   frame.draw = &draw;
   frame.stats = &stats;
+  frame.faces_only = !settings_.occlusion_map && !draw;
   frame.clear_key = frame.projector.clearKey();
   frame.snap_pixels = settings_.snap_pixels;
   frame.key_sign = camera.depth.convention == DepthConvention::Reversed ? -1.0 : 1.0;
@@ -247,18 +268,19 @@ Status Selector::trySelect(const Camera& camera, const std::function<void(Object
     stamp_ = 1;
   }
   occluders_.clear();
-  if (!octree_.empty()) visit(0, frame);
+  if (!octree_.empty() && (!frame.faces_only || with_faces_[0])) {
+    visit(0, frame.projector.project(octree_.nodes()[0].bounds), frame);
+  }
   finishOccluders(frame);
   stats.occluders = occluders_.size();
   stats.seconds = secondsSince(start);
   return {};
 }
 
-void Selector::visit(std::uint32_t n, Frame& frame) {
+void Selector::visit(std::uint32_t n, const BoxProjection& p, Frame& frame) {
   SelectionStats& stats = *frame.stats;
   ++stats.nodes_visited;
   const OctreeNode& node = octree_.nodes()[n];
-  const BoxProjection p = frame.projector.project(node.bounds);
   switch (p.cls) {
     case ProjectionClass::Outside: ++stats.nodes_view_culled; return;
     case ProjectionClass::CrossesNear: ++stats.nodes_near; break;
@@ -298,10 +320,24 @@ void Selector::visit(std::uint32_t n, Frame& frame) {
     const bool high = frame.ortho ? frame.dir[a] > 0 : frame.eye[a] >= mid;
     if (high) octant |= 1 << a;
   }
+  // The children front to back, projected in one call.
+  std::uint32_t children[8];
+  Aabb boxes[8];
+  std::size_t count = 0;
   for (int k : kOrder) {
     const std::uint32_t child = octree_.child(n, octant ^ k);
-    if (child != Octree::kNone) visit(child, frame);
+    if (child == Octree::kNone) continue;
+    if (frame.faces_only && !with_faces_[child]) {
+      ++stats.nodes_faceless;
+      continue;
+    }
+    children[count] = child;
+    boxes[count] = octree_.nodes()[child].bounds;
+    ++count;
   }
+  BoxProjection projections[8];
+  frame.projector.project(boxes, count, projections);
+  for (std::size_t i = 0; i < count; ++i) visit(children[i], projections[i], frame);
 }
 
 void Selector::selectFaces(std::uint32_t n, Frame& frame) {

@@ -188,6 +188,13 @@ class OcclusionGrid {
                   float hidden_threshold, const PixelRect* undrawn, std::size_t count);
   // The same for the reads of a planned batch (plan()).
   bool readsUnder(const GridBatch& batch, const PixelRect* undrawn, std::size_t count) const;
+  // test() over the tiles whose reads meet none of `undrawn`: Visible where one of them
+  // shows the box; nothing otherwise (the other tiles wait for `undrawn` to be drawn, and
+  // a border tile read here is read again then). Nothing for counting tests.
+  std::optional<Visibility> testAwayFrom(const PixelRect& rect, float threshold,
+                                         DepthSource& source, GridTestCounts& counts,
+                                         float hidden_threshold, const PixelRect* undrawn,
+                                         std::size_t count);
 
   // Batched tests. plan() decides from the records what they can (Visible or Occluded,
   // returned at once), and otherwise adds the test to `batch` with the reads that decide

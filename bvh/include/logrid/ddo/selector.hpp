@@ -93,6 +93,9 @@ struct SelectionStats {
   std::uint64_t nodes_occluded = 0;  // found hidden by the map (subtree culled)
   std::uint64_t nodes_near = 0;      // crossing the near plane: visible without a test
   std::uint64_t nodes_small = 0;     // smaller than SelectorSettings::min_node_pixels: skipped
+  // Without a face valid from any region in their subtree: skipped unprojected where the
+  // walk serves faces alone (no occlusion map, no draw callback: ddo+log).
+  std::uint64_t nodes_faceless = 0;
   std::uint64_t map_tests = 0;
   std::uint64_t leaves_visible = 0;
   std::uint64_t objects = 0;         // handed to the draw callback
@@ -105,6 +108,8 @@ struct SelectionStats {
 
 class Selector {
  public:
+  // `octree` must outlive the selector and keep its masks (the selector notes which
+  // subtrees hold a valid face).
   explicit Selector(const Octree& octree, const SelectorSettings& settings = {});
 
   // One frame. `draw` (may be empty) gets each object of each visible leaf once. In both
@@ -123,7 +128,8 @@ class Selector {
   struct Face;
   struct Frame;
   struct FaceOutline;
-  void visit(std::uint32_t node, Frame& frame);
+  // `p`: the node's projection (its parent projects its children together).
+  void visit(std::uint32_t node, const BoxProjection& p, Frame& frame);
   // The node's faces that hide what lies behind them from this viewpoint, each through
   // the steps below (false: the face is not used this frame).
   void selectFaces(std::uint32_t node, Frame& frame);
@@ -145,6 +151,8 @@ class Selector {
   std::vector<Occluder> occluders_;
   std::vector<std::uint32_t> object_stamp_;
   std::uint32_t stamp_ = 0;
+  // Per node: some face of it or of a node below has a valid region.
+  std::vector<std::uint8_t> with_faces_;
 };
 
 #if LOGRID_HAS_EXCEPTIONS
