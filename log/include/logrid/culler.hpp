@@ -19,7 +19,8 @@
 // lists, a render graph, several threads) submits each batch before asking for the next.
 // A read that none of the batch's objects can reach (their boxes' rectangles on screen)
 // does not need it drawn: the test reads at once what it would read after the draw, and
-// the batch may grow; queries always wait for it.
+// the batch may grow. A test that must also read where the batch draws reads the rest
+// first, and a box shown there joins the batch. Queries always wait for it.
 //
 // What a method reads, queries or draws first comes in one CullSources (its MethodInfo::
 // needs says which it must be given): a DepthSource for the methods that read the depth
