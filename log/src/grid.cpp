@@ -140,6 +140,14 @@ PixelRect intersect(const PixelRect& a, const PixelRect& b) {
   return {std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1), std::min(a.y1, b.y1)};
 }
 
+// Does `area` meet any of `count` rectangles?
+bool meetsAny(const PixelRect& area, const PixelRect* rects, std::size_t count) {
+  for (std::size_t i = 0; i < count; ++i) {
+    if (area.meets(rects[i])) return true;
+  }
+  return false;
+}
+
 float below(float key) { return std::nextafter(key, -std::numeric_limits<float>::infinity()); }
 
 // The summary of a read that spans several requests (rows of a sampled tile).
@@ -373,20 +381,30 @@ Visibility OcclusionGrid::test(const PixelRect& rect, float threshold, DepthSour
   if (approx_.visible_pixels > 0) return testCounting(rect, threshold, source, counts);
   const TileSpan s = tileSpan(rect);
   if (recordsShow(s, threshold, counts)) return Visibility::Visible;
+  return readsShow(s, rect, threshold, source, counts, nullptr, 0) ? Visibility::Visible
+                                                                   : Visibility::Occluded;
+}
+
+bool OcclusionGrid::readsShow(const TileSpan& s, const PixelRect& rect, float threshold,
+                              DepthSource& source, GridTestCounts& counts, const PixelRect* away,
+                              std::size_t away_count) {
   // Steps 3 and 4: the tiles the records could not decide: internal ones refreshed
   // over the whole tile, border ones read over their intersection with the rectangle.
   for (const bool internal : kInternalFirst) {
     pending_.clear();
     forEachUndecided(s, internal, threshold, counts, [&](std::size_t i) {
-      pending_.push_back(static_cast<std::uint32_t>(i));
+      const PixelRect tile = tileRectOf(i);
+      if (!meetsAny(internal ? tile : intersect(tile, rect), away, away_count)) {
+        pending_.push_back(static_cast<std::uint32_t>(i));
+      }
       return false;
     });
     if (!pending_.empty() &&
         readPending(rect, threshold, internal, source, counts) == Visibility::Visible) {
-      return Visibility::Visible;
+      return true;
     }
   }
-  return Visibility::Occluded;
+  return false;
 }
 
 bool OcclusionGrid::recordsShow(const TileSpan& s, float threshold, GridTestCounts& counts) const {
@@ -575,17 +593,6 @@ std::optional<Visibility> OcclusionGrid::decide(const PixelRect& rect, float thr
   return decideFromRecords(rect, threshold, counts, nullptr);
 }
 
-namespace {
-
-bool meetsAny(const PixelRect& area, const PixelRect* rects, std::size_t count) {
-  for (std::size_t i = 0; i < count; ++i) {
-    if (area.meets(rects[i])) return true;
-  }
-  return false;
-}
-
-}  // namespace
-
 bool OcclusionGrid::readsUnder(const PixelRect& rect, float threshold,
                                const DepthSourceTraits& source, float hidden_threshold,
                                const PixelRect* undrawn, std::size_t count) {
@@ -622,20 +629,9 @@ std::optional<Visibility> OcclusionGrid::testAwayFrom(const PixelRect& rect, flo
   hidden_threshold_ = hidden_threshold;
   test_rect_ = rect;
   const TileSpan s = tileSpan(rect);
-  if (recordsShow(s, threshold, counts)) return Visibility::Visible;
-  for (const bool internal : kInternalFirst) {
-    pending_.clear();
-    forEachUndecided(s, internal, threshold, counts, [&](std::size_t i) {
-      const PixelRect tile = tileRectOf(i);
-      if (!meetsAny(internal ? tile : intersect(tile, rect), undrawn, count)) {
-        pending_.push_back(static_cast<std::uint32_t>(i));
-      }
-      return false;
-    });
-    if (!pending_.empty() &&
-        readPending(rect, threshold, internal, source, counts) == Visibility::Visible) {
-      return Visibility::Visible;
-    }
+  if (recordsShow(s, threshold, counts) ||
+      readsShow(s, rect, threshold, source, counts, undrawn, count)) {
+    return Visibility::Visible;
   }
   return std::nullopt;
 }

@@ -47,6 +47,14 @@ TriangleScene streetScene(std::uint32_t seed) {
   return s;
 }
 
+// The octree the tests select from: 24-triangle leaves.
+ddo::Octree streetOctree(const TriangleScene& s) {
+  ddo::BuildArgs args;
+  args.leaf_triangles = 24;
+  args.threads = 2;
+  return ddo::buildOctree(s.mesh(), args);
+}
+
 Camera cameraAt(const DVec3& eye, const DVec3& target, DepthConvention convention) {
   Camera c;
   c.width = 160;
@@ -92,10 +100,7 @@ TEST_P(DdoSelect, CulledObjectsAreHiddenAndOccludersLieBehindTheGeometry) {
   std::uint64_t culled_nodes = 0, occluders = 0, hidden_objects = 0, claimed_pixels = 0;
   for (std::uint32_t seed = 1; seed <= 3; ++seed) {
     const TriangleScene s = streetScene(seed);
-    ddo::BuildArgs args;
-    args.leaf_triangles = 24;
-    args.threads = 2;
-    const ddo::Octree octree = ddo::buildOctree(s.mesh(), args);
+    const ddo::Octree octree = streetOctree(s);
     ddo::Selector selector(octree);
     std::mt19937 rng(seed * 7);
     std::uniform_real_distribution<double> x(-9, 9), z(-12, 14), y(0.5, 5);
@@ -150,11 +155,7 @@ INSTANTIATE_TEST_SUITE_P(Conventions, DdoSelect,
 // Without the map and a draw callback (ddo+log) the walk skips, unprojected, subtrees
 // that hold no face valid from any region: the same occluders as a walk that visits them.
 TEST(DdoSelect, AWalkForFacesAloneSkipsFacelessSubtreesAndSelectsTheSame) {
-  const TriangleScene s = streetScene(2);
-  ddo::BuildArgs args;
-  args.leaf_triangles = 24;
-  args.threads = 2;
-  const ddo::Octree octree = ddo::buildOctree(s.mesh(), args);
+  const ddo::Octree octree = streetOctree(streetScene(2));
   ddo::SelectorSettings settings;
   settings.occlusion_map = false;
   ddo::Selector faces_only(octree, settings), every_node(octree, settings);
@@ -211,11 +212,7 @@ namespace {
 // fills at least min_tiles grid tiles, the most filling first, never more triangles than
 // the cap; it announces each drawn occluder's area and outline.
 TEST(DdoOccluderPass, DrawsTheOccludersThatFillTilesMostFirstUnderTheCap) {
-  const TriangleScene s = streetScene(2);
-  ddo::BuildArgs args;
-  args.leaf_triangles = 24;
-  args.threads = 2;
-  const ddo::Octree octree = ddo::buildOctree(s.mesh(), args);
+  const ddo::Octree octree = streetOctree(streetScene(2));
   std::size_t drawn_calls = 0;
   const ddo::OccluderPass::Drawer drawer = [&](const std::vector<ddo::Occluder>&, const Camera&) {
     ++drawn_calls;
@@ -277,11 +274,7 @@ TEST(DdoOccluderPass, DrawsTheOccludersThatFillTilesMostFirstUnderTheCap) {
 // invalid camera and the drawer's own error. Without a drawer, the quads are chosen for
 // the culler to record and nothing is drawn or announced (ddo+log).
 TEST(DdoOccluderPass, BeginFrameReturnsTheErrors) {
-  const TriangleScene s = streetScene(2);
-  ddo::BuildArgs args;
-  args.leaf_triangles = 24;
-  args.threads = 2;
-  const ddo::Octree octree = ddo::buildOctree(s.mesh(), args);
+  const ddo::Octree octree = streetOctree(streetScene(2));
   ddo::OccluderBudget every;
   every.min_tiles = 0;
   ddo::OccluderPass map_only(octree);

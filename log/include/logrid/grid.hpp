@@ -245,6 +245,10 @@ class OcclusionGrid {
   bool forEachTileOf(const TileSpan& span, bool internal, Visit&& visit) const;
   // Steps 1 and 2 (§3): true at the first up-to-date tile whose record shows the box.
   bool recordsShow(const TileSpan& span, float threshold, GridTestCounts& counts) const;
+  // Steps 3 and 4 (test()) over the undecided tiles whose reads meet none of `away`
+  // (`away_count` rectangles): true at the first read that shows the box.
+  bool readsShow(const TileSpan& span, const PixelRect& rect, float threshold, DepthSource& source,
+                 GridTestCounts& counts, const PixelRect* away, std::size_t away_count);
   // The tiles of one class that only a read can decide, as take(index) (stopping as
   // forEachTile does); outdated tiles whose stale far key is in front count as tested.
   template <typename Take>
