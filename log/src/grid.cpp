@@ -393,10 +393,11 @@ bool OcclusionGrid::readsShow(const TileSpan& s, const PixelRect& rect, float th
   for (const bool internal : kInternalFirst) {
     pending_.clear();
     forEachUndecided(s, internal, threshold, counts, [&](std::size_t i) {
-      const PixelRect tile = tileRectOf(i);
-      if (!meetsAny(internal ? tile : intersect(tile, rect), away, away_count)) {
-        pending_.push_back(static_cast<std::uint32_t>(i));
+      if (away_count > 0) {
+        const PixelRect tile = tileRectOf(i);
+        if (meetsAny(internal ? tile : intersect(tile, rect), away, away_count)) return false;
       }
+      pending_.push_back(static_cast<std::uint32_t>(i));
       return false;
     });
     if (!pending_.empty() &&
