@@ -1,10 +1,41 @@
-set terminal png size 1100,560 font ',11'
-set output "docs/plots/traversal_forest_640x480_ms.png"
-set title "forest 640x480: frame time against lookahead K" noenhanced
-set xlabel "K (0 = 1, 1 = 4, 2 = 16, 3 = 32, 4 = 64)"
-set ylabel "ms per frame (log scale)"
-set key outside right noenhanced
-set grid
+set terminal png size 1860,576 font ',11'
+set output "/tmp/trav_plots/traversal_forest_640x480_ms.png"
 set datafile separator '\t'
-set logscale y
-plot "docs/plots/traversal_forest_640x480_ms.dat" index 0 using 1:2 with linespoints pt 5 ps 0.6 lw 2 lc rgb "#d55e00" dt 1 title "log-state readpixels", "docs/plots/traversal_forest_640x480_ms.dat" index 1 using 1:2 with linespoints pt 6 ps 0.6 lw 2 lc rgb "#0072b2" dt 1 title "log-state readpixels tc", "docs/plots/traversal_forest_640x480_ms.dat" index 2 using 1:2 with linespoints pt 7 ps 0.6 lw 2 lc rgb "#009e73" dt 1 title "log-state pbo", "docs/plots/traversal_forest_640x480_ms.dat" index 3 using 1:2 with linespoints pt 8 ps 0.6 lw 2 lc rgb "#e69f00" dt 1 title "log-state pbo tc", "docs/plots/traversal_forest_640x480_ms.dat" index 4 using 1:2 with linespoints pt 5 ps 0.6 lw 2 lc rgb "#cc79a7" dt 1 title "log-state reduce", "docs/plots/traversal_forest_640x480_ms.dat" index 5 using 1:2 with linespoints pt 6 ps 0.6 lw 2 lc rgb "#56b4e9" dt 1 title "log-state reduce tc", "docs/plots/traversal_forest_640x480_ms.dat" index 6 using 1:2 with linespoints pt 7 ps 0.6 lw 2 lc rgb "#000000" dt 1 title "log-zfar readpixels", "docs/plots/traversal_forest_640x480_ms.dat" index 7 using 1:2 with linespoints pt 8 ps 0.6 lw 2 lc rgb "#8c564b" dt 1 title "log-zfar readpixels tc", "docs/plots/traversal_forest_640x480_ms.dat" index 8 using 1:2 with linespoints pt 5 ps 0.6 lw 2 lc rgb "#7f7f7f" dt 1 title "log-zfar pbo", "docs/plots/traversal_forest_640x480_ms.dat" index 9 using 1:2 with linespoints pt 6 ps 0.6 lw 2 lc rgb "#bcbd22" dt 1 title "log-zfar pbo tc", "docs/plots/traversal_forest_640x480_ms.dat" index 10 using 1:2 with linespoints pt 7 ps 0.6 lw 2 lc rgb "#d55e00" dt 2 title "log-zfar reduce", "docs/plots/traversal_forest_640x480_ms.dat" index 11 using 1:2 with linespoints pt 8 ps 0.6 lw 2 lc rgb "#0072b2" dt 2 title "log-zfar reduce tc", "docs/plots/traversal_forest_640x480_ms.dat" index 12 using 1:2 with linespoints pt 5 ps 0.6 lw 2 lc rgb "#009e73" dt 2 title "oracle"
+set xlabel "lookahead K"
+set xtics ("1" 0, "4" 1, "16" 2, "32" 3, "64" 4)
+set xrange [-0.25:4.25]
+set grid
+set key below samplen 2 noenhanced
+set multiplot layout 1,3 title "forest 640x480: frame time against lookahead K" noenhanced
+set bmargin 10
+set title "reader readpixels" noenhanced
+set ylabel "ms per frame"
+unset logscale y
+set yrange [0:66.843]
+plot "/tmp/trav_plots/traversal_forest_640x480_ms.dat" index 4 using 1:3:4 with filledcurves fc rgb "#d9d9d9" fs solid noborder title "oracle (fastest to slowest)", \
+     "/tmp/trav_plots/traversal_forest_640x480_ms.dat" index 0 using 1:2 with linespoints pt 5 ps 0.7 lw 2 lc rgb "#d55e00" dt 1 title "log-state", \
+     "/tmp/trav_plots/traversal_forest_640x480_ms.dat" index 1 using 1:2 with linespoints pt 6 ps 0.7 lw 2 lc rgb "#0072b2" dt 1 title "log-state tc", \
+     "/tmp/trav_plots/traversal_forest_640x480_ms.dat" index 2 using 1:2 with linespoints pt 7 ps 0.7 lw 2 lc rgb "#009e73" dt 1 title "log-zfar", \
+     "/tmp/trav_plots/traversal_forest_640x480_ms.dat" index 3 using 1:2 with linespoints pt 8 ps 0.7 lw 2 lc rgb "#e69f00" dt 1 title "log-zfar tc", \
+     "/tmp/trav_plots/traversal_forest_640x480_ms.dat" index 4 using 1:2 with lines lw 2 lc rgb "#636363" title "oracle"
+set title "reader pbo" noenhanced
+set ylabel "ms per frame"
+unset logscale y
+set yrange [0:66.843]
+plot "/tmp/trav_plots/traversal_forest_640x480_ms.dat" index 9 using 1:3:4 with filledcurves fc rgb "#d9d9d9" fs solid noborder title "oracle (fastest to slowest)", \
+     "/tmp/trav_plots/traversal_forest_640x480_ms.dat" index 5 using 1:2 with linespoints pt 5 ps 0.7 lw 2 lc rgb "#d55e00" dt 1 title "log-state", \
+     "/tmp/trav_plots/traversal_forest_640x480_ms.dat" index 6 using 1:2 with linespoints pt 6 ps 0.7 lw 2 lc rgb "#0072b2" dt 1 title "log-state tc", \
+     "/tmp/trav_plots/traversal_forest_640x480_ms.dat" index 7 using 1:2 with linespoints pt 7 ps 0.7 lw 2 lc rgb "#009e73" dt 1 title "log-zfar", \
+     "/tmp/trav_plots/traversal_forest_640x480_ms.dat" index 8 using 1:2 with linespoints pt 8 ps 0.7 lw 2 lc rgb "#e69f00" dt 1 title "log-zfar tc", \
+     "/tmp/trav_plots/traversal_forest_640x480_ms.dat" index 9 using 1:2 with lines lw 2 lc rgb "#636363" title "oracle"
+set title "reader reduce" noenhanced
+set ylabel "ms per frame"
+unset logscale y
+set yrange [0:66.843]
+plot "/tmp/trav_plots/traversal_forest_640x480_ms.dat" index 14 using 1:3:4 with filledcurves fc rgb "#d9d9d9" fs solid noborder title "oracle (fastest to slowest)", \
+     "/tmp/trav_plots/traversal_forest_640x480_ms.dat" index 10 using 1:2 with linespoints pt 5 ps 0.7 lw 2 lc rgb "#d55e00" dt 1 title "log-state", \
+     "/tmp/trav_plots/traversal_forest_640x480_ms.dat" index 11 using 1:2 with linespoints pt 6 ps 0.7 lw 2 lc rgb "#0072b2" dt 1 title "log-state tc", \
+     "/tmp/trav_plots/traversal_forest_640x480_ms.dat" index 12 using 1:2 with linespoints pt 7 ps 0.7 lw 2 lc rgb "#009e73" dt 1 title "log-zfar", \
+     "/tmp/trav_plots/traversal_forest_640x480_ms.dat" index 13 using 1:2 with linespoints pt 8 ps 0.7 lw 2 lc rgb "#e69f00" dt 1 title "log-zfar tc", \
+     "/tmp/trav_plots/traversal_forest_640x480_ms.dat" index 14 using 1:2 with lines lw 2 lc rgb "#636363" title "oracle"
+unset multiplot
