@@ -140,14 +140,6 @@ PixelRect intersect(const PixelRect& a, const PixelRect& b) {
   return {std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1), std::min(a.y1, b.y1)};
 }
 
-// Does `area` meet any of `count` rectangles?
-bool meetsAny(const PixelRect& area, const PixelRect* rects, std::size_t count) {
-  for (std::size_t i = 0; i < count; ++i) {
-    if (area.meets(rects[i])) return true;
-  }
-  return false;
-}
-
 float below(float key) { return std::nextafter(key, -std::numeric_limits<float>::infinity()); }
 
 // The summary of a read that spans several requests (rows of a sampled tile).
@@ -393,9 +385,8 @@ bool OcclusionGrid::readsShow(const TileSpan& s, const PixelRect& rect, float th
   for (const bool internal : kInternalFirst) {
     pending_.clear();
     forEachUndecided(s, internal, threshold, counts, [&](std::size_t i) {
-      if (away_count > 0) {
-        const PixelRect tile = tileRectOf(i);
-        if (meetsAny(internal ? tile : intersect(tile, rect), away, away_count)) return false;
+      if (away_count > 0 && meetsAny(readArea(i, internal, rect), away, away_count)) {
+        return false;
       }
       pending_.push_back(static_cast<std::uint32_t>(i));
       return false;
@@ -436,6 +427,11 @@ bool OcclusionGrid::forEachUndecided(const TileSpan& s, bool internal, float thr
     }
     return take(i);
   });
+}
+
+PixelRect OcclusionGrid::readArea(std::size_t index, bool whole, const PixelRect& rect) const {
+  const PixelRect tile = tileRectOf(index);
+  return whole ? tile : intersect(tile, rect);
 }
 
 PixelRect OcclusionGrid::tileRectOf(std::size_t index) const {
@@ -612,8 +608,7 @@ bool OcclusionGrid::readsUnder(const PixelRect& rect, float threshold,
   GridTestCounts scratch;
   if (decideFromRecords(rect, threshold, scratch, &undecided_)) return false;
   for (const std::uint32_t packed : undecided_) {
-    const PixelRect tile = tileRectOf(packed & ~kInternalBit);
-    const PixelRect area = (packed & kInternalBit) != 0 ? tile : intersect(tile, rect);
+    const PixelRect area = readArea(packed & ~kInternalBit, (packed & kInternalBit) != 0, rect);
     if (meetsAny(area, undrawn, count)) return true;
   }
   return false;
@@ -686,7 +681,7 @@ std::optional<Visibility> OcclusionGrid::plan(const PixelRect& rect, float thres
         continue;
       }
     }
-    const PixelRect area = whole ? tileRectOf(tile) : intersect(tileRectOf(tile), rect);
+    const PixelRect area = readArea(tile, whole, rect);
     GridBatch::Read read{tile, whole, threshold, std::uint32_t(batch.requests_.size()), 0};
     appendRead(area, whole ? whole_ask : AreaAsk::Count, threshold, batch.requests_);
     read.count = std::uint32_t(batch.requests_.size()) - read.first;

@@ -20,13 +20,6 @@ Visibility BoxTester::resolve(std::size_t) { return Visibility::Visible; }
 
 namespace {
 
-bool meetsAny(const PixelRect& rect, const std::vector<PixelRect>& rects) {
-  for (const PixelRect& r : rects) {
-    if (rect.meets(r)) return true;
-  }
-  return false;
-}
-
 // log-state, log-zfar, log+hwq, ddo+log (lazy: tiles marked outdated after a draw) and bog
 // (busy: tiles refreshed right after each draw, LOG §5).
 class GridTester final : public BoxTester {
@@ -166,11 +159,11 @@ class RectCountTester final : public BoxTester {
   }
   bool readsUnder(const PixelRect& rect, float, float,
                   const std::vector<PixelRect>& undrawn) override {
-    return meetsAny(rect, undrawn);
+    return meetsAny(rect, undrawn.data(), undrawn.size());
   }
   bool batchReadsUnder(const std::vector<PixelRect>& undrawn) override {
     for (const AreaRequest& request : requests_) {
-      if (meetsAny(request.rect, undrawn)) return true;
+      if (meetsAny(request.rect, undrawn.data(), undrawn.size())) return true;
     }
     return false;
   }

@@ -271,6 +271,9 @@ class OcclusionGrid {
   void appendRead(const PixelRect& area, AreaAsk ask, float threshold,
                   std::vector<AreaRequest>& requests) const;
   PixelRect tileRectOf(std::size_t index) const;
+  // What a test of `rect` reads of tile `index`: all of it (an internal tile refreshed
+  // whole), else its part inside `rect`.
+  PixelRect readArea(std::size_t index, bool whole, const PixelRect& rect) const;
   // Is a counted area (count of `sampled` pixels at or beyond the threshold) visible?
   bool countShows(std::uint32_t count, std::uint32_t sampled, float threshold) const;
   // The counting test used when approximation.visible_pixels > 0.

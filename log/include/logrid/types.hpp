@@ -15,6 +15,7 @@
 //   "occluded" always means "behind", i.e. a larger key.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 
@@ -81,6 +82,14 @@ struct PixelRect {
   // Do the two overlap? (Two non-empty ones: do they share a pixel.)
   bool meets(const PixelRect& o) const { return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1; }
 };
+
+// Does `area` meet (PixelRect::meets) any of `count` rectangles?
+inline bool meetsAny(const PixelRect& area, const PixelRect* rects, std::size_t count) {
+  for (std::size_t i = 0; i < count; ++i) {
+    if (area.meets(rects[i])) return true;
+  }
+  return false;
+}
 
 // Something drawn into the depth buffer besides the culler's own draws (Culler::noteDrawn,
 // cullFrame's drawn_before, an occluder pre-pass).
